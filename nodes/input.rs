@@ -1,0 +1,80 @@
+//! Constants, exposed parameters, and the per-sample geometry the caller supplies.
+
+use crate::node::{Attribute, Category, In, NodeType, Out};
+use crate::types::SocketType::*;
+use glam::{Vec2, Vec3, Vec4};
+
+/// Adds an identity compute for every value type, so `value` passes through.
+fn identity_variants(t: NodeType) -> NodeType {
+    t.variant(Float, |x: f32| x)
+        .variant(Vec2, |x: Vec2| x)
+        .variant(Vec3, |x: Vec3| x)
+        .variant(Vec4, |x: Vec4| x)
+}
+
+/// The input-family node types.
+pub fn all() -> Vec<NodeType> {
+    vec![constant(), parameter(), geometry(), time()]
+}
+
+fn constant() -> NodeType {
+    identity_variants(
+        NodeType::new("constant", Category::Input, "A fixed value of any type.")
+            .source("Folded into the plan at compile time (and into literals in WGSL).")
+            .input(
+                In::generic("value", 0.0)
+                    .doc("The value; its JSON shape sets the type (0.5, [x, y, z], ...)."),
+            )
+            .output(Out::generic("value").doc("The same value.")),
+    )
+}
+
+fn parameter() -> NodeType {
+    identity_variants(
+        NodeType::new(
+            "parameter",
+            Category::Input,
+            "A material setting exposed to the caller.",
+        )
+        .source(
+            "The file's value is the default; callers override it per evaluation without \
+                 recompiling (a uniform on the GPU). List it in the graph's `parameters` to give \
+                 it a name, doc and group.",
+        )
+        .input(In::generic("value", 0.0).doc("Default value; its JSON shape sets the type."))
+        .output(Out::generic("value").doc("The value set by the caller, or the default."))
+        .parameter(),
+    )
+}
+
+fn geometry() -> NodeType {
+    use Attribute::*;
+    NodeType::new(
+        "geometry",
+        Category::Geometry,
+        "Per-sample geometry supplied by the caller.",
+    )
+    .source(
+        "Conventions of ../shared/MODELS.md: N points out of the surface, V from the surface \
+             to the eye, L from the surface to the light; all unit length. I = -V.",
+    )
+    .output(Out::vec3("position").unit("m").doc("World-space position."))
+    .output(Out::vec3("normal").doc("Unit surface normal N."))
+    .output(Out::vec3("view").doc("Unit direction V from the surface to the eye."))
+    .output(Out::vec3("light").doc("Unit direction L from the surface to the light."))
+    .output(Out::vec2("uv").doc("Texture coordinates."))
+    .attributes(&[Position, Normal, View, Light, Uv])
+    .compute(|| (Vec3::ZERO, Vec3::Z, Vec3::Z, Vec3::Z, Vec2::splat(0.5)))
+}
+
+fn time() -> NodeType {
+    NodeType::new(
+        "time",
+        Category::Geometry,
+        "The time of the evaluation, in seconds.",
+    )
+    .source("The same for every sample of a batch; hoisted out of the per-sample work.")
+    .output(Out::float("time").unit("s").doc("Time in seconds."))
+    .attributes(&[Attribute::Time])
+    .compute(|| 0.0f32)
+}

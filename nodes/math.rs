@@ -1,0 +1,377 @@
+//! Scalar, vector and colour math. Generic nodes work on float, vec2, vec3, vec4 and
+//! colour (`T`); a float input linked to a vector port is broadcast.
+//!
+//! Division, powers, normalisation and the edges of smoothstep and remap are made safe the
+//! way Blender's math nodes are, so every node gives finite outputs for finite inputs where
+//! the mathematical result is finite: `x / 0 = 0`, `pow(negative, non-integer) = 0`,
+//! `normalize(0) = 0`, and a zero-width smoothstep or remap is a step.
+
+use crate::node::{Category, In, NodeType, Out};
+use crate::types::SocketType::{self, *};
+use crate::value::Value;
+use glam::{Vec2, Vec3, Vec4};
+use std::ops::{Add, Div, Mul, Sub};
+
+/// Component-wise access shared by f32 and glam's vectors.
+pub trait Components:
+    crate::kernel::Lane
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+{
+    /// The resolved generic type this implements.
+    const TYPE: SocketType;
+    /// Every component set to `x`.
+    fn splat(x: f32) -> Self;
+    /// Applies `f` to each component.
+    fn map(self, f: impl Fn(f32) -> f32) -> Self;
+    /// Applies `f` to each pair of components.
+    fn zip(self, o: Self, f: impl Fn(f32, f32) -> f32) -> Self;
+    /// Applies `f` to each triple of components.
+    fn zip3(self, b: Self, c: Self, f: impl Fn(f32, f32, f32) -> f32) -> Self;
+}
+
+impl Components for f32 {
+    const TYPE: SocketType = Float;
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        f(self)
+    }
+    #[inline(always)]
+    fn zip(self, o: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+        f(self, o)
+    }
+    #[inline(always)]
+    fn zip3(self, b: Self, c: Self, f: impl Fn(f32, f32, f32) -> f32) -> Self {
+        f(self, b, c)
+    }
+}
+
+macro_rules! impl_components {
+    ($t:ty, $ty:expr, $($c:ident),+) => {
+        impl Components for $t {
+            const TYPE: SocketType = $ty;
+            #[inline(always)]
+            fn splat(x: f32) -> Self {
+                <$t>::splat(x)
+            }
+            #[inline(always)]
+            fn map(self, f: impl Fn(f32) -> f32) -> Self {
+                <$t>::new($(f(self.$c)),+)
+            }
+            #[inline(always)]
+            fn zip(self, o: Self, f: impl Fn(f32, f32) -> f32) -> Self {
+                <$t>::new($(f(self.$c, o.$c)),+)
+            }
+            #[inline(always)]
+            fn zip3(self, b: Self, c: Self, f: impl Fn(f32, f32, f32) -> f32) -> Self {
+                <$t>::new($(f(self.$c, b.$c, c.$c)),+)
+            }
+        }
+    };
+}
+impl_components!(Vec2, Vec2, x, y);
+impl_components!(Vec3, Vec3, x, y, z);
+impl_components!(Vec4, Vec4, x, y, z, w);
+
+/// Vectors: the generic types with a length.
+pub trait Vector: Components {
+    /// Dot product.
+    fn dot_(self, o: Self) -> f32;
+    /// Components padded to four with zeros.
+    fn xyzw(self) -> [f32; 4];
+}
+impl Vector for Vec2 {
+    fn dot_(self, o: Self) -> f32 {
+        self.dot(o)
+    }
+    fn xyzw(self) -> [f32; 4] {
+        [self.x, self.y, 0.0, 0.0]
+    }
+}
+impl Vector for Vec3 {
+    fn dot_(self, o: Self) -> f32 {
+        self.dot(o)
+    }
+    fn xyzw(self) -> [f32; 4] {
+        [self.x, self.y, self.z, 0.0]
+    }
+}
+impl Vector for Vec4 {
+    fn dot_(self, o: Self) -> f32 {
+        self.dot(o)
+    }
+    fn xyzw(self) -> [f32; 4] {
+        self.to_array()
+    }
+}
+
+/// `a / b`, 0 where `b` is 0 (Blender's safe divide).
+#[inline(always)]
+pub fn safe_div(a: f32, b: f32) -> f32 {
+    if b == 0.0 { 0.0 } else { a / b }
+}
+
+/// `a^b`, 0 for a negative base with a non-integer exponent (Blender's safe power).
+#[inline(always)]
+pub fn safe_pow(a: f32, b: f32) -> f32 {
+    if a < 0.0 && b.fract() != 0.0 {
+        0.0
+    } else {
+        a.powf(b)
+    }
+}
+
+/// Hermite smoothstep, a step at `e0` when the edges coincide.
+#[inline(always)]
+pub fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    if e0 == e1 {
+        return if x < e0 { 0.0 } else { 1.0 };
+    }
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+fn add<T: Components>(a: T, b: T) -> T {
+    a + b
+}
+fn sub<T: Components>(a: T, b: T) -> T {
+    a - b
+}
+fn mul<T: Components>(a: T, b: T) -> T {
+    a * b
+}
+fn div<T: Components>(a: T, b: T) -> T {
+    a.zip(b, safe_div)
+}
+fn pow<T: Components>(a: T, b: T) -> T {
+    a.zip(b, safe_pow)
+}
+fn exp<T: Components>(x: T) -> T {
+    x.map(f32::exp)
+}
+fn mix<T: Components>(a: T, b: T, t: f32) -> T {
+    a + (b - a) * T::splat(t)
+}
+fn clamp<T: Components>(x: T, lo: T, hi: T) -> T {
+    x.zip(lo, f32::max).zip(hi, f32::min)
+}
+fn saturate<T: Components>(x: T) -> T {
+    x.map(|c| c.clamp(0.0, 1.0))
+}
+fn smoothstep_t<T: Components>(e0: T, e1: T, x: T) -> T {
+    e0.zip3(e1, x, smoothstep)
+}
+fn step<T: Components>(edge: T, x: T) -> T {
+    edge.zip(x, |e, x| if x < e { 0.0 } else { 1.0 })
+}
+fn remap<T: Components>(x: T, from_min: T, from_max: T, to_min: T, to_max: T, clamp: bool) -> T {
+    let t = x.zip3(from_min, from_max, |x, a, b| {
+        if a == b {
+            if x < a { 0.0 } else { 1.0 }
+        } else {
+            (x - a) / (b - a)
+        }
+    });
+    let t = if clamp { saturate(t) } else { t };
+    to_min + (to_max - to_min) * t
+}
+fn dot<T: Vector>(a: T, b: T) -> f32 {
+    a.dot_(b)
+}
+fn length<T: Vector>(v: T) -> f32 {
+    v.dot_(v).sqrt()
+}
+fn normalize<T: Vector>(v: T) -> T {
+    let l = v.dot_(v).sqrt();
+    if l > 0.0 && l.is_finite() {
+        v * T::splat(1.0 / l)
+    } else {
+        T::splat(0.0)
+    }
+}
+fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
+    let [x, y, z, w] = v.xyzw();
+    (x, y, z, w)
+}
+
+/// Registers `f::<T>` for float, vec2, vec3 and vec4 (colour uses the vec3 variant).
+macro_rules! all_types {
+    ($t:expr, $f:ident) => {
+        $t.variant(Float, $f::<f32>)
+            .variant(Vec2, $f::<Vec2>)
+            .variant(Vec3, $f::<Vec3>)
+            .variant(Vec4, $f::<Vec4>)
+    };
+}
+
+/// Registers `f::<T>` for vec2, vec3 and vec4 (colour uses the vec3 variant).
+macro_rules! vector_types {
+    ($t:expr, $f:ident) => {
+        $t.variant(Vec3, $f::<Vec3>)
+            .variant(Vec2, $f::<Vec2>)
+            .variant(Vec4, $f::<Vec4>)
+    };
+}
+
+const CLOSED_FORM: &str = "Closed form, component-wise.";
+
+fn binary(name: &'static str, summary: &'static str, a: f32, b: f32) -> NodeType {
+    NodeType::new(name, Category::Math, summary)
+        .input(In::generic("a", a).range(-10.0, 10.0).doc("First operand."))
+        .input(
+            In::generic("b", b)
+                .range(-10.0, 10.0)
+                .doc("Second operand."),
+        )
+        .output(Out::generic("result").doc("The result, component-wise."))
+}
+
+/// The math-family node types.
+pub fn all() -> Vec<NodeType> {
+    let v = |x: f32| Value::float(x);
+    vec![
+        all_types!(binary("add", "a + b.", 0.0, 0.0).source(CLOSED_FORM), add),
+        all_types!(binary("sub", "a − b.", 0.0, 0.0).source(CLOSED_FORM), sub),
+        all_types!(binary("mul", "a · b, component-wise.", 1.0, 1.0).source(CLOSED_FORM), mul),
+        all_types!(
+            binary("div", "a / b, component-wise; 0 where b is 0.", 1.0, 1.0)
+                .source("Closed form with Blender's safe divide: x / 0 = 0, so outputs stay finite.")
+                .hard_case("divide by zero", &[("a", v(1.0)), ("b", v(0.0))])
+                .hard_case("tiny divisor", &[("a", v(1.0)), ("b", v(1e-30))]),
+            div
+        ),
+        all_types!(
+            NodeType::new("pow", Category::Math, "a raised to b, component-wise.")
+                .source("Blender's safe power: pow(a < 0, non-integer b) = 0 instead of NaN.")
+                .input(In::generic("a", 1.0).range(0.0, 4.0).doc("Base."))
+                .input(In::generic("b", 1.0).range(-4.0, 8.0).doc("Exponent."))
+                .output(Out::generic("result").doc("a^b."))
+                .hard_case("negative base, fractional exponent", &[("a", v(-2.0)), ("b", v(0.5))])
+                .hard_case("zero to the zero", &[("a", v(0.0)), ("b", v(0.0))]),
+            pow
+        ),
+        all_types!(
+            NodeType::new("exp", Category::Math, "e raised to x, component-wise.")
+                .source(CLOSED_FORM)
+                .input(In::generic("x", 0.0).range(-20.0, 20.0).doc("Exponent."))
+                .output(Out::generic("result").doc("e^x."))
+                .hard_case("underflow", &[("x", v(-80.0))]),
+            exp
+        ),
+        all_types!(
+            NodeType::new("mix", Category::Math, "Linear interpolation a + (b − a)·t.")
+                .source("GLSL/WGSL mix; t is not clamped.")
+                .input(In::generic("a", 0.0).range(-10.0, 10.0).doc("Value at t = 0."))
+                .input(In::generic("b", 1.0).range(-10.0, 10.0).doc("Value at t = 1."))
+                .input(In::float("t", 0.5).range(0.0, 1.0).doc("Blend factor."))
+                .output(Out::generic("result").doc("The blend.")),
+            mix
+        ),
+        all_types!(
+            NodeType::new("clamp", Category::Math, "x limited to [min, max], component-wise.")
+                .source("min(max(x, lo), hi), as WGSL clamp; a NaN x gives lo.")
+                .input(In::generic("x", 0.0).range(-10.0, 10.0).doc("Value."))
+                .input(In::generic("min", 0.0).range(-10.0, 10.0).doc("Lower bound."))
+                .input(In::generic("max", 1.0).range(-10.0, 10.0).doc("Upper bound."))
+                .output(Out::generic("result").doc("The clamped value.")),
+            clamp
+        ),
+        all_types!(
+            NodeType::new("saturate", Category::Math, "x limited to [0, 1], component-wise.")
+                .source(CLOSED_FORM)
+                .input(In::generic("x", 0.0).range(-10.0, 10.0).doc("Value."))
+                .output(Out::generic("result").doc("clamp(x, 0, 1).")),
+            saturate
+        ),
+        all_types!(
+            NodeType::new("smoothstep", Category::Math, "Hermite step from edge0 to edge1.")
+                .source("t = clamp((x − e0)/(e1 − e0), 0, 1), t²(3 − 2t); a step at e0 when e0 = e1.")
+                .input(In::generic("edge0", 0.0).range(-2.0, 2.0).doc("Where the result starts to rise."))
+                .input(In::generic("edge1", 1.0).range(-2.0, 2.0).doc("Where the result reaches 1."))
+                .input(In::generic("x", 0.5).range(-2.0, 2.0).doc("Value."))
+                .output(Out::generic("result").doc("Smooth 0 → 1 transition."))
+                .hard_case("coincident edges", &[("edge0", v(0.5)), ("edge1", v(0.5)), ("x", v(0.5))]),
+            smoothstep_t
+        ),
+        all_types!(
+            NodeType::new("step", Category::Math, "0 where x < edge, else 1.")
+                .source("GLSL/WGSL step(edge, x).")
+                .input(In::generic("edge", 0.5).range(-2.0, 2.0).doc("Threshold."))
+                .input(In::generic("x", 0.0).range(-2.0, 2.0).doc("Value."))
+                .output(Out::generic("result").doc("0 or 1.")),
+            step
+        ),
+        all_types!(
+            NodeType::new("remap", Category::Math, "Maps x from [from_min, from_max] to [to_min, to_max].")
+                .source("Blender's Map Range (linear): t = (x − a)/(b − a), to_min + (to_max − to_min)·t; a step when a = b.")
+                .input(In::generic("x", 0.5).range(-2.0, 2.0).doc("Value."))
+                .input(In::generic("from_min", 0.0).range(-2.0, 2.0).doc("Start of the source range."))
+                .input(In::generic("from_max", 1.0).range(-2.0, 2.0).doc("End of the source range."))
+                .input(In::generic("to_min", 0.0).range(-2.0, 2.0).doc("Start of the target range."))
+                .input(In::generic("to_max", 1.0).range(-2.0, 2.0).doc("End of the target range."))
+                .input(In::boolean("clamp", false).doc("Clamp t to [0, 1]."))
+                .output(Out::generic("result").doc("The remapped value."))
+                .hard_case("empty source range", &[("from_min", v(0.3)), ("from_max", v(0.3))]),
+            remap
+        ),
+        vector_types!(
+            NodeType::new("dot", Category::Vector, "Dot product a · b.")
+                .source(CLOSED_FORM)
+                .input(In::generic("a", 0.0).range(-2.0, 2.0).doc("First vector."))
+                .input(In::generic("b", 0.0).range(-2.0, 2.0).doc("Second vector."))
+                .output(Out::float("result").doc("Σ aᵢbᵢ.")),
+            dot
+        ),
+        NodeType::new("cross", Category::Vector, "Cross product a × b.")
+            .source(CLOSED_FORM)
+            .input(In::vec3("a", [1.0, 0.0, 0.0]).range(-2.0, 2.0).doc("First vector."))
+            .input(In::vec3("b", [0.0, 1.0, 0.0]).range(-2.0, 2.0).doc("Second vector."))
+            .output(Out::vec3("result").doc("a × b."))
+            .compute(|a: Vec3, b: Vec3| a.cross(b)),
+        vector_types!(
+            NodeType::new("normalize", Category::Vector, "v scaled to unit length; 0 for a zero vector.")
+                .source("v / |v|, with normalize(0) = 0 instead of NaN.")
+                .input(In::generic("v", 1.0).range(-2.0, 2.0).doc("Vector."))
+                .output(Out::generic("result").doc("Unit vector along v."))
+                .hard_case("zero vector", &[("v", v(0.0))])
+                .hard_case("tiny vector", &[("v", v(1e-30))]),
+            normalize
+        ),
+        vector_types!(
+            NodeType::new("length", Category::Vector, "Euclidean length |v|.")
+                .source(CLOSED_FORM)
+                .input(In::generic("v", 0.0).range(-2.0, 2.0).doc("Vector."))
+                .output(Out::float("result").doc("|v|.")),
+            length
+        ),
+        vector_types!(
+            NodeType::new("split", Category::Vector, "The components of a vector or colour.")
+                .source("Components past the input's width are 0.")
+                .input(In::generic("v", 0.0).range(-2.0, 2.0).doc("Vector or colour."))
+                .output(Out::float("x").doc("First component (red)."))
+                .output(Out::float("y").doc("Second component (green)."))
+                .output(Out::float("z").doc("Third component (blue); 0 for a vec2."))
+                .output(Out::float("w").doc("Fourth component; 0 below vec4.")),
+            split
+        ),
+        NodeType::new("combine", Category::Vector, "Builds vectors and a colour from components.")
+            .source("vec2 (x, y), vec3 (x, y, z), vec4 (x, y, z, w), color (x, y, z).")
+            .input(In::float("x", 0.0).range(-2.0, 2.0).doc("First component (red)."))
+            .input(In::float("y", 0.0).range(-2.0, 2.0).doc("Second component (green)."))
+            .input(In::float("z", 0.0).range(-2.0, 2.0).doc("Third component (blue)."))
+            .input(In::float("w", 0.0).range(-2.0, 2.0).doc("Fourth component."))
+            .output(Out::vec2("vec2").doc("(x, y)."))
+            .output(Out::vec3("vec3").doc("(x, y, z)."))
+            .output(Out::vec4("vec4").doc("(x, y, z, w)."))
+            .output(Out::color("color").doc("(x, y, z) as linear RGB."))
+            .compute(|x: f32, y: f32, z: f32, w: f32| {
+                (Vec2::new(x, y), Vec3::new(x, y, z), Vec4::new(x, y, z, w), Vec3::new(x, y, z))
+            }),
+    ]
+}

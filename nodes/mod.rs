@@ -1,0 +1,17 @@
+//! The node library, one module per family. Each node type keeps its declaration, CPU
+//! compute and hard cases together; [`all`] lists them for the registry.
+
+pub mod input;
+pub mod math;
+pub mod optics;
+
+use crate::node::NodeType;
+
+/// Every node type shipped with matgraph, in menu order.
+pub fn all() -> Vec<NodeType> {
+    let mut v = Vec::new();
+    v.extend(input::all());
+    v.extend(math::all());
+    v.extend(optics::all());
+    v
+}

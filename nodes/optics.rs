@@ -1,0 +1,244 @@
+//! Shared optics (../shared/MODELS.md, "Shared optics"): reflection, refraction, Fresnel
+//! (exact, Schlick, empirical), IOR ↔ F0 ↔ Unreal specular, and the Henyey–Greenstein phase.
+//!
+//! Conventions: `i` is the incident direction pointing *towards* the surface, `n` the unit
+//! normal; `eta = n_incident / n_transmitted` (GLSL/RenderMan convention).
+
+use crate::node::{Category, In, NodeType, Out};
+use crate::types::SocketType::*;
+use crate::value::Value;
+use glam::Vec3;
+use std::f32::consts::PI;
+
+/// Mirror reflection `R = I − 2 (N·I) N`.
+///
+/// Source: MODELS.md "Reflect"; GLSL `reflect`.
+pub fn reflect(i: Vec3, n: Vec3) -> Vec3 {
+    i - 2.0 * n.dot(i) * n
+}
+
+/// Vector Snell refraction with `eta = n1 / n2`:
+/// `k = 1 − η²(1 − (N·I)²)`; TIR when `k < 0`; else `T = η I − (η (N·I) + √k) N`.
+///
+/// Under total internal reflection the result is the reflected direction and `tir` is true,
+/// so a graph never receives a silent zero vector. Source: MODELS.md "Refract"; GLSL `refract`.
+pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
+    let cos = n.dot(i);
+    let k = 1.0 - eta * eta * (1.0 - cos * cos);
+    if k < 0.0 {
+        (reflect(i, n), true)
+    } else {
+        (eta * i - (eta * cos + k.sqrt()) * n, false)
+    }
+}
+
+/// Exact unpolarised Fresnel reflectance of a smooth dielectric boundary.
+///
+/// `rs = (n1 cosθi − n2 cosθt)/(n1 cosθi + n2 cosθt)`, `rp = (n2 cosθi − n1 cosθt)/(n2 cosθi + n1 cosθt)`,
+/// `R = (rs² + rp²)/2`; `R = 1` under total internal reflection. `cos_theta > 0`: light
+/// arrives from the outside medium (`n1 = ior_outside`); `cos_theta < 0`: from the inside,
+/// and the indices swap (pbrt-v4 `FrDielectric`). Source: MODELS.md "Exact dielectric Fresnel".
+pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> (f32, f32) {
+    let (n1, n2, cos_i) = if cos_theta >= 0.0 {
+        (ior_outside, ior_inside, cos_theta.min(1.0))
+    } else {
+        (ior_inside, ior_outside, (-cos_theta).min(1.0))
+    };
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let ratio = n1 / n2;
+    let sin2_t = ratio * ratio * sin2_i;
+    if sin2_t >= 1.0 {
+        return (1.0, 0.0);
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    let r = 0.5 * (rs * rs + rp * rp);
+    (r, 1.0 - r)
+}
+
+/// Schlick's approximation `F = F0 + (1 − F0)(1 − cosθ)⁵`, cosθ clamped to [0, 1].
+///
+/// Valid when light arrives from the less dense side; from the denser side feed it cosθt
+/// (MODELS.md "Schlick"). Source: Schlick 1994, eq. 24.
+pub fn fresnel_schlick<
+    T: Copy
+        + std::ops::Add<Output = T>
+        + std::ops::Mul<f32, Output = T>
+        + std::ops::Sub<Output = T>
+        + OneT,
+>(
+    cos_theta: f32,
+    f0: T,
+) -> T {
+    let m = (1.0 - cos_theta.clamp(0.0, 1.0)).max(0.0);
+    let m2 = m * m;
+    f0 + (T::one() - f0) * (m2 * m2 * m)
+}
+
+/// The value 1 in every component.
+pub trait OneT {
+    /// 1 in every component.
+    fn one() -> Self;
+}
+impl OneT for f32 {
+    fn one() -> Self {
+        1.0
+    }
+}
+impl OneT for Vec3 {
+    fn one() -> Self {
+        Vec3::ONE
+    }
+}
+
+/// The Cg Tutorial's empirical Fresnel `clamp(bias + scale (1 + I·N)^power, 0, 1)`.
+///
+/// With `bias = F0`, `scale = 1 − F0`, `power = 5` it equals Schlick. Source: Fernando &
+/// Kilgard, The Cg Tutorial (2003), §7.4; used by seed 004.
+pub fn fresnel_empirical(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
+    let base = (1.0 + i_dot_n).max(0.0);
+    (bias + scale * base.powf(power)).clamp(0.0, 1.0)
+}
+
+/// Normal-incidence reflectance `R0 = ((n1 − n2)/(n1 + n2))²`. Source: MODELS.md "R0".
+pub fn ior_to_f0(ior_outside: f32, ior_inside: f32) -> f32 {
+    let r = (ior_outside - ior_inside) / (ior_outside + ior_inside);
+    r * r
+}
+
+/// Inverse of [`ior_to_f0`] from air: `n = (1 + √R0)/(1 − √R0)`. Source: seed 003.
+pub fn f0_to_ior(f0: f32) -> f32 {
+    let s = f0.clamp(0.0, 0.99).sqrt();
+    (1.0 + s) / (1.0 - s)
+}
+
+/// Unreal's non-metal Specular input: `specular = R0 / 0.08`. Source: seed 003.
+pub fn f0_to_specular(f0: f32) -> f32 {
+    f0 / 0.08
+}
+
+/// Inverse of [`f0_to_specular`]: `R0 = 0.08 · specular`. Source: seed 003.
+pub fn specular_to_f0(specular: f32) -> f32 {
+    0.08 * specular
+}
+
+/// The largest |g| used: HG at |g| = 1 is a delta distribution.
+pub const HG_G_MAX: f32 = 0.9999;
+
+/// Henyey–Greenstein phase function normalised over the sphere:
+/// `p(cosθ) = (1 − g²) / (4π (1 + g² − 2g cosθ)^1.5)`.
+///
+/// The base is written `(1 − g)² + 2g(1 − cosθ)` and the numerator `(1 − g)(1 + g)`, which
+/// keeps full f32 precision as `g → ±1` (MODELS.md "Henyey–Greenstein"); `g` is clamped to
+/// ±0.9999. Source: Henyey & Greenstein 1941, eq. 6.
+pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
+    let g = g.clamp(-HG_G_MAX, HG_G_MAX);
+    let c = cos_theta.clamp(-1.0, 1.0);
+    let one_minus_g = 1.0 - g;
+    let base = one_minus_g * one_minus_g + 2.0 * g * (1.0 - c);
+    one_minus_g * (1.0 + g) / (4.0 * PI * base * base.sqrt())
+}
+
+/// The optics node types.
+pub fn all() -> Vec<NodeType> {
+    let f = Value::float;
+    let v3 = Value::vec3;
+    let grazing = |name: &'static str| [(name, f(1e-4))];
+    vec![
+        NodeType::new("reflect", Category::Optics, "Mirror reflection of an incident direction.")
+            .source("R = I − 2 (N·I) N (MODELS.md \"Reflect\"; GLSL reflect). I points towards the surface.")
+            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Incident direction, towards the surface."))
+            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Unit surface normal."))
+            .output(Out::vec3("r").doc("Reflected direction, away from the surface."))
+            .hard_case("grazing", &[("i", v3([1.0, 0.0, -1e-4]))])
+            .compute(reflect),
+        NodeType::new("refract", Category::Optics, "Snell refraction of an incident direction, with TIR flagged.")
+            .source(
+                "k = 1 − η²(1 − (N·I)²); T = η I − (η N·I + √k) N (MODELS.md \"Refract\", GLSL refract), \
+                 eta = n_incident / n_transmitted. Under total internal reflection (k < 0) t is the \
+                 reflected direction and tir is true.",
+            )
+            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Incident direction, towards the surface."))
+            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Unit normal on the incident side."))
+            .input(In::float("eta", 1.0 / 1.5).range(0.2, 3.0).hard(0.0, 100.0).doc("n_incident / n_transmitted."))
+            .output(Out::vec3("t").doc("Refracted direction (reflected under TIR)."))
+            .output(Out::boolean("tir").doc("True under total internal reflection."))
+            .hard_case("grazing from air", &[("i", v3([1.0, 0.0, -1e-4])), ("eta", f(1.0 / 1.33))])
+            .hard_case("just past the critical angle", &[("i", v3([0.7518, 0.0, -0.6594])), ("eta", f(1.33))])
+            .hard_case("index match", &[("eta", f(1.0))])
+            .compute(refract),
+        NodeType::new("fresnel_dielectric", Category::Optics, "Exact unpolarised Fresnel reflectance of a dielectric.")
+            .source(
+                "R = (rs² + rp²)/2 with rs, rp from Snell (MODELS.md \"Exact dielectric Fresnel\"; \
+                 pbrt-v4 FrDielectric). cos_theta > 0: light arrives from the outside medium; < 0: \
+                 from the inside, where TIR gives R = 1.",
+            )
+            .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine of the angle of incidence; sign gives the side."))
+            .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction on the normal's side."))
+            .input(In::float("ior_inside", 1.5).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction behind the surface."))
+            .output(Out::float("reflectance").doc("Fraction of power reflected."))
+            .output(Out::float("transmittance").doc("Fraction of power transmitted, 1 − R."))
+            .hard_case("grazing", &grazing("cos_theta"))
+            .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
+            .hard_case("inside at the critical angle", &[("cos_theta", f(-0.6593)), ("ior_outside", f(1.0)), ("ior_inside", f(1.33))])
+            .hard_case("index match", &[("ior_inside", f(1.0))])
+            .compute(fresnel_dielectric),
+        NodeType::new("fresnel_schlick", Category::Optics, "Schlick's Fresnel approximation.")
+            .source("F = F0 + (1 − F0)(1 − cosθ)⁵ (Schlick 1994, eq. 24; MODELS.md \"Schlick\"). f0 may be a colour (metals).")
+            .input(In::float("cos_theta", 1.0).range(0.0, 1.0).doc("Cosine of the angle of incidence (use cosθt from the dense side)."))
+            .input(In::generic("f0", 0.04).range(0.0, 1.0).doc("Reflectance at normal incidence."))
+            .output(Out::generic("reflectance").doc("Approximate reflectance."))
+            .hard_case("grazing", &grazing("cos_theta"))
+            .variant(Float, fresnel_schlick::<f32>)
+            .variant(Vec3, fresnel_schlick::<Vec3>),
+        NodeType::new("fresnel_empirical", Category::Optics, "The Cg Tutorial's empirical Fresnel.")
+            .source(
+                "F = clamp(bias + scale (1 + I·N)^power, 0, 1) (Fernando & Kilgard, The Cg Tutorial \
+                 §7.4; seed 004). bias = F0, scale = 1 − F0, power = 5 gives Schlick.",
+            )
+            .input(In::float("i_dot_n", -1.0).range(-1.0, 0.0).hard(-1.0, 1.0).doc("I·N, I the incident direction (−1 at normal incidence)."))
+            .input(In::float("bias", 0.04).range(0.0, 1.0).doc("Reflectance at normal incidence."))
+            .input(In::float("scale", 0.96).range(0.0, 2.0).doc("Weight of the angular term."))
+            .input(In::float("power", 5.0).range(0.5, 8.0).hard(0.0, 64.0).doc("Exponent of the angular term."))
+            .output(Out::float("factor").doc("Reflection weight in [0, 1]."))
+            .hard_case("grazing", &[("i_dot_n", f(-1e-4))])
+            .compute(fresnel_empirical),
+        NodeType::new("ior_to_f0", Category::Optics, "Normal-incidence reflectance from two indices.")
+            .source("R0 = ((n1 − n2)/(n1 + n2))² (MODELS.md \"R0\"; seed 003).")
+            .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction outside."))
+            .input(In::float("ior_inside", 1.5).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction inside."))
+            .output(Out::float("f0").doc("Reflectance at normal incidence."))
+            .compute(ior_to_f0),
+        NodeType::new("f0_to_ior", Category::Optics, "Index of refraction (from air) giving a normal-incidence reflectance.")
+            .source("n = (1 + √R0)/(1 − √R0) (seed 003); R0 is clamped to [0, 0.99].")
+            .input(In::float("f0", 0.04).range(0.0, 0.9).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
+            .output(Out::float("ior").doc("Index of refraction relative to air."))
+            .hard_case("mirror", &[("f0", f(1.0))])
+            .compute(f0_to_ior),
+        NodeType::new("f0_to_specular", Category::Optics, "Unreal's Specular input from a normal-incidence reflectance.")
+            .source("specular = R0 / 0.08, so 0.5 ↔ 4% ↔ n = 1.5 (seed 003).")
+            .input(In::float("f0", 0.04).range(0.0, 0.2).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
+            .output(Out::float("specular").doc("Unreal Specular (0–1 covers R0 0–8%)."))
+            .compute(f0_to_specular),
+        NodeType::new("specular_to_f0", Category::Optics, "Normal-incidence reflectance from Unreal's Specular input.")
+            .source("R0 = 0.08 · specular (seed 003).")
+            .input(In::float("specular", 0.5).range(0.0, 1.0).hard(0.0, 12.5).doc("Unreal Specular."))
+            .output(Out::float("f0").doc("Reflectance at normal incidence."))
+            .compute(specular_to_f0),
+        NodeType::new("hg_phase", Category::Optics, "Henyey–Greenstein phase function, normalised over the sphere.")
+            .source(
+                "p = (1 − g²)/(4π (1 + g² − 2g cosθ)^1.5) (Henyey & Greenstein 1941; MODELS.md), \
+                 evaluated as (1 − g)(1 + g)/(4π ((1 − g)² + 2g(1 − cosθ))^1.5) for precision as \
+                 g → ±1; g is clamped to ±0.9999.",
+            )
+            .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine between the propagation directions."))
+            .input(In::float("g", 0.8).range(-0.99, 0.99).hard(-1.0, 1.0).doc("Mean cosine; > 0 scatters forward."))
+            .output(Out::float("phase").unit("1/sr").doc("Probability density per steradian."))
+            .hard_case("strong forward peak", &[("cos_theta", f(1.0)), ("g", f(0.999))])
+            .hard_case("strong backward peak", &[("cos_theta", f(-1.0)), ("g", f(-0.999))])
+            .hard_case("g = 1", &[("cos_theta", f(1.0)), ("g", f(1.0))])
+            .hard_case("isotropic", &[("g", f(0.0))])
+            .compute(hg_phase),
+    ]
+}

@@ -1,0 +1,248 @@
+//! Errors found while reading and validating a graph, each naming the node and input at fault.
+
+use crate::types::SocketType;
+use std::fmt;
+use std::path::PathBuf;
+
+/// One problem in a graph document. Every variant names the place at fault.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum GraphError {
+    /// The text is not JSON.
+    #[error("malformed JSON at line {line}, column {column}: {message}")]
+    Syntax {
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What the parser expected.
+        message: String,
+    },
+    /// JSON that does not have the graph format's shape (unknown field, wrong kind of value).
+    #[error("{}{message} at line {line}, column {column}", at_node(.node))]
+    Structure {
+        /// The node whose entry is malformed, when the problem is inside one.
+        node: Option<String>,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// No `version` field.
+    #[error("missing format version: add \"version\": {supported}")]
+    MissingVersion {
+        /// The version this build writes.
+        supported: u32,
+    },
+    /// A version this build does not read.
+    #[error(
+        "format version {found} is newer than the newest supported ({supported}); update matgraph"
+    )]
+    UnsupportedVersion {
+        /// The file's version.
+        found: u64,
+        /// The newest version this build reads.
+        supported: u32,
+    },
+    /// Two nodes share an id.
+    #[error("node '{node}': duplicate node id")]
+    DuplicateId {
+        /// The repeated id.
+        node: String,
+    },
+    /// A node id that cannot be used in links.
+    #[error("node '{node}': invalid node id (use letters, digits, '_' and '-', no '.')")]
+    InvalidId {
+        /// The id.
+        node: String,
+    },
+    /// The node's type is not registered.
+    #[error("node '{node}': unknown node type '{type_name}'{}", did_you_mean(.suggestion))]
+    UnknownNodeType {
+        /// The node.
+        node: String,
+        /// The type it names.
+        type_name: String,
+        /// The nearest registered name.
+        suggestion: Option<String>,
+    },
+    /// A `data_type` that the node does not accept.
+    #[error("node '{node}': data_type '{data_type}' is not one of {allowed}")]
+    BadDataType {
+        /// The node.
+        node: String,
+        /// The data type written.
+        data_type: String,
+        /// The accepted types.
+        allowed: String,
+    },
+    /// An input the node type does not have.
+    #[error("node '{node}': unknown input '{input}'{}", did_you_mean(.suggestion))]
+    UnknownInput {
+        /// The node.
+        node: String,
+        /// The input named.
+        input: String,
+        /// The nearest input name.
+        suggestion: Option<String>,
+    },
+    /// A literal of the wrong type for its input.
+    #[error("node '{node}': input '{input}': expected {expected}, found {found}")]
+    WrongValueType {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// What the input takes.
+        expected: String,
+        /// What the file holds.
+        found: String,
+    },
+    /// A literal outside the input's hard range.
+    #[error("node '{node}': input '{input}': value {value} is outside [{min}, {max}]")]
+    OutOfRange {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// The value written.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
+    },
+    /// A link that is not written `node_id.output`.
+    #[error("node '{node}': input '{input}': link '{link}' must be written \"node_id.output\"")]
+    BadLink {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// The link text.
+        link: String,
+    },
+    /// A link to a node that does not exist.
+    #[error("node '{node}': input '{input}': link to missing node '{target}'{}", did_you_mean(.suggestion))]
+    MissingNode {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// The node id linked to.
+        target: String,
+        /// The nearest node id.
+        suggestion: Option<String>,
+    },
+    /// A link to an output the source node does not have.
+    #[error("node '{node}': input '{input}': node '{target}' has no output '{output}'{}", did_you_mean(.suggestion))]
+    MissingOutput {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// The source node.
+        target: String,
+        /// The output named.
+        output: String,
+        /// The nearest output name.
+        suggestion: Option<String>,
+    },
+    /// A link between types with no implicit conversion.
+    #[error(
+        "node '{node}': input '{input}': cannot connect '{from}' ({from_type}) to '{node}.{input}' ({to_type}): no implicit conversion"
+    )]
+    TypeMismatch {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// The source, `node.output`.
+        from: String,
+        /// The source's type.
+        from_type: SocketType,
+        /// The input's type.
+        to_type: SocketType,
+    },
+    /// The links form a cycle.
+    #[error("cycle through nodes {}", .nodes.join(" -> "))]
+    Cycle {
+        /// The nodes on the cycle, in link order.
+        nodes: Vec<String>,
+    },
+    /// A graph output that is malformed or points at nothing.
+    #[error("graph output '{name}': {message}")]
+    BadOutput {
+        /// The output's name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A graph parameter that is malformed or points at something other than a parameter node.
+    #[error("parameter '{name}': {message}")]
+    BadParameter {
+        /// The parameter's name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+fn at_node(node: &Option<String>) -> String {
+    node.as_ref()
+        .map(|n| format!("node '{n}': "))
+        .unwrap_or_default()
+}
+
+fn did_you_mean(s: &Option<String>) -> String {
+    s.as_ref()
+        .map(|s| format!(" (did you mean '{s}'?)"))
+        .unwrap_or_default()
+}
+
+impl GraphError {
+    /// The id of the node at fault, when there is one.
+    pub fn node(&self) -> Option<&str> {
+        use GraphError::*;
+        match self {
+            Structure { node, .. } => node.as_deref(),
+            DuplicateId { node }
+            | InvalidId { node }
+            | UnknownNodeType { node, .. }
+            | BadDataType { node, .. }
+            | UnknownInput { node, .. }
+            | WrongValueType { node, .. }
+            | OutOfRange { node, .. }
+            | BadLink { node, .. }
+            | MissingNode { node, .. }
+            | MissingOutput { node, .. }
+            | TypeMismatch { node, .. } => Some(node),
+            Cycle { nodes } => nodes.first().map(String::as_str),
+            _ => None,
+        }
+    }
+}
+
+/// Every problem found in one graph, attributed to its source (a file path or a label).
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphErrors {
+    /// Where the graph came from.
+    pub source: PathBuf,
+    /// The problems, in the order found.
+    pub errors: Vec<GraphError>,
+}
+
+impl fmt::Display for GraphErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, e) in self.errors.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{}: {e}", self.source.display())?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for GraphErrors {}

@@ -1,0 +1,808 @@
+//! The validated graph: node types resolved, generic types inferred, links typed and
+//! checked, no cycles. Built from a [`GraphDocument`] with every problem reported at once.
+
+use crate::document::{
+    FORMAT_VERSION, GraphDocument, NodeDocument, OutputDocument, ParameterDocument,
+};
+use crate::error::GraphError;
+use crate::node::{Evaluation, InputDecl, NodeType, PortType};
+use crate::registry::{Registry, nearest};
+use crate::types::{Conversion, SocketType};
+use crate::value::Value;
+use petgraph::graphmap::DiGraphMap;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+/// Index of a node in [`Graph::nodes`].
+pub type NodeIndex = usize;
+
+/// A reference to one output of one node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct OutputRef {
+    /// The node.
+    pub node: NodeIndex,
+    /// The output's index in the node type's outputs.
+    pub output: usize,
+}
+
+/// Where a node input's value comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputSource {
+    /// Not written in the file: the declared default (already of the port's type).
+    Default(Value),
+    /// A literal written in the file (already converted to the port's type).
+    Value(Value),
+    /// A link to another node's output, with the conversion its types need.
+    Link(OutputRef, Conversion),
+}
+
+/// A validated node.
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// Stable id from the file.
+    pub id: String,
+    /// Its type.
+    pub node_type: Arc<NodeType>,
+    /// The `data_type` written in the file, if any.
+    pub data_type: Option<SocketType>,
+    /// The resolved generic type `T` (float for non-generic nodes).
+    pub generic: SocketType,
+    /// One source per declared input, in port order.
+    pub inputs: Vec<InputSource>,
+    /// Editor position.
+    pub position: Option<[f32; 2]>,
+}
+
+impl Node {
+    /// The concrete type of input `k`.
+    pub fn input_type(&self, k: usize) -> SocketType {
+        self.node_type.inputs()[k].ty.resolve(self.generic)
+    }
+    /// The concrete type of output `k`.
+    pub fn output_type(&self, k: usize) -> SocketType {
+        self.node_type.outputs()[k].ty.resolve(self.generic)
+    }
+}
+
+/// A named output of the graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphOutput {
+    /// Name callers ask for.
+    pub name: String,
+    /// The node output it reads.
+    pub source: OutputRef,
+    /// Its type.
+    pub ty: SocketType,
+}
+
+/// An exposed parameter of the graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphParameter {
+    /// Name callers set it by.
+    pub name: String,
+    /// The `parameter` node it exposes.
+    pub node: NodeIndex,
+    /// Its type.
+    pub ty: SocketType,
+    /// Its value in the file.
+    pub default: Value,
+    /// What it means.
+    pub doc: String,
+    /// Editor group.
+    pub group: Option<String>,
+}
+
+/// A validated graph.
+#[derive(Clone, Debug)]
+pub struct Graph {
+    /// Name.
+    pub name: String,
+    /// Description.
+    pub doc: String,
+    nodes: Vec<Node>,
+    by_id: HashMap<String, NodeIndex>,
+    order: Vec<NodeIndex>,
+    outputs: Vec<GraphOutput>,
+    parameters: Vec<GraphParameter>,
+}
+
+impl Graph {
+    /// Parses and validates a graph file's text against `registry`.
+    pub fn from_json(text: &str, registry: &Registry) -> Result<Graph, Vec<GraphError>> {
+        let doc = GraphDocument::parse(text)?;
+        Graph::from_document(&doc, registry)
+    }
+
+    /// Validates a document; returns every problem found.
+    pub fn from_document(
+        doc: &GraphDocument,
+        registry: &Registry,
+    ) -> Result<Graph, Vec<GraphError>> {
+        Builder {
+            registry,
+            errors: Vec::new(),
+        }
+        .build(doc)
+    }
+
+    /// The nodes, in file order.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+    /// A topological order of the nodes (sources first).
+    pub fn order(&self) -> &[NodeIndex] {
+        &self.order
+    }
+    /// The node with id `id`.
+    pub fn node_index(&self, id: &str) -> Option<NodeIndex> {
+        self.by_id.get(id).copied()
+    }
+    /// The graph's outputs.
+    pub fn outputs(&self) -> &[GraphOutput] {
+        &self.outputs
+    }
+    /// The graph's exposed parameters.
+    pub fn parameters(&self) -> &[GraphParameter] {
+        &self.parameters
+    }
+    /// Resolves `node_id.output` to an output reference.
+    pub fn output_ref(&self, text: &str) -> Option<OutputRef> {
+        let (id, out) = text.split_once('.')?;
+        let node = self.node_index(id)?;
+        let output = self.nodes[node].node_type.output_index(out)?;
+        Some(OutputRef { node, output })
+    }
+    /// The type of a node output.
+    pub fn output_type(&self, r: OutputRef) -> SocketType {
+        self.nodes[r.node].output_type(r.output)
+    }
+    /// `node_id.output` for a reference.
+    pub fn output_name(&self, r: OutputRef) -> String {
+        let n = &self.nodes[r.node];
+        format!("{}.{}", n.id, n.node_type.outputs()[r.output].name)
+    }
+
+    /// The document this graph saves as: literals normalised to their port types.
+    pub fn to_document(&self) -> GraphDocument {
+        let nodes = self
+            .nodes
+            .iter()
+            .map(|n| {
+                let mut inputs = BTreeMap::new();
+                for (decl, src) in n.node_type.inputs().iter().zip(&n.inputs) {
+                    let json = match src {
+                        InputSource::Default(_) => continue,
+                        InputSource::Value(v) => literal_json(decl, v),
+                        InputSource::Link(r, _) => {
+                            serde_json::json!({ "link": self.output_name(*r) })
+                        }
+                    };
+                    inputs.insert(decl.name.to_owned(), json);
+                }
+                NodeDocument {
+                    id: n.id.clone(),
+                    node_type: n.node_type.name().to_owned(),
+                    data_type: n.data_type.map(|t| t.name().to_owned()),
+                    inputs,
+                    position: n.position,
+                }
+            })
+            .collect();
+        GraphDocument {
+            version: FORMAT_VERSION,
+            name: self.name.clone(),
+            doc: self.doc.clone(),
+            nodes,
+            outputs: self
+                .outputs
+                .iter()
+                .map(|o| OutputDocument {
+                    name: o.name.clone(),
+                    from: self.output_name(o.source),
+                })
+                .collect(),
+            parameters: self
+                .parameters
+                .iter()
+                .map(|p| ParameterDocument {
+                    name: p.name.clone(),
+                    node: self.nodes[p.node].id.clone(),
+                    doc: p.doc.clone(),
+                    group: p.group.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// Saves as pretty, deterministic JSON.
+    pub fn to_json(&self) -> String {
+        self.to_document().to_json_pretty()
+    }
+}
+
+/// The JSON of a literal: enum choices by name, everything else by value.
+fn literal_json(decl: &InputDecl, v: &Value) -> serde_json::Value {
+    if !decl.choices.is_empty() {
+        if let Some(name) = usize::try_from(v.as_i32())
+            .ok()
+            .and_then(|i| decl.choices.get(i))
+        {
+            return serde_json::Value::String((*name).to_owned());
+        }
+    }
+    v.to_json()
+}
+
+/// A link as written, before the source node's types are known.
+struct PendingLink {
+    input: usize,
+    target: NodeIndex,
+    output: usize,
+}
+
+struct Builder<'r> {
+    registry: &'r Registry,
+    errors: Vec<GraphError>,
+}
+
+impl Builder<'_> {
+    fn build(mut self, doc: &GraphDocument) -> Result<Graph, Vec<GraphError>> {
+        // 1. Ids and types.
+        let mut by_id: HashMap<String, NodeIndex> = HashMap::new();
+        let mut types: Vec<Option<Arc<NodeType>>> = Vec::with_capacity(doc.nodes.len());
+        for (i, n) in doc.nodes.iter().enumerate() {
+            if !valid_id(&n.id) {
+                self.errors
+                    .push(GraphError::InvalidId { node: n.id.clone() });
+            }
+            if by_id.insert(n.id.clone(), i).is_some() {
+                self.errors
+                    .push(GraphError::DuplicateId { node: n.id.clone() });
+            }
+            let t = self.registry.get(&n.node_type).cloned();
+            if t.is_none() {
+                self.errors.push(GraphError::UnknownNodeType {
+                    node: n.id.clone(),
+                    type_name: n.node_type.clone(),
+                    suggestion: self.registry.suggest(&n.node_type).map(str::to_owned),
+                });
+            }
+            types.push(t);
+        }
+
+        // 2. Input names and link targets.
+        let mut links: Vec<Vec<PendingLink>> = Vec::with_capacity(doc.nodes.len());
+        for (n, t) in doc.nodes.iter().zip(&types) {
+            let mut pending = Vec::new();
+            if let Some(t) = t {
+                for (name, json) in &n.inputs {
+                    let Some(k) = t.input_index(name) else {
+                        self.errors.push(GraphError::UnknownInput {
+                            node: n.id.clone(),
+                            input: name.clone(),
+                            suggestion: nearest(name, t.inputs().iter().map(|i| i.name))
+                                .map(str::to_owned),
+                        });
+                        continue;
+                    };
+                    if let Some(link) = link_text(json) {
+                        match link {
+                            Ok(text) => {
+                                if let Some(p) =
+                                    self.resolve_link(n, name, text, &by_id, &types, k, doc)
+                                {
+                                    pending.push(p);
+                                }
+                            }
+                            Err(()) => self.errors.push(GraphError::BadLink {
+                                node: n.id.clone(),
+                                input: name.clone(),
+                                link: json.to_string(),
+                            }),
+                        }
+                    }
+                }
+            }
+            links.push(pending);
+        }
+
+        // 3. Cycles.
+        let order = self.topological_order(doc, &links);
+
+        // 4. Generic types and input values, in topological order.
+        let mut nodes: Vec<Option<Node>> = vec![None; doc.nodes.len()];
+        if let Some(order) = &order {
+            for &i in order {
+                let Some(t) = types[i].clone() else { continue };
+                nodes[i] = self.resolve_node(&doc.nodes[i], t, &links[i], &nodes, doc);
+            }
+        }
+
+        let outputs = self.graph_outputs(doc, &by_id, &nodes);
+        let parameters = self.graph_parameters(doc, &by_id, &nodes);
+
+        if !self.errors.is_empty() {
+            return Err(self.errors);
+        }
+        let nodes: Vec<Node> = nodes.into_iter().flatten().collect();
+        Ok(Graph {
+            name: doc.name.clone(),
+            doc: doc.doc.clone(),
+            nodes,
+            by_id,
+            order: order.unwrap_or_default(),
+            outputs,
+            parameters,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn resolve_link(
+        &mut self,
+        n: &NodeDocument,
+        input: &str,
+        text: &str,
+        by_id: &HashMap<String, NodeIndex>,
+        types: &[Option<Arc<NodeType>>],
+        k: usize,
+        doc: &GraphDocument,
+    ) -> Option<PendingLink> {
+        let Some((target_id, out_name)) = text.split_once('.') else {
+            self.errors.push(GraphError::BadLink {
+                node: n.id.clone(),
+                input: input.to_owned(),
+                link: text.to_owned(),
+            });
+            return None;
+        };
+        let Some(&target) = by_id.get(target_id) else {
+            self.errors.push(GraphError::MissingNode {
+                node: n.id.clone(),
+                input: input.to_owned(),
+                target: target_id.to_owned(),
+                suggestion: nearest(target_id, doc.nodes.iter().map(|n| n.id.as_str()))
+                    .map(str::to_owned),
+            });
+            return None;
+        };
+        // An unknown source type was already reported.
+        let source_type = types[target].as_ref()?;
+        let Some(output) = source_type.output_index(out_name) else {
+            self.errors.push(GraphError::MissingOutput {
+                node: n.id.clone(),
+                input: input.to_owned(),
+                target: target_id.to_owned(),
+                output: out_name.to_owned(),
+                suggestion: nearest(out_name, source_type.outputs().iter().map(|o| o.name))
+                    .map(str::to_owned),
+            });
+            return None;
+        };
+        Some(PendingLink {
+            input: k,
+            target,
+            output,
+        })
+    }
+
+    /// A topological order, or `None` after reporting every cycle.
+    fn topological_order(
+        &mut self,
+        doc: &GraphDocument,
+        links: &[Vec<PendingLink>],
+    ) -> Option<Vec<NodeIndex>> {
+        let mut g: DiGraphMap<NodeIndex, ()> = DiGraphMap::new();
+        for i in 0..doc.nodes.len() {
+            g.add_node(i);
+        }
+        for (i, pending) in links.iter().enumerate() {
+            for p in pending {
+                g.add_edge(p.target, i, ());
+            }
+        }
+        let sccs = petgraph::algo::tarjan_scc(&g);
+        let mut cyclic = false;
+        for scc in &sccs {
+            let self_loop = scc.len() == 1 && g.contains_edge(scc[0], scc[0]);
+            if scc.len() > 1 || self_loop {
+                cyclic = true;
+                self.errors.push(GraphError::Cycle {
+                    nodes: cycle_path(&g, scc, doc),
+                });
+            }
+        }
+        if cyclic {
+            return None;
+        }
+        // tarjan_scc returns components in reverse topological order; make it stable by
+        // file order among independent nodes with a Kahn sort.
+        let mut indegree: Vec<usize> = (0..doc.nodes.len())
+            .map(|i| g.neighbors_directed(i, petgraph::Incoming).count())
+            .collect();
+        let mut ready: std::collections::BTreeSet<NodeIndex> =
+            (0..doc.nodes.len()).filter(|&i| indegree[i] == 0).collect();
+        let mut order = Vec::with_capacity(doc.nodes.len());
+        while let Some(i) = ready.pop_first() {
+            order.push(i);
+            for j in g.neighbors_directed(i, petgraph::Outgoing) {
+                indegree[j] -= 1;
+                if indegree[j] == 0 {
+                    ready.insert(j);
+                }
+            }
+        }
+        Some(order)
+    }
+
+    fn resolve_node(
+        &mut self,
+        n: &NodeDocument,
+        t: Arc<NodeType>,
+        links: &[PendingLink],
+        done: &[Option<Node>],
+        doc: &GraphDocument,
+    ) -> Option<Node> {
+        let link_type = |p: &PendingLink| done[p.target].as_ref().map(|s| s.output_type(p.output));
+        let errors_before = self.errors.len();
+
+        // The node's generic type T.
+        let data_type = match &n.data_type {
+            None => None,
+            Some(name) => {
+                match SocketType::from_name(name).filter(|ty| t.generic_types().contains(ty)) {
+                    Some(ty) => Some(ty),
+                    None => {
+                        self.errors.push(GraphError::BadDataType {
+                            node: n.id.clone(),
+                            data_type: name.clone(),
+                            allowed: type_list(&t.generic_types()),
+                        });
+                        None
+                    }
+                }
+            }
+        };
+        let generic = if !t.is_generic() {
+            SocketType::Float
+        } else if let Some(d) = data_type {
+            d
+        } else {
+            let mut candidates = Vec::new();
+            for (k, decl) in t.inputs().iter().enumerate() {
+                if decl.ty != PortType::Generic {
+                    continue;
+                }
+                if let Some(p) = links.iter().find(|p| p.input == k) {
+                    candidates.extend(link_type(p));
+                } else if let Some(v) = n.inputs.get(decl.name).and_then(Value::infer_json) {
+                    candidates.push(v.ty());
+                }
+            }
+            infer_generic(&candidates, &t.generic_types())
+        };
+
+        // Inputs.
+        let mut inputs = Vec::with_capacity(t.inputs().len());
+        for (k, decl) in t.inputs().iter().enumerate() {
+            let ty = decl.ty.resolve(generic);
+            let src = if let Some(p) = links.iter().find(|p| p.input == k) {
+                let Some(from_type) = link_type(p) else {
+                    inputs.push(InputSource::Default(t.default_for(k, generic)));
+                    continue;
+                };
+                match from_type.conversion_to(ty) {
+                    Some(c) => InputSource::Link(
+                        OutputRef {
+                            node: p.target,
+                            output: p.output,
+                        },
+                        c,
+                    ),
+                    None => {
+                        let target = &doc.nodes[p.target];
+                        let out_name = done[p.target]
+                            .as_ref()
+                            .map(|s| s.node_type.outputs()[p.output].name)
+                            .unwrap_or("");
+                        self.errors.push(GraphError::TypeMismatch {
+                            node: n.id.clone(),
+                            input: decl.name.to_owned(),
+                            from: format!("{}.{}", target.id, out_name),
+                            from_type,
+                            to_type: ty,
+                        });
+                        continue;
+                    }
+                }
+            } else if let Some(json) = n.inputs.get(decl.name) {
+                if link_text(json).is_some() {
+                    continue; // a bad link, already reported
+                }
+                match self.literal(n, decl, ty, json) {
+                    Some(v) => InputSource::Value(v),
+                    None => continue,
+                }
+            } else {
+                InputSource::Default(t.default_for(k, generic))
+            };
+            inputs.push(src);
+        }
+        if self.errors.len() > errors_before {
+            return None;
+        }
+        Some(Node {
+            id: n.id.clone(),
+            node_type: t,
+            data_type,
+            generic,
+            inputs,
+            position: n.position,
+        })
+    }
+
+    /// Reads a literal for `decl` of concrete type `ty`, reporting wrong types and ranges.
+    fn literal(
+        &mut self,
+        n: &NodeDocument,
+        decl: &InputDecl,
+        ty: SocketType,
+        json: &serde_json::Value,
+    ) -> Option<Value> {
+        let value = if let (false, Some(name)) = (decl.choices.is_empty(), json.as_str()) {
+            match decl.choices.iter().position(|c| *c == name) {
+                Some(i) => Some(Value::int(i as i32)),
+                None => {
+                    self.errors.push(GraphError::WrongValueType {
+                        node: n.id.clone(),
+                        input: decl.name.to_owned(),
+                        expected: format!("one of {}", decl.choices.join(", ")),
+                        found: format!("\"{name}\""),
+                    });
+                    return None;
+                }
+            }
+        } else {
+            Value::from_json(ty, json)
+        };
+        let Some(v) = value else {
+            let expected = if decl.choices.is_empty() {
+                ty.name().to_owned()
+            } else {
+                format!("one of {}", decl.choices.join(", "))
+            };
+            self.errors.push(GraphError::WrongValueType {
+                node: n.id.clone(),
+                input: decl.name.to_owned(),
+                expected,
+                found: describe_json(json),
+            });
+            return None;
+        };
+        if let Some(h) = decl.hard {
+            if !h.contains(&v) {
+                self.errors.push(GraphError::OutOfRange {
+                    node: n.id.clone(),
+                    input: decl.name.to_owned(),
+                    value: v.to_string(),
+                    min: h.min,
+                    max: h.max,
+                });
+                return None;
+            }
+        }
+        Some(v)
+    }
+
+    fn graph_outputs(
+        &mut self,
+        doc: &GraphDocument,
+        by_id: &HashMap<String, NodeIndex>,
+        nodes: &[Option<Node>],
+    ) -> Vec<GraphOutput> {
+        let mut out = Vec::new();
+        let mut seen = Vec::new();
+        for o in &doc.outputs {
+            if seen.contains(&&o.name) {
+                self.errors.push(GraphError::BadOutput {
+                    name: o.name.clone(),
+                    message: "duplicate output name".into(),
+                });
+                continue;
+            }
+            seen.push(&o.name);
+            let Some((id, out_name)) = o.from.split_once('.') else {
+                self.errors.push(GraphError::BadOutput {
+                    name: o.name.clone(),
+                    message: format!("'{}' must be written \"node_id.output\"", o.from),
+                });
+                continue;
+            };
+            let Some(&i) = by_id.get(id) else {
+                let hint = nearest(id, doc.nodes.iter().map(|n| n.id.as_str()))
+                    .map(|s| format!(" (did you mean '{s}'?)"))
+                    .unwrap_or_default();
+                self.errors.push(GraphError::BadOutput {
+                    name: o.name.clone(),
+                    message: format!("no node '{id}'{hint}"),
+                });
+                continue;
+            };
+            let Some(node) = &nodes[i] else { continue };
+            match node.node_type.output_index(out_name) {
+                Some(k) => out.push(GraphOutput {
+                    name: o.name.clone(),
+                    source: OutputRef { node: i, output: k },
+                    ty: node.output_type(k),
+                }),
+                None => self.errors.push(GraphError::BadOutput {
+                    name: o.name.clone(),
+                    message: format!("node '{id}' has no output '{out_name}'"),
+                }),
+            }
+        }
+        out
+    }
+
+    fn graph_parameters(
+        &mut self,
+        doc: &GraphDocument,
+        by_id: &HashMap<String, NodeIndex>,
+        nodes: &[Option<Node>],
+    ) -> Vec<GraphParameter> {
+        let mut out: Vec<GraphParameter> = Vec::new();
+        for p in &doc.parameters {
+            let bad = |message: String| GraphError::BadParameter {
+                name: p.name.clone(),
+                message,
+            };
+            if out.iter().any(|q| q.name == p.name) {
+                self.errors.push(bad("duplicate parameter name".into()));
+                continue;
+            }
+            if crate::node::Attribute::from_name(&p.name).is_some() {
+                self.errors
+                    .push(bad("the name is taken by a geometry attribute".into()));
+                continue;
+            }
+            let Some(&i) = by_id.get(&p.node) else {
+                self.errors.push(bad(format!("no node '{}'", p.node)));
+                continue;
+            };
+            let Some(node) = &nodes[i] else { continue };
+            if node.node_type.evaluation() != Evaluation::Parameter {
+                self.errors.push(bad(format!(
+                    "node '{}' is a '{}', not a 'parameter' node",
+                    p.node,
+                    node.node_type.name()
+                )));
+                continue;
+            }
+            let default = match &node.inputs[0] {
+                InputSource::Default(v) | InputSource::Value(v) => *v,
+                InputSource::Link(..) => {
+                    self.errors
+                        .push(bad("a parameter node's value must be a literal".into()));
+                    continue;
+                }
+            };
+            out.push(GraphParameter {
+                name: p.name.clone(),
+                node: i,
+                ty: node.output_type(0),
+                default,
+                doc: p.doc.clone(),
+                group: p.group.clone(),
+            });
+        }
+        out
+    }
+}
+
+/// The link text of an input entry: `Some(Ok(text))` for `{"link": "..."}`, `Some(Err)` for
+/// an object that is not a well-formed link, `None` for a literal.
+fn link_text(json: &serde_json::Value) -> Option<Result<&str, ()>> {
+    let obj = json.as_object()?;
+    match (obj.len(), obj.get("link").and_then(|l| l.as_str())) {
+        (1, Some(text)) => Some(Ok(text)),
+        _ => Some(Err(())),
+    }
+}
+
+/// Chooses `T` from the types feeding generic ports: the widest, colour when every
+/// three-wide candidate is a colour; float when nothing constrains it. Falls back to the
+/// node's first accepted type when the choice is not accepted.
+fn infer_generic(candidates: &[SocketType], allowed: &[SocketType]) -> SocketType {
+    let rank = |t: SocketType| match t {
+        SocketType::Vec2 => 1,
+        SocketType::Vec3 | SocketType::Color => 2,
+        SocketType::Vec4 => 3,
+        _ => 0,
+    };
+    let top = candidates.iter().map(|&t| rank(t)).max().unwrap_or(0);
+    let t = match top {
+        1 => SocketType::Vec2,
+        2 if candidates
+            .iter()
+            .filter(|&&t| rank(t) == 2)
+            .all(|&t| t == SocketType::Color) =>
+        {
+            SocketType::Color
+        }
+        2 => SocketType::Vec3,
+        3 => SocketType::Vec4,
+        _ => SocketType::Float,
+    };
+    if allowed.contains(&t) {
+        t
+    } else {
+        allowed.first().copied().unwrap_or(t)
+    }
+}
+
+fn type_list(types: &[SocketType]) -> String {
+    types
+        .iter()
+        .map(|t| t.name())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn describe_json(json: &serde_json::Value) -> String {
+    use serde_json::Value as J;
+    match json {
+        J::Null => "null".into(),
+        J::Bool(b) => format!("bool {b}"),
+        J::Number(n) => format!("number {n}"),
+        J::String(s) => format!("string \"{s}\""),
+        J::Array(a) => format!("array of {} items", a.len()),
+        J::Object(_) => "object".into(),
+    }
+}
+
+fn valid_id(id: &str) -> bool {
+    !id.is_empty()
+        && id
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
+/// The nodes of one shortest cycle through the lowest-indexed node of a strongly connected
+/// component, in link order, ending where it starts.
+fn cycle_path(
+    g: &DiGraphMap<NodeIndex, ()>,
+    scc: &[NodeIndex],
+    doc: &GraphDocument,
+) -> Vec<String> {
+    let start = *scc.iter().min().unwrap_or(&0);
+    // Breadth-first search from `start` back to `start`, inside the component.
+    let mut parent: HashMap<NodeIndex, NodeIndex> = HashMap::new();
+    let mut queue = std::collections::VecDeque::from([start]);
+    let mut last = start;
+    'search: while let Some(cur) = queue.pop_front() {
+        let mut next: Vec<NodeIndex> = g
+            .neighbors_directed(cur, petgraph::Outgoing)
+            .filter(|n| scc.contains(n))
+            .collect();
+        next.sort_unstable();
+        for n in next {
+            if n == start {
+                last = cur;
+                break 'search;
+            }
+            if let std::collections::hash_map::Entry::Vacant(e) = parent.entry(n) {
+                e.insert(cur);
+                queue.push_back(n);
+            }
+        }
+    }
+    let mut path = vec![start];
+    let mut cur = last;
+    while cur != start {
+        path.push(cur);
+        cur = parent[&cur];
+    }
+    path.push(start);
+    let end = path.len() - 1;
+    path[1..end].reverse();
+    path.into_iter().map(|i| doc.nodes[i].id.clone()).collect()
+}

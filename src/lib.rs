@@ -1,0 +1,34 @@
+//! matgraph: a node-graph material host.
+//!
+//! Shading models are nodes with typed ports and a one-sample compute ([`node`]); graphs of
+//! them are saved as versioned JSON ([`document`]), validated into a typed DAG ([`graph`]),
+//! compiled into a plan ([`plan`]) and evaluated over tiles on the CPU ([`exec`]).
+//! The core does no I/O: files live in [`io`], the command line in the binary.
+
+#![warn(missing_docs)]
+
+pub mod document;
+pub mod error;
+pub mod exec;
+pub mod graph;
+pub mod io;
+pub mod kernel;
+pub mod node;
+pub mod plan;
+pub mod registry;
+pub mod types;
+pub mod value;
+
+/// The node library (the repository's `nodes/` folder).
+#[path = "../nodes/mod.rs"]
+pub mod nodes;
+
+pub use document::{FORMAT_VERSION, GraphDocument};
+pub use error::{GraphError, GraphErrors};
+pub use exec::{Evaluator, OutputBatch, SampleBatch};
+pub use graph::Graph;
+pub use node::{Attribute, NodeType};
+pub use plan::{EvalError, ParamValues, Plan, PlanOptions};
+pub use registry::Registry;
+pub use types::SocketType;
+pub use value::Value;

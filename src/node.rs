@@ -1,0 +1,675 @@
+//! Node type declarations: typed ports, docs, hard cases and the compute kernels.
+//!
+//! A node type is declared with a few builder calls (Blender's `node_declare`, Maya's
+//! attribute list), and its compute is a plain one-sample Rust function:
+//!
+//! ```
+//! use matgraph::node::{Category, In, NodeType, Out};
+//! fn scale(x: f32, k: f32) -> f32 { x * k }
+//! let t = NodeType::new("scale", Category::Math, "Multiplies x by k.")
+//!     .source("Closed form.")
+//!     .input(In::float("x", 0.0).doc("Value to scale."))
+//!     .input(In::float("k", 2.0).range(0.0, 4.0).doc("Factor."))
+//!     .output(Out::float("result").doc("x · k."))
+//!     .compute(scale);
+//! assert_eq!(t.inputs().len(), 2);
+//! ```
+
+use crate::kernel::{SampleFn, Shape, TileKernel, kernel};
+use crate::types::SocketType;
+use crate::value::Value;
+use std::fmt;
+
+/// The family a node type belongs to, used to group the node list and the editor menu.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Category {
+    /// Constants and exposed parameters.
+    Input,
+    /// Values supplied per sample by the caller (position, normal, ...).
+    Geometry,
+    /// Scalar and component-wise math.
+    Math,
+    /// Vector operations (dot, cross, normalize, ...).
+    Vector,
+    /// Colour operations.
+    Color,
+    /// Reflection, refraction, Fresnel and phase functions.
+    Optics,
+    /// Skin (seed 001).
+    Skin,
+    /// Physically based rendering (seed 003).
+    Pbr,
+}
+
+impl Category {
+    /// The category's name in docs and JSON.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Category::Input => "input",
+            Category::Geometry => "geometry",
+            Category::Math => "math",
+            Category::Vector => "vector",
+            Category::Color => "color",
+            Category::Optics => "optics",
+            Category::Skin => "skin",
+            Category::Pbr => "pbr",
+        }
+    }
+}
+
+impl fmt::Display for Category {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The declared type of a port: fixed, or the node's type variable `T`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortType {
+    /// Always this type.
+    Fixed(SocketType),
+    /// The node's generic type, resolved per node instance from its inputs.
+    Generic,
+}
+
+impl PortType {
+    /// The concrete type once the node's generic type is known.
+    pub fn resolve(self, generic: SocketType) -> SocketType {
+        match self {
+            PortType::Fixed(t) => t,
+            PortType::Generic => generic,
+        }
+    }
+}
+
+impl fmt::Display for PortType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PortType::Fixed(t) => t.fmt(f),
+            PortType::Generic => f.write_str("T"),
+        }
+    }
+}
+
+/// A closed range of values for a float-valued input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// Lower bound.
+    pub min: f32,
+    /// Upper bound.
+    pub max: f32,
+}
+
+impl Range {
+    /// Whether every lane of `v` lies in the range.
+    pub fn contains(&self, v: &Value) -> bool {
+        v.lanes().iter().all(|x| (self.min..=self.max).contains(x))
+    }
+}
+
+/// A declared input port.
+#[derive(Clone, Debug)]
+pub struct InputDecl {
+    /// Stable snake_case name.
+    pub name: &'static str,
+    /// Declared type.
+    pub ty: PortType,
+    /// Default value (for a generic port: a float broadcast to `T`).
+    pub default: Value,
+    /// Range the editor's slider and the random tests cover.
+    pub soft: Option<Range>,
+    /// Range outside of which a literal value is rejected at load.
+    pub hard: Option<Range>,
+    /// Physical unit ("" when dimensionless).
+    pub unit: &'static str,
+    /// One-line description.
+    pub doc: &'static str,
+    /// Names of the choices of an enum (int) input, indexed from 0.
+    pub choices: &'static [&'static str],
+}
+
+/// Builder for an [`InputDecl`].
+pub struct In(InputDecl);
+
+impl In {
+    fn new(name: &'static str, ty: PortType, default: Value) -> In {
+        In(InputDecl {
+            name,
+            ty,
+            default,
+            soft: None,
+            hard: None,
+            unit: "",
+            doc: "",
+            choices: &[],
+        })
+    }
+    /// A float input.
+    pub fn float(name: &'static str, default: f32) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Float),
+            Value::float(default),
+        )
+    }
+    /// A vec2 input.
+    pub fn vec2(name: &'static str, default: [f32; 2]) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Vec2),
+            Value::vec2(default),
+        )
+    }
+    /// A vec3 input.
+    pub fn vec3(name: &'static str, default: [f32; 3]) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Vec3),
+            Value::vec3(default),
+        )
+    }
+    /// A vec4 input.
+    pub fn vec4(name: &'static str, default: [f32; 4]) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Vec4),
+            Value::vec4(default),
+        )
+    }
+    /// A linear RGB colour input.
+    pub fn color(name: &'static str, default: [f32; 3]) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Color),
+            Value::color(default),
+        )
+    }
+    /// An int input.
+    pub fn int(name: &'static str, default: i32) -> In {
+        In::new(name, PortType::Fixed(SocketType::Int), Value::int(default))
+    }
+    /// A bool input.
+    pub fn boolean(name: &'static str, default: bool) -> In {
+        In::new(
+            name,
+            PortType::Fixed(SocketType::Bool),
+            Value::boolean(default),
+        )
+    }
+    /// An enum input: an int whose values are the indices of `choices`.
+    pub fn choice(name: &'static str, choices: &'static [&'static str], default: usize) -> In {
+        let mut i = In::new(
+            name,
+            PortType::Fixed(SocketType::Int),
+            Value::int(default as i32),
+        );
+        i.0.choices = choices;
+        i.0.hard = Some(Range {
+            min: 0.0,
+            max: (choices.len().max(1) - 1) as f32,
+        });
+        i
+    }
+    /// An input of the node's generic type `T`, default `default` in every component.
+    pub fn generic(name: &'static str, default: f32) -> In {
+        In::new(name, PortType::Generic, Value::float(default))
+    }
+    /// Sets the soft range: the editor's slider and the random tests cover it.
+    pub fn range(mut self, min: f32, max: f32) -> In {
+        self.0.soft = Some(Range { min, max });
+        self
+    }
+    /// Sets the hard range: literal values outside it are rejected at load.
+    pub fn hard(mut self, min: f32, max: f32) -> In {
+        self.0.hard = Some(Range { min, max });
+        self
+    }
+    /// Sets the physical unit.
+    pub fn unit(mut self, unit: &'static str) -> In {
+        self.0.unit = unit;
+        self
+    }
+    /// Sets the one-line doc.
+    pub fn doc(mut self, doc: &'static str) -> In {
+        self.0.doc = doc;
+        self
+    }
+}
+
+/// A declared output port.
+#[derive(Clone, Debug)]
+pub struct OutputDecl {
+    /// Stable snake_case name.
+    pub name: &'static str,
+    /// Declared type.
+    pub ty: PortType,
+    /// Physical unit ("" when dimensionless).
+    pub unit: &'static str,
+    /// One-line description.
+    pub doc: &'static str,
+}
+
+/// Builder for an [`OutputDecl`].
+pub struct Out(OutputDecl);
+
+impl Out {
+    fn new(name: &'static str, ty: PortType) -> Out {
+        Out(OutputDecl {
+            name,
+            ty,
+            unit: "",
+            doc: "",
+        })
+    }
+    /// A float output.
+    pub fn float(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Float))
+    }
+    /// A vec2 output.
+    pub fn vec2(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Vec2))
+    }
+    /// A vec3 output.
+    pub fn vec3(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Vec3))
+    }
+    /// A vec4 output.
+    pub fn vec4(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Vec4))
+    }
+    /// A colour output.
+    pub fn color(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Color))
+    }
+    /// A bool output.
+    pub fn boolean(name: &'static str) -> Out {
+        Out::new(name, PortType::Fixed(SocketType::Bool))
+    }
+    /// An output of the node's generic type `T`.
+    pub fn generic(name: &'static str) -> Out {
+        Out::new(name, PortType::Generic)
+    }
+    /// Sets the physical unit.
+    pub fn unit(mut self, unit: &'static str) -> Out {
+        self.0.unit = unit;
+        self
+    }
+    /// Sets the one-line doc.
+    pub fn doc(mut self, doc: &'static str) -> Out {
+        self.0.doc = doc;
+        self
+    }
+}
+
+/// A per-sample value the caller supplies (or the frame, for `time`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Attribute {
+    /// World-space position.
+    Position,
+    /// Unit surface normal, pointing out of the surface.
+    Normal,
+    /// Unit direction from the surface towards the eye (`V`).
+    View,
+    /// Unit direction from the surface towards the light (`L`).
+    Light,
+    /// Surface texture coordinates.
+    Uv,
+    /// Time in seconds; the same for every sample of a batch.
+    Time,
+}
+
+/// Every attribute, in declaration order.
+pub const ALL_ATTRIBUTES: [Attribute; 6] = [
+    Attribute::Position,
+    Attribute::Normal,
+    Attribute::View,
+    Attribute::Light,
+    Attribute::Uv,
+    Attribute::Time,
+];
+
+impl Attribute {
+    /// The name used on the command line and in docs.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Attribute::Position => "position",
+            Attribute::Normal => "normal",
+            Attribute::View => "view",
+            Attribute::Light => "light",
+            Attribute::Uv => "uv",
+            Attribute::Time => "time",
+        }
+    }
+    /// Parses a name written by [`Attribute::name`].
+    pub fn from_name(name: &str) -> Option<Attribute> {
+        ALL_ATTRIBUTES.into_iter().find(|a| a.name() == name)
+    }
+    /// The attribute's type.
+    pub const fn ty(self) -> SocketType {
+        match self {
+            Attribute::Uv => SocketType::Vec2,
+            Attribute::Time => SocketType::Float,
+            _ => SocketType::Vec3,
+        }
+    }
+    /// Whether the value is the same for every sample of a batch.
+    pub const fn is_uniform(self) -> bool {
+        matches!(self, Attribute::Time)
+    }
+    /// The value used when the caller supplies none: the origin, a +z normal, view and
+    /// light straight above (normal incidence), uv (0.5, 0.5), time 0.
+    pub const fn default_value(self) -> Value {
+        match self {
+            Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
+            Attribute::Normal | Attribute::View | Attribute::Light => Value::vec3([0.0, 0.0, 1.0]),
+            Attribute::Uv => Value::vec2([0.5, 0.5]),
+            Attribute::Time => Value::float(0.0),
+        }
+    }
+}
+
+/// Where a node's outputs come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Evaluation {
+    /// Computed by the node's kernel from its inputs.
+    Compute,
+    /// An exposed parameter: the `value` input is the default, callers override it per
+    /// evaluation without recompiling; never folded into a constant.
+    Parameter,
+    /// Output `k` is the caller-supplied attribute `k`.
+    Attributes(&'static [Attribute]),
+}
+
+/// One concrete implementation of a node type, for one resolved generic type.
+pub struct Variant {
+    /// The generic type this variant implements (`None` for non-generic nodes).
+    pub generic: Option<SocketType>,
+    /// The whole-tile CPU kernel.
+    pub kernel: Box<dyn TileKernel>,
+}
+
+impl fmt::Debug for Variant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Variant")
+            .field("generic", &self.generic)
+            .finish_non_exhaustive()
+    }
+}
+
+/// A named set of input values that a stability or parity test must feed the node.
+#[derive(Clone, Debug)]
+pub struct HardCase {
+    /// Why the case is hard (grazing, TIR, g → 1, ...).
+    pub why: &'static str,
+    /// Inputs set by this case; the others keep their defaults.
+    pub values: Vec<(&'static str, Value)>,
+}
+
+/// A node type: declaration, docs, hard cases and compute.
+#[derive(Debug)]
+pub struct NodeType {
+    name: &'static str,
+    category: Category,
+    summary: &'static str,
+    source: &'static str,
+    inputs: Vec<InputDecl>,
+    outputs: Vec<OutputDecl>,
+    evaluation: Evaluation,
+    variants: Vec<Variant>,
+    hard_cases: Vec<HardCase>,
+    wgsl: Option<&'static str>,
+}
+
+impl NodeType {
+    /// Starts a declaration with its stable name, category and one-line summary.
+    pub fn new(name: &'static str, category: Category, summary: &'static str) -> NodeType {
+        NodeType {
+            name,
+            category,
+            summary,
+            source: "",
+            inputs: Vec::new(),
+            outputs: Vec::new(),
+            evaluation: Evaluation::Compute,
+            variants: Vec::new(),
+            hard_cases: Vec::new(),
+            wgsl: None,
+        }
+    }
+    /// Sets the longer doc: the source (paper, equation) and conventions.
+    pub fn source(mut self, text: &'static str) -> NodeType {
+        self.source = text;
+        self
+    }
+    /// Adds an input port.
+    pub fn input(mut self, input: In) -> NodeType {
+        self.inputs.push(input.0);
+        self
+    }
+    /// Adds an output port.
+    pub fn output(mut self, output: Out) -> NodeType {
+        self.outputs.push(output.0);
+        self
+    }
+    /// Sets the CPU compute of a non-generic node.
+    pub fn compute<F: SampleFn<Args>, Args: 'static>(mut self, f: F) -> NodeType {
+        self.variants.push(Variant {
+            generic: None,
+            kernel: kernel(f),
+        });
+        self
+    }
+    /// Adds the CPU compute for one resolved generic type `T`.
+    pub fn variant<F: SampleFn<Args>, Args: 'static>(mut self, t: SocketType, f: F) -> NodeType {
+        self.variants.push(Variant {
+            generic: Some(t),
+            kernel: kernel(f),
+        });
+        self
+    }
+    /// Marks the node as an exposed parameter (see [`Evaluation::Parameter`]).
+    pub fn parameter(mut self) -> NodeType {
+        self.evaluation = Evaluation::Parameter;
+        self
+    }
+    /// Marks the node's outputs as caller-supplied attributes, one per output.
+    pub fn attributes(mut self, attrs: &'static [Attribute]) -> NodeType {
+        self.evaluation = Evaluation::Attributes(attrs);
+        self
+    }
+    /// Adds a hard case: the named inputs set, the others at their defaults.
+    pub fn hard_case(mut self, why: &'static str, values: &[(&'static str, Value)]) -> NodeType {
+        self.hard_cases.push(HardCase {
+            why,
+            values: values.to_vec(),
+        });
+        self
+    }
+    /// Sets the node's WGSL source (filled in by the WGSL backend).
+    pub fn wgsl(mut self, source: &'static str) -> NodeType {
+        self.wgsl = Some(source);
+        self
+    }
+
+    /// Stable snake_case type name.
+    pub fn name(&self) -> &'static str {
+        self.name
+    }
+    /// Category.
+    pub fn category(&self) -> Category {
+        self.category
+    }
+    /// One-line summary.
+    pub fn summary(&self) -> &'static str {
+        self.summary
+    }
+    /// Longer doc naming the source (paper, equation).
+    pub fn source_doc(&self) -> &'static str {
+        self.source
+    }
+    /// Input ports in order.
+    pub fn inputs(&self) -> &[InputDecl] {
+        &self.inputs
+    }
+    /// Output ports in order.
+    pub fn outputs(&self) -> &[OutputDecl] {
+        &self.outputs
+    }
+    /// Where the outputs come from.
+    pub fn evaluation(&self) -> Evaluation {
+        self.evaluation
+    }
+    /// The compute variants.
+    pub fn variants(&self) -> &[Variant] {
+        &self.variants
+    }
+    /// The hard cases the tests feed the node.
+    pub fn hard_cases(&self) -> &[HardCase] {
+        &self.hard_cases
+    }
+    /// The WGSL source, once the WGSL backend provides it.
+    pub fn wgsl_source(&self) -> Option<&'static str> {
+        self.wgsl
+    }
+    /// Index of the input called `name`.
+    pub fn input_index(&self, name: &str) -> Option<usize> {
+        self.inputs.iter().position(|i| i.name == name)
+    }
+    /// Index of the output called `name`.
+    pub fn output_index(&self, name: &str) -> Option<usize> {
+        self.outputs.iter().position(|o| o.name == name)
+    }
+    /// Whether any port has the generic type `T`.
+    pub fn is_generic(&self) -> bool {
+        self.variants.iter().any(|v| v.generic.is_some())
+    }
+    /// The generic types this node accepts (colour is served by the vec3 variant).
+    pub fn generic_types(&self) -> Vec<SocketType> {
+        let mut out: Vec<SocketType> = self.variants.iter().filter_map(|v| v.generic).collect();
+        if out.contains(&SocketType::Vec3) && !out.contains(&SocketType::Color) {
+            out.push(SocketType::Color);
+        }
+        out
+    }
+    /// The variant that computes the node for generic type `t` (ignored if not generic).
+    pub fn variant_for(&self, t: SocketType) -> Option<&Variant> {
+        if !self.is_generic() {
+            return self.variants.first();
+        }
+        let want = if t == SocketType::Color {
+            SocketType::Vec3
+        } else {
+            t
+        };
+        self.variants.iter().find(|v| v.generic == Some(want))
+    }
+    /// The default value of input `k` for generic type `t`.
+    pub fn default_for(&self, k: usize, t: SocketType) -> Value {
+        let decl = &self.inputs[k];
+        let ty = decl.ty.resolve(t);
+        decl.default.convert(ty).unwrap_or(decl.default)
+    }
+
+    /// Checks the declaration against its kernels; returns every problem found.
+    pub fn check(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        let n = self.name;
+        if !is_snake_case(n) {
+            problems.push(format!("{n}: type name is not snake_case"));
+        }
+        if self.summary.is_empty() || self.source.is_empty() {
+            problems.push(format!("{n}: summary and source doc are required"));
+        }
+        if self.variants.is_empty() {
+            problems.push(format!("{n}: no compute"));
+        }
+        let mut seen = Vec::new();
+        for p in self
+            .inputs
+            .iter()
+            .map(|i| (i.name, i.doc))
+            .chain(self.outputs.iter().map(|o| (o.name, o.doc)))
+        {
+            if !is_snake_case(p.0) {
+                problems.push(format!("{n}.{}: port name is not snake_case", p.0));
+            }
+            if p.1.is_empty() {
+                problems.push(format!("{n}.{}: port has no doc", p.0));
+            }
+        }
+        for i in &self.inputs {
+            if seen.contains(&i.name) {
+                problems.push(format!("{n}.{}: duplicate input", i.name));
+            }
+            seen.push(i.name);
+            if let Some(h) = i.hard {
+                if !h.contains(&i.default) {
+                    problems.push(format!(
+                        "{n}.{}: default {} outside hard range",
+                        i.name, i.default
+                    ));
+                }
+            }
+        }
+        if let Evaluation::Attributes(a) = self.evaluation {
+            if a.len() != self.outputs.len() {
+                problems.push(format!("{n}: one attribute per output expected"));
+            }
+        }
+        for v in &self.variants {
+            let t = v.generic.unwrap_or(SocketType::Float);
+            let ins: Vec<Shape> = self
+                .inputs
+                .iter()
+                .map(|i| Shape::of(i.ty.resolve(t)))
+                .collect();
+            let outs: Vec<Shape> = self
+                .outputs
+                .iter()
+                .map(|o| Shape::of(o.ty.resolve(t)))
+                .collect();
+            if v.kernel.input_shapes() != ins {
+                problems.push(format!(
+                    "{n} ({t}): compute arguments {:?} do not match inputs {ins:?}",
+                    v.kernel.input_shapes()
+                ));
+            }
+            if v.kernel.output_shapes() != outs {
+                problems.push(format!(
+                    "{n} ({t}): compute results {:?} do not match outputs {outs:?}",
+                    v.kernel.output_shapes()
+                ));
+            }
+        }
+        for case in &self.hard_cases {
+            for (name, value) in &case.values {
+                match self.input_index(name) {
+                    None => problems.push(format!(
+                        "{n}: hard case '{}' sets unknown input {name}",
+                        case.why
+                    )),
+                    Some(k) => {
+                        if let PortType::Fixed(t) = self.inputs[k].ty {
+                            if value.convert(t).is_none() {
+                                problems.push(format!(
+                                    "{n}: hard case '{}' gives {name} a {}",
+                                    case.why,
+                                    value.ty()
+                                ));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        problems
+    }
+}
+
+/// Whether `s` is a non-empty snake_case identifier.
+pub fn is_snake_case(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some('a'..='z'))
+        && s.chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+}

@@ -1,0 +1,711 @@
+//! Compiling a validated graph into a CPU plan: a straight-line program over registers.
+//!
+//! Only nodes that reach the requested outputs are kept. Nodes whose inputs are all
+//! constants are folded at compile time. Nodes whose inputs do not vary per sample
+//! (constants, parameters, time) are hoisted into the *uniform program*, run once per
+//! evaluation. What is left is the *varying program*: one step per node, each run over a
+//! whole tile of samples by the node's tile kernel (see [`crate::exec`]).
+
+use crate::graph::{Graph, InputSource, NodeIndex, OutputRef};
+use crate::kernel::{TileKernel, kernel};
+use crate::node::{Attribute, Evaluation, NodeType};
+use crate::registry::nearest;
+use crate::types::{Conversion, LUMA_709, SocketType};
+use crate::value::Value;
+use glam::{Vec2, Vec3, Vec4};
+use std::collections::HashMap;
+use std::sync::{Arc, LazyLock};
+
+/// Samples per tile: a few hundred keeps a tile's registers in L1/L2.
+pub const TILE: usize = 256;
+
+/// Errors from compiling or running a plan; each names the output, parameter or attribute.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EvalError {
+    /// A requested output that the graph does not have.
+    #[error("unknown output '{name}'{}", hint(.suggestion))]
+    UnknownOutput {
+        /// What was asked for.
+        name: String,
+        /// The nearest graph output.
+        suggestion: Option<String>,
+    },
+    /// Nothing to evaluate.
+    #[error("the graph has no outputs: name one as node_id.output")]
+    NoOutputs,
+    /// A parameter the plan does not have.
+    #[error("unknown parameter '{name}'{}", hint(.suggestion))]
+    UnknownParameter {
+        /// What was set.
+        name: String,
+        /// The nearest parameter name.
+        suggestion: Option<String>,
+    },
+    /// A parameter value of the wrong type.
+    #[error("parameter '{name}': expected {expected}, found {found}")]
+    ParameterType {
+        /// The parameter.
+        name: String,
+        /// Its type.
+        expected: SocketType,
+        /// The type given.
+        found: SocketType,
+    },
+    /// An attribute column of the wrong length.
+    #[error("attribute '{attribute}': expected {expected} floats, found {found}")]
+    AttributeLength {
+        /// The attribute.
+        attribute: &'static str,
+        /// Samples × width.
+        expected: usize,
+        /// What was given.
+        found: usize,
+    },
+    /// The GPU path could not run (no adapter, device lost, ...); callers may fall back to the CPU.
+    #[error("GPU unavailable: {0}")]
+    Gpu(String),
+}
+
+fn hint(s: &Option<String>) -> String {
+    s.as_ref()
+        .map(|s| format!(" (did you mean '{s}'?)"))
+        .unwrap_or_default()
+}
+
+/// Where a value lives at run time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operand {
+    /// Known at compile time.
+    Const(Value),
+    /// Slot of the uniform program (once per evaluation).
+    Uniform(u32),
+    /// Register of the varying program (per sample).
+    Reg(u32),
+}
+
+/// Which kernel a step runs.
+#[derive(Clone)]
+pub(crate) enum KernelRef {
+    /// A node type's variant.
+    Node(Arc<NodeType>, usize),
+    /// An implicit conversion on a link.
+    Convert(usize),
+}
+
+impl KernelRef {
+    pub(crate) fn get(&self) -> &dyn TileKernel {
+        match self {
+            KernelRef::Node(t, v) => t.variants()[*v].kernel.as_ref(),
+            KernelRef::Convert(i) => CONVERSIONS[*i].as_ref(),
+        }
+    }
+}
+
+/// Conversion kernels: broadcast to vec2, vec3, vec4; Rec. 709 luminance.
+static CONVERSIONS: LazyLock<[Box<dyn TileKernel>; 4]> = LazyLock::new(|| {
+    [
+        kernel(|x: f32| Vec2::splat(x)),
+        kernel(|x: f32| Vec3::splat(x)),
+        kernel(|x: f32| Vec4::splat(x)),
+        kernel(|c: Vec3| c.dot(Vec3::from_array(LUMA_709))),
+    ]
+});
+
+fn conversion_kernel(c: Conversion, to: SocketType) -> Option<usize> {
+    match (c, to.width()) {
+        (Conversion::Broadcast, 2) => Some(0),
+        (Conversion::Broadcast, 3) => Some(1),
+        (Conversion::Broadcast, 4) => Some(2),
+        (Conversion::Luminance, _) => Some(3),
+        _ => None,
+    }
+}
+
+/// One call of a kernel: operands are uniform slots (uniform program) or registers
+/// (varying program).
+#[derive(Clone)]
+pub(crate) struct Step {
+    pub(crate) kernel: KernelRef,
+    pub(crate) inputs: Vec<u32>,
+    pub(crate) outputs: Vec<u32>,
+    /// The node this step computes (`None` for a conversion).
+    pub(crate) node: Option<NodeIndex>,
+}
+
+/// How a register is filled before the steps run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum RegFill {
+    /// Written by a step.
+    Computed,
+    /// Copied from the caller's attribute column each tile.
+    Attribute(Attribute),
+    /// A constant broadcast once per worker.
+    Const(Value),
+    /// A uniform slot broadcast once per worker.
+    Uniform(u32),
+}
+
+/// A register of the varying program.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Register {
+    pub(crate) width: usize,
+    pub(crate) fill: RegFill,
+}
+
+/// A requested output of the plan.
+#[derive(Clone, Debug)]
+pub struct PlanOutput {
+    /// The name it was asked by (graph output name or `node_id.output`).
+    pub name: String,
+    /// Its type.
+    pub ty: SocketType,
+    /// Where it lives.
+    pub operand: Operand,
+}
+
+/// An exposed parameter of the plan.
+#[derive(Clone, Debug)]
+pub struct PlanParameter {
+    /// Name.
+    pub name: String,
+    /// Type.
+    pub ty: SocketType,
+    /// Value from the graph file.
+    pub default: Value,
+    /// Uniform slot it fills (`None` when unused or baked).
+    pub slot: Option<u32>,
+}
+
+/// What the compiler did to the graph.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PlanStats {
+    /// Nodes in the graph.
+    pub graph_nodes: usize,
+    /// Nodes that reach a requested output.
+    pub live_nodes: usize,
+    /// Nodes folded into constants at compile time.
+    pub folded: usize,
+    /// Nodes hoisted into the once-per-evaluation uniform program.
+    pub hoisted: usize,
+    /// Steps run per tile (nodes and link conversions).
+    pub per_sample_steps: usize,
+    /// Registers of the varying program after reuse.
+    pub registers: usize,
+}
+
+/// Options for [`Plan::compile`].
+#[derive(Clone, Debug, Default)]
+pub struct PlanOptions {
+    /// Outputs to compute: graph output names or `node_id.output`; empty means every
+    /// graph output.
+    pub outputs: Vec<String>,
+    /// Fold parameters into constants (no per-evaluation override).
+    pub bake_parameters: bool,
+}
+
+/// A compiled CPU plan.
+#[derive(Clone)]
+pub struct Plan {
+    pub(crate) outputs: Vec<PlanOutput>,
+    pub(crate) parameters: Vec<PlanParameter>,
+    /// Initial value (and type) of each uniform slot: constants keep theirs.
+    pub(crate) uniform_init: Vec<Value>,
+    pub(crate) uniform_steps: Vec<Step>,
+    pub(crate) time_slot: Option<u32>,
+    pub(crate) registers: Vec<Register>,
+    pub(crate) steps: Vec<Step>,
+    pub(crate) attributes: Vec<Attribute>,
+    pub(crate) stats: PlanStats,
+}
+
+impl Plan {
+    /// Compiles `graph` for the outputs in `options`.
+    pub fn compile(graph: &Graph, options: &PlanOptions) -> Result<Plan, EvalError> {
+        Compiler::new(graph, options).compile(options)
+    }
+    /// The outputs, in request order.
+    pub fn outputs(&self) -> &[PlanOutput] {
+        &self.outputs
+    }
+    /// The exposed parameters, in graph order.
+    pub fn parameters(&self) -> &[PlanParameter] {
+        &self.parameters
+    }
+    /// Per-sample attributes the varying program reads.
+    pub fn attributes(&self) -> &[Attribute] {
+        &self.attributes
+    }
+    /// Whether the plan reads `time`.
+    pub fn uses_time(&self) -> bool {
+        self.time_slot.is_some()
+    }
+    /// What the compiler kept, folded and hoisted.
+    pub fn stats(&self) -> PlanStats {
+        self.stats
+    }
+    /// The parameter values from the graph file, ready to be overridden.
+    pub fn default_parameters(&self) -> ParamValues {
+        ParamValues {
+            names: self.parameters.iter().map(|p| p.name.clone()).collect(),
+            values: self.parameters.iter().map(|p| p.default).collect(),
+        }
+    }
+}
+
+/// Parameter values for one evaluation, in the plan's parameter order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamValues {
+    names: Vec<String>,
+    values: Vec<Value>,
+}
+
+impl ParamValues {
+    /// Sets parameter `name`; a float is broadcast to a vector parameter.
+    pub fn set(&mut self, name: &str, value: Value) -> Result<(), EvalError> {
+        let Some(i) = self.names.iter().position(|n| n == name) else {
+            return Err(EvalError::UnknownParameter {
+                name: name.to_owned(),
+                suggestion: nearest(name, self.names.iter().map(String::as_str)).map(str::to_owned),
+            });
+        };
+        let ty = self.values[i].ty();
+        self.values[i] = value.convert(ty).ok_or(EvalError::ParameterType {
+            name: name.to_owned(),
+            expected: ty,
+            found: value.ty(),
+        })?;
+        Ok(())
+    }
+    /// The value of parameter `name`.
+    pub fn get(&self, name: &str) -> Option<Value> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| self.values[i])
+    }
+    /// All values, in plan order.
+    pub fn values(&self) -> &[Value] {
+        &self.values
+    }
+}
+
+/// Runs a kernel on one sample of uniform values.
+pub(crate) fn run_single(
+    k: &dyn TileKernel,
+    inputs: &[Value],
+    out_types: &[SocketType],
+) -> Vec<Value> {
+    let ins: Vec<[f32; 4]> = inputs.iter().map(|v| v.raw()).collect();
+    let in_refs: Vec<&[f32]> = ins.iter().map(|a| &a[..]).collect();
+    let mut outs: Vec<[f32; 4]> = vec![[0.0; 4]; out_types.len()];
+    let mut out_refs: Vec<&mut [f32]> = outs.iter_mut().map(|a| &mut a[..]).collect();
+    k.run(&in_refs, &mut out_refs, 1, 1);
+    outs.iter()
+        .zip(out_types)
+        .map(|(o, &t)| Value::from_lanes(t, o))
+        .collect()
+}
+
+struct Compiler<'g> {
+    graph: &'g Graph,
+    operands: HashMap<OutputRef, Operand>,
+    uniform_init: Vec<Value>,
+    uniform_steps: Vec<Step>,
+    time_slot: Option<u32>,
+    registers: Vec<Register>,
+    steps: Vec<Step>,
+    attribute_regs: HashMap<Attribute, u32>,
+    broadcast_regs: HashMap<(u32, SocketType), u32>,
+    converted: HashMap<(u32, bool, SocketType), u32>,
+    param_slots: HashMap<NodeIndex, u32>,
+    stats: PlanStats,
+}
+
+impl<'g> Compiler<'g> {
+    fn new(graph: &'g Graph, _options: &PlanOptions) -> Compiler<'g> {
+        Compiler {
+            graph,
+            operands: HashMap::new(),
+            uniform_init: Vec::new(),
+            uniform_steps: Vec::new(),
+            time_slot: None,
+            registers: Vec::new(),
+            steps: Vec::new(),
+            attribute_regs: HashMap::new(),
+            broadcast_regs: HashMap::new(),
+            converted: HashMap::new(),
+            param_slots: HashMap::new(),
+            stats: PlanStats {
+                graph_nodes: graph.nodes().len(),
+                ..PlanStats::default()
+            },
+        }
+    }
+
+    fn compile(mut self, options: &PlanOptions) -> Result<Plan, EvalError> {
+        let wanted = self.requested(options)?;
+        let live = self.live(&wanted);
+        self.stats.live_nodes = live.iter().filter(|&&l| l).count();
+
+        for &i in self.graph.order() {
+            if live[i] {
+                self.node(i, options.bake_parameters);
+            }
+        }
+
+        let mut outputs = wanted
+            .iter()
+            .map(|(name, r)| PlanOutput {
+                name: name.clone(),
+                ty: self.graph.output_type(*r),
+                operand: self.operands[r],
+            })
+            .collect::<Vec<_>>();
+        let parameters = self
+            .graph
+            .parameters()
+            .iter()
+            .map(|p| PlanParameter {
+                name: p.name.clone(),
+                ty: p.ty,
+                default: p.default,
+                slot: self.param_slots.get(&p.node).copied(),
+            })
+            .collect();
+        self.allocate(&mut outputs);
+        let mut attributes: Vec<Attribute> = self.attribute_regs.keys().copied().collect();
+        attributes.sort();
+        self.stats.per_sample_steps = self.steps.len();
+        self.stats.registers = self.registers.len();
+        Ok(Plan {
+            outputs,
+            parameters,
+            uniform_init: self.uniform_init,
+            uniform_steps: self.uniform_steps,
+            time_slot: self.time_slot,
+            registers: self.registers,
+            steps: self.steps,
+            attributes,
+            stats: self.stats,
+        })
+    }
+
+    /// The requested outputs, by the name they were asked by.
+    fn requested(&self, options: &PlanOptions) -> Result<Vec<(String, OutputRef)>, EvalError> {
+        let g = self.graph;
+        if options.outputs.is_empty() {
+            if g.outputs().is_empty() {
+                return Err(EvalError::NoOutputs);
+            }
+            return Ok(g
+                .outputs()
+                .iter()
+                .map(|o| (o.name.clone(), o.source))
+                .collect());
+        }
+        options
+            .outputs
+            .iter()
+            .map(|name| {
+                let r = g
+                    .outputs()
+                    .iter()
+                    .find(|o| &o.name == name)
+                    .map(|o| o.source)
+                    .or_else(|| g.output_ref(name));
+                r.map(|r| (name.clone(), r)).ok_or_else(|| {
+                    let mut candidates: Vec<String> =
+                        g.outputs().iter().map(|o| o.name.clone()).collect();
+                    for n in g.nodes() {
+                        for o in n.node_type.outputs() {
+                            candidates.push(format!("{}.{}", n.id, o.name));
+                        }
+                    }
+                    EvalError::UnknownOutput {
+                        name: name.clone(),
+                        suggestion: nearest(name, candidates.iter().map(String::as_str))
+                            .map(str::to_owned),
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Marks the nodes that reach a requested output.
+    fn live(&self, wanted: &[(String, OutputRef)]) -> Vec<bool> {
+        let mut live = vec![false; self.graph.nodes().len()];
+        let mut stack: Vec<NodeIndex> = wanted.iter().map(|(_, r)| r.node).collect();
+        while let Some(i) = stack.pop() {
+            if std::mem::replace(&mut live[i], true) {
+                continue;
+            }
+            for src in &self.graph.nodes()[i].inputs {
+                if let InputSource::Link(r, _) = src {
+                    stack.push(r.node);
+                }
+            }
+        }
+        live
+    }
+
+    fn new_uniform(&mut self, init: Value) -> u32 {
+        self.uniform_init.push(init);
+        (self.uniform_init.len() - 1) as u32
+    }
+
+    fn new_register(&mut self, width: usize, fill: RegFill) -> u32 {
+        self.registers.push(Register { width, fill });
+        (self.registers.len() - 1) as u32
+    }
+
+    /// Compiles node `i`, recording its outputs' operands.
+    fn node(&mut self, i: NodeIndex, bake: bool) {
+        let node = &self.graph.nodes()[i];
+        let t = node.node_type.clone();
+        let out_types: Vec<SocketType> = (0..t.outputs().len())
+            .map(|k| node.output_type(k))
+            .collect();
+        let set = |c: &mut Self, k: usize, op: Operand| {
+            c.operands.insert(OutputRef { node: i, output: k }, op);
+        };
+        match t.evaluation() {
+            Evaluation::Attributes(attrs) => {
+                for (k, &a) in attrs.iter().enumerate() {
+                    let op = if a.is_uniform() {
+                        let slot = match self.time_slot {
+                            Some(s) => s,
+                            None => {
+                                let s = self.new_uniform(a.default_value());
+                                self.time_slot = Some(s);
+                                s
+                            }
+                        };
+                        Operand::Uniform(slot)
+                    } else {
+                        let reg = match self.attribute_regs.get(&a) {
+                            Some(&r) => r,
+                            None => {
+                                let r = self.new_register(a.ty().width(), RegFill::Attribute(a));
+                                self.attribute_regs.insert(a, r);
+                                r
+                            }
+                        };
+                        Operand::Reg(reg)
+                    };
+                    set(self, k, op);
+                }
+                return;
+            }
+            Evaluation::Parameter if !bake => {
+                let slot = self.new_uniform(Value::zero(out_types[0]));
+                self.param_slots.insert(i, slot);
+                set(self, 0, Operand::Uniform(slot));
+                return;
+            }
+            _ => {}
+        }
+
+        // Input operands, converted to the ports' types.
+        let mut ins = Vec::with_capacity(node.inputs.len());
+        for (k, src) in node.inputs.iter().enumerate() {
+            let to = node.input_type(k);
+            let op = match src {
+                InputSource::Default(v) | InputSource::Value(v) => Operand::Const(*v),
+                InputSource::Link(r, c) => self.convert(self.operands[r], *c, to),
+            };
+            ins.push(op);
+        }
+        let variant = t.variants().iter().position(|v| match v.generic {
+            None => true,
+            Some(g) => {
+                g == if node.generic == SocketType::Color {
+                    SocketType::Vec3
+                } else {
+                    node.generic
+                }
+            }
+        });
+        let Some(variant) = variant else { return };
+        let kref = KernelRef::Node(t.clone(), variant);
+
+        if ins.iter().all(|o| matches!(o, Operand::Const(_))) {
+            // Fold.
+            let values: Vec<Value> = ins
+                .iter()
+                .map(|o| {
+                    if let Operand::Const(v) = o {
+                        *v
+                    } else {
+                        unreachable!()
+                    }
+                })
+                .collect();
+            for (k, v) in run_single(kref.get(), &values, &out_types)
+                .into_iter()
+                .enumerate()
+            {
+                set(self, k, Operand::Const(v));
+            }
+            self.stats.folded += 1;
+        } else if ins.iter().all(|o| !matches!(o, Operand::Reg(_))) {
+            // Hoist.
+            let inputs = ins.iter().map(|o| self.uniform_slot(*o)).collect();
+            let outputs: Vec<u32> = out_types
+                .iter()
+                .map(|&t| self.new_uniform(Value::zero(t)))
+                .collect();
+            for (k, &s) in outputs.iter().enumerate() {
+                set(self, k, Operand::Uniform(s));
+            }
+            self.uniform_steps.push(Step {
+                kernel: kref,
+                inputs,
+                outputs,
+                node: Some(i),
+            });
+            self.stats.hoisted += 1;
+        } else {
+            let inputs = ins
+                .iter()
+                .zip(0..)
+                .map(|(o, k)| self.register(*o, node.input_type(k)))
+                .collect();
+            let outputs: Vec<u32> = out_types
+                .iter()
+                .map(|t| self.new_register(t.width(), RegFill::Computed))
+                .collect();
+            for (k, &r) in outputs.iter().enumerate() {
+                set(self, k, Operand::Reg(r));
+            }
+            self.steps.push(Step {
+                kernel: kref,
+                inputs,
+                outputs,
+                node: Some(i),
+            });
+        }
+    }
+
+    /// Applies a link conversion to an operand.
+    fn convert(&mut self, op: Operand, c: Conversion, to: SocketType) -> Operand {
+        let Some(k) = conversion_kernel(c, to) else {
+            return op;
+        };
+        match op {
+            Operand::Const(v) => Operand::Const(Value::from_lanes(to, &c.apply(v.raw(), to))),
+            Operand::Uniform(s) => {
+                let out = self.new_uniform(Value::zero(to));
+                self.uniform_steps.push(Step {
+                    kernel: KernelRef::Convert(k),
+                    inputs: vec![s],
+                    outputs: vec![out],
+                    node: None,
+                });
+                Operand::Uniform(out)
+            }
+            Operand::Reg(r) => {
+                let key = (r, c == Conversion::Luminance, to);
+                if let Some(&out) = self.converted.get(&key) {
+                    return Operand::Reg(out);
+                }
+                let out = self.new_register(to.width(), RegFill::Computed);
+                self.steps.push(Step {
+                    kernel: KernelRef::Convert(k),
+                    inputs: vec![r],
+                    outputs: vec![out],
+                    node: None,
+                });
+                self.converted.insert(key, out);
+                Operand::Reg(out)
+            }
+        }
+    }
+
+    /// A uniform slot holding `op` (constants get a slot of their own).
+    fn uniform_slot(&mut self, op: Operand) -> u32 {
+        match op {
+            Operand::Uniform(s) => s,
+            Operand::Const(v) => self.new_uniform(v),
+            Operand::Reg(_) => unreachable!("uniform steps never read registers"),
+        }
+    }
+
+    /// A register holding `op` of type `ty` (constants and uniforms are broadcast once).
+    fn register(&mut self, op: Operand, ty: SocketType) -> u32 {
+        match op {
+            Operand::Reg(r) => r,
+            Operand::Const(v) => self.new_register(ty.width(), RegFill::Const(v)),
+            Operand::Uniform(s) => match self.broadcast_regs.get(&(s, ty)) {
+                Some(&r) => r,
+                None => {
+                    let r = self.new_register(ty.width(), RegFill::Uniform(s));
+                    self.broadcast_regs.insert((s, ty), r);
+                    r
+                }
+            },
+        }
+    }
+
+    /// Reuses computed registers once their last reader has run.
+    fn allocate(&mut self, outputs: &mut [PlanOutput]) {
+        let n = self.registers.len();
+        let mut last_use = vec![usize::MAX; n]; // MAX: never freed
+        let pinned: Vec<bool> = (0..n)
+            .map(|r| {
+                self.registers[r].fill != RegFill::Computed
+                    || outputs.iter().any(|o| o.operand == Operand::Reg(r as u32))
+            })
+            .collect();
+        for (s, step) in self.steps.iter().enumerate() {
+            for &r in step.inputs.iter().chain(&step.outputs) {
+                if !pinned[r as usize] {
+                    last_use[r as usize] = s;
+                }
+            }
+        }
+        let mut map: Vec<u32> = vec![u32::MAX; n];
+        let mut physical: Vec<Register> = Vec::new();
+        let mut free: [Vec<u32>; 5] = Default::default();
+        for r in 0..n {
+            if pinned[r] {
+                map[r] = physical.len() as u32;
+                physical.push(self.registers[r]);
+            }
+        }
+        for s in 0..self.steps.len() {
+            for k in 0..self.steps[s].outputs.len() {
+                let r = self.steps[s].outputs[k] as usize;
+                if map[r] == u32::MAX {
+                    let w = self.registers[r].width;
+                    map[r] = free[w].pop().unwrap_or_else(|| {
+                        physical.push(Register {
+                            width: w,
+                            fill: RegFill::Computed,
+                        });
+                        (physical.len() - 1) as u32
+                    });
+                }
+            }
+            let step = &self.steps[s];
+            for &r in step.inputs.iter().chain(&step.outputs) {
+                if last_use[r as usize] == s {
+                    let p = map[r as usize];
+                    if !free[self.registers[r as usize].width].contains(&p) {
+                        free[self.registers[r as usize].width].push(p);
+                    }
+                }
+            }
+        }
+        for step in &mut self.steps {
+            for r in step.inputs.iter_mut().chain(step.outputs.iter_mut()) {
+                *r = map[*r as usize];
+            }
+        }
+        for o in outputs.iter_mut() {
+            if let Operand::Reg(r) = &mut o.operand {
+                *r = map[*r as usize];
+            }
+        }
+        self.registers = physical;
+    }
+}
