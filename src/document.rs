@@ -157,9 +157,8 @@ impl GraphDocument {
     /// Saves as pretty JSON with a trailing newline; the same document gives the same bytes.
     pub fn to_json_pretty(&self) -> String {
         // Fields serialise in declaration order and inputs are a BTreeMap, so output is stable.
-        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
-        text.push('\n');
-        text
+        let value = serde_json::to_value(self).unwrap_or_default();
+        crate::pretty::to_string(&value)
     }
 }
 

@@ -806,3 +806,42 @@ fn cycle_path(
     path[1..end].reverse();
     path.into_iter().map(|i| doc.nodes[i].id.clone()).collect()
 }
+
+impl Graph {
+    /// A graph of one node of type `type_name` with the given inputs (the others at their
+    /// defaults), whose graph outputs are the node's outputs under their own names.
+    pub fn single_node(
+        registry: &Registry,
+        type_name: &str,
+        inputs: BTreeMap<String, serde_json::Value>,
+    ) -> Result<Graph, Vec<GraphError>> {
+        let id = "node";
+        let outputs = registry
+            .get(type_name)
+            .map(|t| {
+                t.outputs()
+                    .iter()
+                    .map(|o| OutputDocument {
+                        name: o.name.to_owned(),
+                        from: format!("{id}.{}", o.name),
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let doc = GraphDocument {
+            version: FORMAT_VERSION,
+            name: type_name.to_owned(),
+            doc: String::new(),
+            nodes: vec![NodeDocument {
+                id: id.to_owned(),
+                node_type: type_name.to_owned(),
+                data_type: None,
+                inputs,
+                position: None,
+            }],
+            outputs,
+            parameters: Vec::new(),
+        };
+        Graph::from_document(&doc, registry)
+    }
+}

@@ -15,6 +15,7 @@ pub mod io;
 pub mod kernel;
 pub mod node;
 pub mod plan;
+pub mod pretty;
 pub mod registry;
 pub mod types;
 pub mod value;

@@ -192,7 +192,7 @@ fn finite_f32(x: f64) -> Option<f32> {
 impl fmt::Display for Value {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.ty {
-            SocketType::Float => write!(f, "{}", self.lanes[0]),
+            SocketType::Float => write!(f, "{:?}", self.lanes[0]),
             SocketType::Int => write!(f, "{}", self.as_i32()),
             SocketType::Bool => write!(f, "{}", self.as_bool()),
             _ => {
@@ -201,7 +201,7 @@ impl fmt::Display for Value {
                     if i > 0 {
                         f.write_str(",")?;
                     }
-                    write!(f, "{x}")?;
+                    write!(f, "{x:?}")?;
                 }
                 f.write_str("]")
             }
