@@ -444,6 +444,16 @@ impl Builder<'_> {
     ) -> Option<Node> {
         let link_type = |p: &PendingLink| done[p.target].as_ref().map(|s| s.output_type(p.output));
         let errors_before = self.errors.len();
+        if t.evaluation() == Evaluation::Parameter {
+            for p in links {
+                self.errors.push(GraphError::WrongValueType {
+                    node: n.id.clone(),
+                    input: t.inputs()[p.input].name.to_owned(),
+                    expected: "a literal (a parameter's value cannot be linked)".into(),
+                    found: "a link".into(),
+                });
+            }
+        }
 
         // The node's generic type T.
         let data_type = match &n.data_type {

@@ -497,7 +497,12 @@ impl<'g> Compiler<'g> {
                 return;
             }
             Evaluation::Parameter if !bake => {
-                let slot = self.new_uniform(Value::zero(out_types[0]));
+                // The file's value until a caller overrides an exposed parameter.
+                let init = match node.inputs[0] {
+                    InputSource::Default(v) | InputSource::Value(v) => v,
+                    InputSource::Link(..) => Value::zero(out_types[0]),
+                };
+                let slot = self.new_uniform(init);
                 self.param_slots.insert(i, slot);
                 set(self, 0, Operand::Uniform(slot));
                 return;
