@@ -53,6 +53,9 @@ enum Command {
         /// Print one JSON object: output name → number or array.
         #[arg(long)]
         json: bool,
+        /// Print the compiled plan (folded, hoisted and per-sample steps) before the outputs.
+        #[arg(long)]
+        explain: bool,
     },
     /// Write the JSON Schema of the graph format (docs/graph.schema.json).
     Schema {
@@ -82,7 +85,8 @@ fn main() -> ExitCode {
             sets,
             outputs,
             json,
-        } => eval(file.as_deref(), node.as_deref(), &sets, &outputs, json),
+            explain,
+        } => eval(&EvalArgs { file, node, sets, outputs, json, explain }),
         Command::Schema { output } => schema(output.as_deref()),
         Command::Fmt { files, check } => fmt(&files, check),
     };
@@ -233,13 +237,19 @@ fn split_set(s: &str) -> Result<(&str, serde_json::Value), String> {
     Ok((name.trim(), parse_value(value.trim())))
 }
 
-fn eval(
-    file: Option<&Path>,
-    node: Option<&str>,
-    sets: &[String],
-    outputs: &[String],
+/// The options of `matgraph eval`.
+struct EvalArgs {
+    file: Option<PathBuf>,
+    node: Option<String>,
+    sets: Vec<String>,
+    outputs: Vec<String>,
     json: bool,
-) -> CliResult {
+    explain: bool,
+}
+
+fn eval(args: &EvalArgs) -> CliResult {
+    let (file, node, sets, outputs, json) =
+        (args.file.as_deref(), args.node.as_deref(), &args.sets, &args.outputs, args.json);
     let mut attrs: Vec<(Attribute, Value)> = Vec::new();
     let mut params: Vec<(String, serde_json::Value)> = Vec::new();
     let (graph, source) = if let Some(type_name) = node {
@@ -292,14 +302,14 @@ fn eval(
             path.to_owned(),
         )
     };
-    if node.is_some() {
-        // Geometry attributes can still be set for a lone geometry node: none apply here.
-    }
     let options = PlanOptions {
         outputs: outputs.to_vec(),
         bake_parameters: false,
     };
     let plan = Plan::compile(&graph, &options).map_err(|e| format!("{}: {e}", source.display()))?;
+    if args.explain {
+        eprint!("{}", plan.listing());
+    }
     let mut values = plan.default_parameters();
     for (name, json) in &params {
         let ty = plan

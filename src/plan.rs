@@ -111,6 +111,13 @@ static CONVERSIONS: LazyLock<[Box<dyn TileKernel>; 4]> = LazyLock::new(|| {
     ]
 });
 
+fn conversion_label(c: Conversion, to: SocketType) -> String {
+    match c {
+        Conversion::Luminance => "luminance (color → float)".into(),
+        _ => format!("broadcast (float → {to})"),
+    }
+}
+
 fn conversion_kernel(c: Conversion, to: SocketType) -> Option<usize> {
     match (c, to.width()) {
         (Conversion::Broadcast, 2) => Some(0),
@@ -128,8 +135,8 @@ pub(crate) struct Step {
     pub(crate) kernel: KernelRef,
     pub(crate) inputs: Vec<u32>,
     pub(crate) outputs: Vec<u32>,
-    /// The node this step computes (`None` for a conversion).
-    pub(crate) node: Option<NodeIndex>,
+    /// What the step computes: `node_id (type)` or the conversion's name.
+    pub(crate) label: String,
 }
 
 /// How a register is filled before the steps run.
@@ -243,6 +250,25 @@ impl Plan {
     pub fn stats(&self) -> PlanStats {
         self.stats
     }
+    /// A readable listing of the compiled program: uniform steps, per-sample steps, outputs.
+    pub fn listing(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "{:?}", self.stats);
+        let _ = writeln!(s, "uniform program (once per evaluation):");
+        for step in &self.uniform_steps {
+            let _ = writeln!(s, "  u{:?} <- {}(u{:?})", step.outputs, step.label, step.inputs);
+        }
+        let _ = writeln!(s, "per-sample program (once per tile of {TILE}):");
+        for step in &self.steps {
+            let _ = writeln!(s, "  r{:?} <- {}(r{:?})", step.outputs, step.label, step.inputs);
+        }
+        for o in &self.outputs {
+            let _ = writeln!(s, "output {} ({}) = {:?}", o.name, o.ty, o.operand);
+        }
+        s
+    }
+
     /// The parameter values from the graph file, ready to be overridden.
     pub fn default_parameters(&self) -> ParamValues {
         ParamValues {
@@ -566,7 +592,7 @@ impl<'g> Compiler<'g> {
                 kernel: kref,
                 inputs,
                 outputs,
-                node: Some(i),
+                label: format!("{} ({})", node.id, t.name()),
             });
             self.stats.hoisted += 1;
         } else {
@@ -586,7 +612,7 @@ impl<'g> Compiler<'g> {
                 kernel: kref,
                 inputs,
                 outputs,
-                node: Some(i),
+                label: format!("{} ({})", node.id, t.name()),
             });
         }
     }
@@ -604,7 +630,7 @@ impl<'g> Compiler<'g> {
                     kernel: KernelRef::Convert(k),
                     inputs: vec![s],
                     outputs: vec![out],
-                    node: None,
+                    label: conversion_label(c, to),
                 });
                 Operand::Uniform(out)
             }
@@ -618,7 +644,7 @@ impl<'g> Compiler<'g> {
                     kernel: KernelRef::Convert(k),
                     inputs: vec![r],
                     outputs: vec![out],
-                    node: None,
+                    label: conversion_label(c, to),
                 });
                 self.converted.insert(key, out);
                 Operand::Reg(out)
