@@ -59,9 +59,17 @@ fn inputs() -> SampleBatch {
         let t = i as f32 / N as f32;
         let a = t * 1.5;
         let c = t * 97.0;
-        normals.push(Vec3::new(0.1 * c.sin(), 0.1 * c.cos(), 1.0).normalize().to_array());
+        normals.push(
+            Vec3::new(0.1 * c.sin(), 0.1 * c.cos(), 1.0)
+                .normalize()
+                .to_array(),
+        );
         views.push([a.sin(), 0.0, a.cos()]);
-        lights.push(Vec3::new(-0.3, 0.4 * (c * 0.3).sin(), 0.8).normalize().to_array());
+        lights.push(
+            Vec3::new(-0.3, 0.4 * (c * 0.3).sin(), 0.8)
+                .normalize()
+                .to_array(),
+        );
     }
     b.set_values(Attribute::Normal, &normals).unwrap();
     b.set_values(Attribute::View, &views).unwrap();
@@ -70,7 +78,11 @@ fn inputs() -> SampleBatch {
 }
 
 fn bench(c: &mut Criterion) {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/benches/skin_chain.json")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/benches/skin_chain.json"
+    ))
+    .unwrap();
     let graph = Graph::from_json(&text, Registry::builtin()).unwrap();
     let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
     let params = plan.default_parameters();
@@ -85,7 +97,12 @@ fn bench(c: &mut Criterion) {
     );
     let mut reference = vec![0.0; N];
     fused(n, v, l, &mut reference, N, 0);
-    let worst = out.planar(0).iter().zip(&reference).map(|(a, b)| (a - b).abs() / b.abs().max(1.0)).fold(0.0, f32::max);
+    let worst = out
+        .planar(0)
+        .iter()
+        .zip(&reference)
+        .map(|(a, b)| (a - b).abs() / b.abs().max(1.0))
+        .fold(0.0, f32::max);
     assert!(worst < 1e-5, "executor and hand-written differ by {worst}");
 
     let threads_all = rayon::current_num_threads();
@@ -93,19 +110,28 @@ fn bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(N as u64));
     group.sample_size(10);
     for threads in [1, threads_all] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         group.bench_with_input(BenchmarkId::new("executor", threads), &threads, |bch, _| {
             bch.iter(|| pool.install(|| black_box(plan.execute(&batch, &params).unwrap())))
         });
-        group.bench_with_input(BenchmarkId::new("hand_written", threads), &threads, |bch, _| {
-            bch.iter(|| {
-                pool.install(|| {
-                    let mut out = vec![0.0f32; N];
-                    out.par_chunks_mut(256).enumerate().for_each(|(t, chunk)| fused(n, v, l, chunk, N, t * 256));
-                    black_box(out)
+        group.bench_with_input(
+            BenchmarkId::new("hand_written", threads),
+            &threads,
+            |bch, _| {
+                bch.iter(|| {
+                    pool.install(|| {
+                        let mut out = vec![0.0f32; N];
+                        out.par_chunks_mut(256)
+                            .enumerate()
+                            .for_each(|(t, chunk)| fused(n, v, l, chunk, N, t * 256));
+                        black_box(out)
+                    })
                 })
-            })
-        });
+            },
+        );
     }
     group.finish();
 }

@@ -86,7 +86,14 @@ fn main() -> ExitCode {
             outputs,
             json,
             explain,
-        } => eval(&EvalArgs { file, node, sets, outputs, json, explain }),
+        } => eval(&EvalArgs {
+            file,
+            node,
+            sets,
+            outputs,
+            json,
+            explain,
+        }),
         Command::Schema { output } => schema(output.as_deref()),
         Command::Fmt { files, check } => fmt(&files, check),
     };
@@ -248,8 +255,13 @@ struct EvalArgs {
 }
 
 fn eval(args: &EvalArgs) -> CliResult {
-    let (file, node, sets, outputs, json) =
-        (args.file.as_deref(), args.node.as_deref(), &args.sets, &args.outputs, args.json);
+    let (file, node, sets, outputs, json) = (
+        args.file.as_deref(),
+        args.node.as_deref(),
+        &args.sets,
+        &args.outputs,
+        args.json,
+    );
     let mut attrs: Vec<(Attribute, Value)> = Vec::new();
     let mut params: Vec<(String, serde_json::Value)> = Vec::new();
     let (graph, source) = if let Some(type_name) = node {

@@ -257,11 +257,19 @@ impl Plan {
         let _ = writeln!(s, "{:?}", self.stats);
         let _ = writeln!(s, "uniform program (once per evaluation):");
         for step in &self.uniform_steps {
-            let _ = writeln!(s, "  u{:?} <- {}(u{:?})", step.outputs, step.label, step.inputs);
+            let _ = writeln!(
+                s,
+                "  u{:?} <- {}(u{:?})",
+                step.outputs, step.label, step.inputs
+            );
         }
         let _ = writeln!(s, "per-sample program (once per tile of {TILE}):");
         for step in &self.steps {
-            let _ = writeln!(s, "  r{:?} <- {}(r{:?})", step.outputs, step.label, step.inputs);
+            let _ = writeln!(
+                s,
+                "  r{:?} <- {}(r{:?})",
+                step.outputs, step.label, step.inputs
+            );
         }
         for o in &self.outputs {
             let _ = writeln!(s, "output {} ({}) = {:?}", o.name, o.ty, o.operand);

@@ -76,7 +76,10 @@ fn malformed_json_has_line_and_column() {
         "{\n  \"version\": 1,\n  \"name\": \"g\"",
         "g.json: malformed JSON at line 3, column 13: EOF while parsing an object",
     );
-    check("", "g.json: malformed JSON at line 1, column 0: EOF while parsing a value");
+    check(
+        "",
+        "g.json: malformed JSON at line 1, column 0: EOF while parsing a value",
+    );
 }
 
 #[test]
@@ -165,7 +168,10 @@ fn wrong_enum_choice_name() {
     let r = enum_registry();
     check_with(
         &r,
-        &doc(r#"{"id": "b", "type": "blend", "inputs": {"mode": "screen"}}"#, ""),
+        &doc(
+            r#"{"id": "b", "type": "blend", "inputs": {"mode": "screen"}}"#,
+            "",
+        ),
         "g.json: node 'b': input 'mode': expected one of mix, add, multiply, found \"screen\"",
     );
     check_with(
@@ -175,7 +181,10 @@ fn wrong_enum_choice_name() {
     );
     check_with(
         &r,
-        &doc(r#"{"id": "b", "type": "blend", "inputs": {"mode": true}}"#, ""),
+        &doc(
+            r#"{"id": "b", "type": "blend", "inputs": {"mode": true}}"#,
+            "",
+        ),
         "g.json: node 'b': input 'mode': expected one of mix, add, multiply, found bool true",
     );
     // A valid choice loads and saves by name.
@@ -263,7 +272,10 @@ fn duplicate_ids() {
 #[test]
 fn invalid_ids() {
     check(
-        &doc(r#"{"id": "a.b", "type": "add"}, {"id": "", "type": "add"}"#, ""),
+        &doc(
+            r#"{"id": "a.b", "type": "add"}, {"id": "", "type": "add"}"#,
+            "",
+        ),
         "g.json: node 'a.b': invalid node id (use letters, digits, '_' and '-', no '.')\n\
          g.json: node '': invalid node id (use letters, digits, '_' and '-', no '.')",
     );
@@ -523,8 +535,8 @@ fn committed_graphs() -> Vec<PathBuf> {
 #[test]
 fn committed_graphs_load() {
     for path in committed_graphs() {
-        let g = matgraph::io::load_graph(&path, Registry::builtin())
-            .unwrap_or_else(|e| panic!("{e}"));
+        let g =
+            matgraph::io::load_graph(&path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"));
         assert!(!g.nodes().is_empty(), "{}", path.display());
         assert!(!g.outputs().is_empty(), "{}", path.display());
     }
@@ -708,7 +720,20 @@ mod never_panic {
     }
 
     const NUMBERS: &[f64] = &[
-        0.0, -0.0, 1.0, -1.0, 0.5, 2.0, 1.52, 1e-3, 1e-45, 1e39, -1e39, 1e308, 3.0e38, 100.0,
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        2.0,
+        1.52,
+        1e-3,
+        1e-45,
+        1e39,
+        -1e39,
+        1e308,
+        3.0e38,
+        100.0,
         4294967296.0,
     ];
     const STRINGS: &[&str] = &[
@@ -790,8 +815,8 @@ mod never_panic {
         match kind % 11 {
             0 => *root.pointer_mut(&ptr).unwrap() = J::Null,
             1 => {
-                *root.pointer_mut(&ptr).unwrap() = serde_json::Number::from_f64(pick(NUMBERS, payload))
-                    .map_or(J::Null, J::Number)
+                *root.pointer_mut(&ptr).unwrap() =
+                    serde_json::Number::from_f64(pick(NUMBERS, payload)).map_or(J::Null, J::Number)
             }
             2 => *root.pointer_mut(&ptr).unwrap() = json!(pick(STRINGS, payload)),
             3 => {
@@ -827,13 +852,19 @@ mod never_panic {
             }
             6 => {
                 // Retarget a link (or a graph output) to some id.output.
-                let mut links: Vec<String> =
-                    ptrs.iter().filter(|p| p.ends_with("/link") || p.ends_with("/from")).cloned().collect();
+                let mut links: Vec<String> = ptrs
+                    .iter()
+                    .filter(|p| p.ends_with("/link") || p.ends_with("/from"))
+                    .cloned()
+                    .collect();
                 links.sort();
                 if !links.is_empty() {
                     let p = pick(&links, target);
-                    *root.pointer_mut(p).unwrap() =
-                        json!(format!("{}.{}", pick(IDS, payload), pick(OUTPUTS, payload / 8)));
+                    *root.pointer_mut(p).unwrap() = json!(format!(
+                        "{}.{}",
+                        pick(IDS, payload),
+                        pick(OUTPUTS, payload / 8)
+                    ));
                 }
             }
             7 if node_count > 0 => {
@@ -845,7 +876,18 @@ mod never_panic {
                 // Set an input of a node to a literal or a link.
                 let i = (target % node_count as u64) as usize;
                 let name = pick(
-                    &["a", "b", "value", "cos_theta", "ior_inside", "f0", "v", "x", "clamp", "t"],
+                    &[
+                        "a",
+                        "b",
+                        "value",
+                        "cos_theta",
+                        "ior_inside",
+                        "f0",
+                        "v",
+                        "x",
+                        "clamp",
+                        "t",
+                    ],
                     payload,
                 );
                 let value = match (payload / 16) % 6 {
@@ -854,7 +896,9 @@ mod never_panic {
                     2 => json!([0.5, 0.25]),
                     3 => json!(true),
                     4 => json!([1.0, 0.0, 0.0, 1.0]),
-                    _ => json!({ "link": format!("{}.{}", pick(IDS, payload / 64), pick(OUTPUTS, payload / 512)) }),
+                    _ => {
+                        json!({ "link": format!("{}.{}", pick(IDS, payload / 64), pick(OUTPUTS, payload / 512)) })
+                    }
                 };
                 if !root["nodes"][i].is_object() {
                     return;
@@ -870,7 +914,9 @@ mod never_panic {
                 let i = (target % node_count as u64) as usize;
                 if root["nodes"][i].is_object() {
                     root["nodes"][i]["data_type"] = json!(pick(
-                        &["float", "vec2", "vec3", "vec4", "color", "int", "bool", "bogus"],
+                        &[
+                            "float", "vec2", "vec3", "vec4", "color", "int", "bool", "bogus"
+                        ],
                         payload
                     ));
                 }
@@ -957,13 +1003,27 @@ mod never_panic {
                 Ok(_) => ok += 1,
                 Err(errors) => {
                     for e in errors {
-                        kinds.insert(format!("{e:?}").split([' ', '{', '(']).next().unwrap().to_owned());
+                        kinds.insert(
+                            format!("{e:?}")
+                                .split([' ', '{', '('])
+                                .next()
+                                .unwrap()
+                                .to_owned(),
+                        );
                     }
                 }
             }
         }
         assert!(ok >= 20, "only {ok} of 400 mutants loaded");
-        for kind in ["Structure", "UnknownNodeType", "MissingNode", "MissingOutput", "TypeMismatch", "Cycle", "BadOutput"] {
+        for kind in [
+            "Structure",
+            "UnknownNodeType",
+            "MissingNode",
+            "MissingOutput",
+            "TypeMismatch",
+            "Cycle",
+            "BadOutput",
+        ] {
             assert!(kinds.contains(kind), "no {kind} error among {kinds:?}");
         }
     }
