@@ -117,13 +117,21 @@ pub fn safe_div(a: f32, b: f32) -> f32 {
     if b == 0.0 { 0.0 } else { a / b }
 }
 
-/// `a^b`, 0 for a negative base with a non-integer exponent (Blender's safe power).
+/// `a^b` made total, so the CPU and GPU agree where IEEE `pow` and WGSL `pow` differ:
+/// a negative base with an integer exponent keeps its sign (`(-2)^3 = -8`), with a
+/// fractional exponent gives 0 (Blender's safe power); `0^0 = 1`; and `0^b = 0` for `b < 0`
+/// (`1 / 0^|b|` through the safe divide).
 #[inline(always)]
 pub fn safe_pow(a: f32, b: f32) -> f32 {
-    if a < 0.0 && b.fract() != 0.0 {
+    if a > 0.0 {
+        a.powf(b)
+    } else if a == 0.0 {
+        if b == 0.0 { 1.0 } else { 0.0 }
+    } else if b.fract() != 0.0 || !b.is_finite() {
         0.0
     } else {
-        a.powf(b)
+        let m = (-a).powf(b);
+        if (b * 0.5).fract() != 0.0 { -m } else { m }
     }
 }
 
@@ -248,12 +256,18 @@ pub fn all() -> Vec<NodeType> {
         ),
         all_types!(
             NodeType::new("pow", Category::Math, "a raised to b, component-wise.")
-                .source("Blender's safe power: pow(a < 0, non-integer b) = 0 instead of NaN.")
-                .input(In::generic("a", 1.0).range(0.0, 4.0).doc("Base."))
+                .source(
+                    "Total power: a^b for a > 0; a negative base with an integer exponent keeps its \
+                     sign, with a fractional one gives 0 (Blender's safe power); 0^0 = 1 and \
+                     0^b = 0 for b < 0 (1/0 through the safe divide).",
+                )
+                .input(In::generic("a", 1.0).range(-4.0, 4.0).doc("Base."))
                 .input(In::generic("b", 1.0).range(-4.0, 8.0).doc("Exponent."))
                 .output(Out::generic("result").doc("a^b."))
                 .hard_case("negative base, fractional exponent", &[("a", v(-2.0)), ("b", v(0.5))])
-                .hard_case("zero to the zero", &[("a", v(0.0)), ("b", v(0.0))]),
+                .hard_case("zero to the zero", &[("a", v(0.0)), ("b", v(0.0))])
+                .hard_case("zero to a negative power", &[("a", v(0.0)), ("b", v(-4.0))])
+                .hard_case("negative base, odd exponent", &[("a", v(-2.0)), ("b", v(3.0))]),
             pow
         ),
         all_types!(

@@ -129,15 +129,17 @@ pub const HG_G_MAX: f32 = 0.9999;
 /// Henyey–Greenstein phase function normalised over the sphere:
 /// `p(cosθ) = (1 − g²) / (4π (1 + g² − 2g cosθ)^1.5)`.
 ///
-/// The base is written `(1 − g)² + 2g(1 − cosθ)` and the numerator `(1 − g)(1 + g)`, which
-/// keeps full f32 precision as `g → ±1` (MODELS.md "Henyey–Greenstein"); `g` is clamped to
-/// ±0.9999. Source: Henyey & Greenstein 1941, eq. 6.
+/// Evaluated through the symmetry `p(cosθ, g) = p(−cosθ, −g)` with `h = |g|`, `c = sign(g) cosθ`,
+/// as `(1 − h)(1 + h) / (4π ((1 − h)² + 2h(1 − c))^1.5)`: no cancellation as `g → ±1`
+/// (MODELS.md "Henyey–Greenstein"); `g` is clamped to ±0.9999. Source: Henyey & Greenstein
+/// 1941, eq. 6.
 pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
-    let g = g.clamp(-HG_G_MAX, HG_G_MAX);
+    let h = g.abs().min(HG_G_MAX);
     let c = cos_theta.clamp(-1.0, 1.0);
-    let one_minus_g = 1.0 - g;
-    let base = one_minus_g * one_minus_g + 2.0 * g * (1.0 - c);
-    one_minus_g * (1.0 + g) / (4.0 * PI * base * base.sqrt())
+    let c = if g < 0.0 { -c } else { c };
+    let one_minus_h = 1.0 - h;
+    let base = one_minus_h * one_minus_h + 2.0 * h * (1.0 - c);
+    one_minus_h * (1.0 + h) / (4.0 * PI * base * base.sqrt())
 }
 
 /// The optics node types.
@@ -229,8 +231,8 @@ pub fn all() -> Vec<NodeType> {
         NodeType::new("hg_phase", Category::Optics, "Henyey–Greenstein phase function, normalised over the sphere.")
             .source(
                 "p = (1 − g²)/(4π (1 + g² − 2g cosθ)^1.5) (Henyey & Greenstein 1941; MODELS.md), \
-                 evaluated as (1 − g)(1 + g)/(4π ((1 − g)² + 2g(1 − cosθ))^1.5) for precision as \
-                 g → ±1; g is clamped to ±0.9999.",
+                 evaluated with h = |g|, c = sign(g) cosθ as (1 − h)(1 + h)/(4π ((1 − h)² + \
+                 2h(1 − c))^1.5), exact in f32 as g → ±1; g is clamped to ±0.9999.",
             )
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine between the propagation directions."))
             .input(In::float("g", 0.8).range(-0.99, 0.99).hard(-1.0, 1.0).doc("Mean cosine; > 0 scatters forward."))
@@ -238,6 +240,7 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("strong forward peak", &[("cos_theta", f(1.0)), ("g", f(0.999))])
             .hard_case("strong backward peak", &[("cos_theta", f(-1.0)), ("g", f(-0.999))])
             .hard_case("g = 1", &[("cos_theta", f(1.0)), ("g", f(1.0))])
+            .hard_case("g = -1", &[("cos_theta", f(-1.0)), ("g", f(-1.0))])
             .hard_case("isotropic", &[("g", f(0.0))])
             .compute(hg_phase),
     ]

@@ -352,6 +352,8 @@ struct Compiler<'g> {
     broadcast_regs: HashMap<(u32, SocketType), u32>,
     converted: HashMap<(u32, bool, SocketType), u32>,
     param_slots: HashMap<NodeIndex, u32>,
+    const_regs: HashMap<(SocketType, [u32; 4]), u32>,
+    read: std::collections::HashSet<OutputRef>,
     stats: PlanStats,
 }
 
@@ -369,6 +371,8 @@ impl<'g> Compiler<'g> {
             broadcast_regs: HashMap::new(),
             converted: HashMap::new(),
             param_slots: HashMap::new(),
+            const_regs: HashMap::new(),
+            read: Default::default(),
             stats: PlanStats {
                 graph_nodes: graph.nodes().len(),
                 ..PlanStats::default()
@@ -381,6 +385,17 @@ impl<'g> Compiler<'g> {
         let live = self.live(&wanted);
         self.stats.live_nodes = live.iter().filter(|&&l| l).count();
 
+        // Outputs read by a live node or requested: unread attribute outputs get no register.
+        for &i in self.graph.order() {
+            if live[i] {
+                for src in &self.graph.nodes()[i].inputs {
+                    if let InputSource::Link(r, _) = src {
+                        self.read.insert(*r);
+                    }
+                }
+            }
+        }
+        self.read.extend(wanted.iter().map(|(_, r)| *r));
         for &i in self.graph.order() {
             if live[i] {
                 self.node(i, options.bake_parameters);
@@ -505,6 +520,9 @@ impl<'g> Compiler<'g> {
         match t.evaluation() {
             Evaluation::Attributes(attrs) => {
                 for (k, &a) in attrs.iter().enumerate() {
+                    if !self.read.contains(&OutputRef { node: i, output: k }) {
+                        continue;
+                    }
                     let op = if a.is_uniform() {
                         let slot = match self.time_slot {
                             Some(s) => s,
@@ -673,7 +691,17 @@ impl<'g> Compiler<'g> {
     fn register(&mut self, op: Operand, ty: SocketType) -> u32 {
         match op {
             Operand::Reg(r) => r,
-            Operand::Const(v) => self.new_register(ty.width(), RegFill::Const(v)),
+            Operand::Const(v) => {
+                let key = (ty, v.raw().map(f32::to_bits));
+                match self.const_regs.get(&key) {
+                    Some(&r) => r,
+                    None => {
+                        let r = self.new_register(ty.width(), RegFill::Const(v));
+                        self.const_regs.insert(key, r);
+                        r
+                    }
+                }
+            }
             Operand::Uniform(s) => match self.broadcast_regs.get(&(s, ty)) {
                 Some(&r) => r,
                 None => {

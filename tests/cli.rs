@@ -1,0 +1,842 @@
+//! The `matgraph` binary, run as a user would: exit codes, stdout and stderr of every
+//! subcommand. Numbers are checked against f64 formulas written out here.
+
+use matgraph::{Graph, Registry};
+use serde_json::Value as J;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+// ---------------------------------------------------------------------------------------
+// Helpers: one per boundary.
+// ---------------------------------------------------------------------------------------
+
+const GLASS: &str = "graphs/fresnel_glass.json";
+
+/// Runs the binary in the repository root.
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the matgraph binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8(bytes.to_vec()).expect("UTF-8 output")
+}
+
+/// Runs `args`, expects exit 0 and an empty stderr; returns stdout.
+fn ok(args: &[&str]) -> String {
+    let out = run(args);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(
+        out.status.success(),
+        "matgraph {args:?} failed ({}):\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        out.status
+    );
+    assert_eq!(stderr, "", "matgraph {args:?} wrote to stderr");
+    stdout
+}
+
+/// Runs `args`, expects a non-zero exit and every fragment of `expect` on stderr; returns
+/// (stdout, stderr).
+fn fails(args: &[&str], expect: &[&str]) -> (String, String) {
+    let out = run(args);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(
+        !out.status.success(),
+        "matgraph {args:?} succeeded:\nstdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert_eq!(out.status.code(), Some(1), "matgraph {args:?}: {stderr}");
+    for fragment in expect {
+        assert!(
+            stderr.contains(fragment),
+            "matgraph {args:?}: stderr lacks {fragment:?}:\n{stderr}"
+        );
+    }
+    (stdout, stderr)
+}
+
+/// Runs `matgraph eval ... --json` and compares its one JSON object with `expect`: the same
+/// keys in the same order, numbers within 1e-6 (arrays component-wise), bools exactly.
+fn check_eval(args: &[&str], expect: &[(&str, J)]) {
+    let mut full = vec!["eval"];
+    full.extend_from_slice(args);
+    full.push("--json");
+    let stdout = ok(&full);
+    assert_eq!(
+        stdout.lines().count(),
+        1,
+        "eval --json prints one line:\n{stdout}"
+    );
+    let actual: J = serde_json::from_str(&stdout).expect("eval --json prints JSON");
+    let map = actual.as_object().expect("a JSON object");
+    let keys: Vec<&str> = map.keys().map(String::as_str).collect();
+    let expected_keys: Vec<&str> = expect.iter().map(|(k, _)| *k).collect();
+    assert_eq!(keys, expected_keys, "{args:?}: {stdout}");
+    for (name, want) in expect {
+        let got = &map[*name];
+        let close = |a: &J, b: &J| match (a.as_f64(), b.as_f64()) {
+            (Some(x), Some(y)) => (x - y).abs() <= 1e-6,
+            _ => a == b,
+        };
+        let same = match (got, want) {
+            (J::Array(a), J::Array(b)) => {
+                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| close(x, y))
+            }
+            _ => close(got, want),
+        };
+        assert!(same, "{args:?}: {name} = {got}, expected {want}");
+    }
+}
+
+fn num(x: f64) -> J {
+    serde_json::json!(x)
+}
+
+fn temp_copy(dir: &Path, name: &str, contents: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, contents).unwrap();
+    path
+}
+
+// ---------------------------------------------------------------------------------------
+// f64 references.
+// ---------------------------------------------------------------------------------------
+
+/// Exact unpolarised Fresnel reflectance, light arriving from the `n1` side.
+fn fresnel(cos_i: f64, n1: f64, n2: f64) -> f64 {
+    let sin2_t = (n1 / n2).powi(2) * (1.0 - cos_i * cos_i);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// Normal-incidence reflectance from air.
+fn r0(n: f64) -> f64 {
+    ((n - 1.0) / (n + 1.0)).powi(2)
+}
+
+fn schlick(cos: f64, f0: f64) -> f64 {
+    f0 + (1.0 - f0) * (1.0 - cos).powi(5)
+}
+
+/// The glass graph's three outputs for index `n` seen at `cos` (N·V).
+fn glass(n: f64, cos: f64) -> Vec<(&'static str, J)> {
+    vec![
+        ("reflectance", num(fresnel(cos, 1.0, n))),
+        ("schlick", num(schlick(cos, r0(n)))),
+        ("specular", num(r0(n) / 0.08)),
+    ]
+}
+
+#[test]
+fn references_match_the_textbook_values() {
+    assert!((r0(1.52) - 0.042580).abs() < 1e-6);
+    assert!((r0(2.42) - 0.172395).abs() < 1e-6);
+    assert!((fresnel(1.0, 1.0, 1.52) - r0(1.52)).abs() < 1e-12);
+    // Brewster's angle (tan θ = n): rp vanishes and rs = (1 − n²)/(1 + n²).
+    let n = 1.52f64;
+    let rs = (1.0 - n * n) / (1.0 + n * n);
+    assert!((fresnel(n.atan().cos(), 1.0, n) - rs * rs / 2.0).abs() < 1e-12);
+    // Total internal reflection from the dense side past the critical angle.
+    assert_eq!(fresnel(0.5, 1.52, 1.0), 1.0);
+}
+
+// ---------------------------------------------------------------------------------------
+// --help
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn help_for_every_subcommand() {
+    let cases: &[(&str, &[&str])] = &[
+        ("check", &["<FILES>..."]),
+        ("nodes", &["--json"]),
+        (
+            "eval",
+            &[
+                "[FILE]",
+                "--node <TYPE>",
+                "--set <NAME=VALUE>",
+                "--output <NODE.OUTPUT>",
+                "--json",
+                "NODE.INPUT=VALUE",
+            ],
+        ),
+        ("schema", &["-o, --output <OUTPUT>"]),
+        ("fmt", &["<FILES>...", "--check"]),
+    ];
+    let top = ok(&["--help"]);
+    for (sub, options) in cases {
+        assert!(
+            top.lines()
+                .any(|l| l.trim_start().starts_with(&format!("{sub} "))),
+            "top-level help lacks {sub}:\n{top}"
+        );
+        for help in [ok(&[sub, "--help"]), ok(&["help", sub])] {
+            assert!(
+                help.contains(&format!("Usage: matgraph {sub}")),
+                "{sub}:\n{help}"
+            );
+            for option in *options {
+                assert!(
+                    help.contains(option),
+                    "{sub} --help lacks {option}:\n{help}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn unknown_subcommand_and_missing_arguments_fail() {
+    let out = run(&["frobnicate"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("unrecognized subcommand"));
+    let out = run(&["check"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("<FILES>..."));
+}
+
+// ---------------------------------------------------------------------------------------
+// check
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn check_a_good_file() {
+    let stdout = ok(&["check", GLASS]);
+    assert_eq!(
+        stdout,
+        "graphs/fresnel_glass.json: ok (7 nodes, 3 outputs)\n"
+    );
+}
+
+#[test]
+fn check_a_bad_file_lists_every_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = temp_copy(
+        dir.path(),
+        "bad.json",
+        r#"{"version": 1, "name": "bad", "nodes": [
+            {"id": "geo", "type": "geometry"},
+            {"id": "fr", "type": "fresnel_dielectric", "inputs": {"cos_theta": {"link": "geo.uv"}, "ior_insde": 1.5}},
+            {"id": "x", "type": "fresnel_dielectrc"}
+        ]}"#,
+    );
+    let path = bad.to_str().unwrap();
+    let (stdout, stderr) = fails(&["check", path], &[]);
+    assert_eq!(stdout, format!("{path}: 3 errors\n"));
+    let expected = [
+        format!(
+            "{path}: node 'x': unknown node type 'fresnel_dielectrc' (did you mean 'fresnel_dielectric'?)"
+        ),
+        format!("{path}: node 'fr': unknown input 'ior_insde' (did you mean 'ior_inside'?)"),
+        format!(
+            "{path}: node 'fr': input 'cos_theta': cannot connect 'geo.uv' (vec2) to 'fr.cos_theta' (float): no implicit conversion"
+        ),
+        "1 of 1 files failed".to_owned(),
+    ];
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines, expected, "{stderr}");
+}
+
+#[test]
+fn check_a_malformed_file_gives_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = temp_copy(
+        dir.path(),
+        "syntax.json",
+        "{\n  \"version\": 1,\n  \"name\": }\n",
+    );
+    let path = bad.to_str().unwrap();
+    fails(
+        &["check", path],
+        &[&format!(
+            "{path}: malformed JSON at line 3, column 11: expected value"
+        )],
+    );
+}
+
+#[test]
+fn check_several_files_prints_one_line_per_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let glass = std::fs::read_to_string(glass_path()).unwrap();
+    let a = temp_copy(dir.path(), "a.json", &glass);
+    let b = temp_copy(dir.path(), "b.json", &glass.replace("\"dot\"", "\"dott\""));
+    let c = temp_copy(dir.path(), "c.json", &glass);
+    let (a, b, c) = (
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        c.to_str().unwrap(),
+    );
+
+    let stdout = ok(&["check", a, c]);
+    assert_eq!(
+        stdout,
+        format!("{a}: ok (7 nodes, 3 outputs)\n{c}: ok (7 nodes, 3 outputs)\n")
+    );
+
+    let (stdout, stderr) = fails(
+        &["check", a, b, c],
+        &[
+            &format!("{b}: node 'cos': unknown node type 'dott' (did you mean 'dot'?)"),
+            "1 of 3 files failed",
+        ],
+    );
+    assert_eq!(
+        stdout,
+        format!("{a}: ok (7 nodes, 3 outputs)\n{b}: 1 error\n{c}: ok (7 nodes, 3 outputs)\n")
+    );
+    assert!(!stderr.contains(a) && !stderr.contains(c), "{stderr}");
+}
+
+#[test]
+fn check_a_missing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.json");
+    let path = missing.to_str().unwrap();
+    fails(&["check", path], &[&format!("{path}: cannot read")]);
+}
+
+fn glass_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(GLASS)
+}
+
+// ---------------------------------------------------------------------------------------
+// nodes
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn nodes_lists_every_type() {
+    let stdout = ok(&["nodes"]);
+    let types = Registry::builtin().types();
+    assert!(!types.is_empty());
+    let headers: Vec<&str> = stdout
+        .lines()
+        .filter(|l| !l.starts_with(' ') && !l.is_empty())
+        .collect();
+    assert_eq!(headers.len(), types.len(), "{stdout}");
+    for (t, header) in types.iter().zip(&headers) {
+        assert!(
+            header.starts_with(&format!("{} [{}] — ", t.name(), t.category())),
+            "{header}"
+        );
+        for i in t.inputs() {
+            assert!(
+                stdout.contains(&format!("    in  {:<14} {:<6}", i.name, i.ty.to_string())),
+                "{}: input {} missing",
+                t.name(),
+                i.name
+            );
+        }
+    }
+}
+
+#[test]
+fn nodes_json_describes_every_port() {
+    let stdout = ok(&["nodes", "--json"]);
+    let list: J = serde_json::from_str(&stdout).expect("nodes --json prints JSON");
+    let list = list.as_array().expect("an array");
+    let types = Registry::builtin().types();
+    assert_eq!(list.len(), types.len());
+    let range = |r: Option<matgraph::node::Range>| match r {
+        Some(r) => serde_json::json!([r.min as f64, r.max as f64]),
+        None => J::Null,
+    };
+    for (entry, t) in list.iter().zip(types) {
+        assert_eq!(entry["name"], t.name());
+        assert_eq!(entry["category"], t.category().name());
+        assert_eq!(entry["summary"], t.summary());
+        assert_eq!(entry["source"], t.source_doc());
+        let inputs = entry["inputs"].as_array().expect("inputs");
+        assert_eq!(inputs.len(), t.inputs().len(), "{}", t.name());
+        for (j, i) in inputs.iter().zip(t.inputs()) {
+            let at = format!("{}.{}", t.name(), i.name);
+            assert_eq!(j["name"], i.name, "{at}");
+            assert_eq!(j["type"], i.ty.to_string(), "{at}");
+            assert_eq!(j["default"], i.default.to_json(), "{at}");
+            assert_eq!(j["soft_range"], range(i.soft), "{at}");
+            assert_eq!(j["hard_range"], range(i.hard), "{at}");
+            assert_eq!(j["unit"], i.unit, "{at}");
+            assert_eq!(j["doc"], i.doc, "{at}");
+            assert!(!i.doc.is_empty(), "{at} has no doc");
+            assert_eq!(j["choices"], serde_json::json!(i.choices), "{at}");
+        }
+        let outputs = entry["outputs"].as_array().expect("outputs");
+        assert_eq!(outputs.len(), t.outputs().len(), "{}", t.name());
+        for (j, o) in outputs.iter().zip(t.outputs()) {
+            let at = format!("{}.{}", t.name(), o.name);
+            assert_eq!(j["name"], o.name, "{at}");
+            assert_eq!(j["type"], o.ty.to_string(), "{at}");
+            assert_eq!(j["unit"], o.unit, "{at}");
+            assert_eq!(j["doc"], o.doc, "{at}");
+        }
+        let generic = if t.is_generic() {
+            serde_json::json!(
+                t.generic_types()
+                    .iter()
+                    .map(|g| g.name())
+                    .collect::<Vec<_>>()
+            )
+        } else {
+            J::Null
+        };
+        assert_eq!(entry["generic_types"], generic, "{}", t.name());
+    }
+    // Spot-check one declaration against its literal values.
+    let fr = list
+        .iter()
+        .find(|e| e["name"] == "fresnel_dielectric")
+        .expect("fresnel_dielectric is listed");
+    assert_eq!(fr["inputs"][0]["name"], "cos_theta");
+    assert_eq!(fr["inputs"][0]["type"], "float");
+    assert_eq!(fr["inputs"][0]["default"], 1.0);
+    assert_eq!(
+        fr["inputs"][0]["hard_range"],
+        serde_json::json!([-1.0, 1.0])
+    );
+    assert_eq!(fr["inputs"][2]["default"], 1.5);
+    assert_eq!(fr["outputs"][1]["name"], "transmittance");
+}
+
+// ---------------------------------------------------------------------------------------
+// eval a graph
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn eval_glass_at_normal_incidence() {
+    check_eval(&[GLASS], &glass(1.52, 1.0));
+    // The brief's numbers, written out.
+    check_eval(
+        &[GLASS],
+        &[
+            ("reflectance", num(0.042580)),
+            ("schlick", num(0.042580)),
+            ("specular", num(0.042580 / 0.08)),
+        ],
+    );
+}
+
+#[test]
+fn eval_text_output_names_every_output() {
+    let stdout = ok(&["eval", GLASS]);
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{stdout}");
+    assert!(lines[0].starts_with("reflectance = 0.0425"), "{stdout}");
+    assert!(lines[0].ends_with("(float)"), "{stdout}");
+    assert!(lines[1].starts_with("schlick     = "), "{stdout}");
+    assert!(lines[2].starts_with("specular    = 0.532"), "{stdout}");
+}
+
+#[test]
+fn eval_sets_a_parameter() {
+    // Diamond: R0 = (1.42 / 3.42)² ≈ 0.172395.
+    check_eval(&[GLASS, "--set", "ior=2.42"], &glass(2.42, 1.0));
+    check_eval(&[GLASS, "--set", "ior = 1.0"], &glass(1.0, 1.0));
+}
+
+#[test]
+fn eval_sets_the_view_direction() {
+    // V = (sin 30°, 0, cos 30°) against N = +z: N·V = cos 30°, 30° incidence.
+    let cos30 = 0.8660254f64;
+    check_eval(
+        &[GLASS, "--set", "view=[0.5,0,0.8660254]"],
+        &glass(1.52, cos30),
+    );
+    // V = (sin 60°, 0, cos 60°): 60° incidence.
+    check_eval(
+        &[GLASS, "--set", "view=[0.8660254,0,0.5]"],
+        &glass(1.52, 0.5),
+    );
+    // The angle moves the exact reflectance, not the normal-incidence specular.
+    assert!(fresnel(0.5, 1.0, 1.52) > fresnel(cos30, 1.0, 1.52) + 0.01);
+    // Both the view and the parameter.
+    check_eval(
+        &[
+            GLASS,
+            "--set",
+            "view=[0.8660254,0,0.5]",
+            "--set",
+            "ior=2.42",
+        ],
+        &glass(2.42, 0.5),
+    );
+}
+
+#[test]
+fn eval_sets_a_node_input() {
+    // Light arriving from inside a denser medium than the glass.
+    check_eval(
+        &[GLASS, "--set", "exact.ior_outside=1.7"],
+        &[
+            ("reflectance", num(fresnel(1.0, 1.7, 1.52))),
+            ("schlick", num(r0(1.52))),
+            ("specular", num(r0(1.52) / 0.08)),
+        ],
+    );
+}
+
+#[test]
+fn eval_selects_outputs() {
+    check_eval(
+        &[GLASS, "--output", "exact.transmittance"],
+        &[("exact.transmittance", num(1.0 - r0(1.52)))],
+    );
+    check_eval(
+        &[
+            GLASS,
+            "--output",
+            "specular",
+            "--output",
+            "cos.result",
+            "--output",
+            "f0.f0",
+        ],
+        &[
+            ("specular", num(r0(1.52) / 0.08)),
+            ("cos.result", num(1.0)),
+            ("f0.f0", num(r0(1.52))),
+        ],
+    );
+    check_eval(
+        &[GLASS, "--output", "geo.view", "--set", "view=[0.6,0,0.8]"],
+        &[("geo.view", serde_json::json!([0.6, 0.0, 0.8]))],
+    );
+}
+
+#[test]
+fn eval_unknown_output_suggests() {
+    fails(
+        &["eval", GLASS, "--output", "exact.transmitance"],
+        &["unknown output 'exact.transmitance' (did you mean 'exact.transmittance'?)"],
+    );
+    fails(
+        &["eval", GLASS, "--output", "reflectanse", "--json"],
+        &["unknown output 'reflectanse' (did you mean 'reflectance'?)"],
+    );
+}
+
+#[test]
+fn eval_graph_errors() {
+    fails(
+        &["eval", GLASS, "--set", "ir=2.0"],
+        &["unknown parameter 'ir' (did you mean 'ior'?)"],
+    );
+    fails(
+        &["eval", GLASS, "--set", "ior=[1,2]"],
+        &["--set ior: expected a float value"],
+    );
+    fails(
+        &["eval", GLASS, "--set", "view=[1,2]"],
+        &["--set view: expected a vec3 value"],
+    );
+    fails(
+        &["eval", GLASS, "--set", "nope.value=1"],
+        &["--set nope.value: no node 'nope'"],
+    );
+    fails(
+        &["eval", GLASS, "--set", "exact.cos_theta=2"],
+        &["node 'exact': input 'cos_theta': value 2.0 is outside [-1, 1]"],
+    );
+    fails(&["eval", GLASS, "--set", "ior"], &["expected NAME=VALUE"]);
+    fails(&["eval", "graphs/missing.json"], &["cannot read"]);
+}
+
+// ---------------------------------------------------------------------------------------
+// eval --node
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn eval_node_fresnel_dielectric() {
+    check_eval(
+        &[
+            "--node",
+            "fresnel_dielectric",
+            "--set",
+            "cos_theta=0.5",
+            "--set",
+            "ior_inside=1.33",
+        ],
+        &[
+            ("reflectance", num(fresnel(0.5, 1.0, 1.33))),
+            ("transmittance", num(1.0 - fresnel(0.5, 1.0, 1.33))),
+        ],
+    );
+    // From the inside past the critical angle of water: total internal reflection.
+    check_eval(
+        &[
+            "--node",
+            "fresnel_dielectric",
+            "--set",
+            "cos_theta=-0.5",
+            "--set",
+            "ior_inside=1.33",
+        ],
+        &[("reflectance", num(1.0)), ("transmittance", num(0.0))],
+    );
+    // Defaults: normal incidence on n = 1.5.
+    check_eval(
+        &["--node", "fresnel_dielectric"],
+        &[("reflectance", num(0.04)), ("transmittance", num(0.96))],
+    );
+}
+
+#[test]
+fn eval_node_broadcasts_a_float_to_a_vector() {
+    let expect = [("result", serde_json::json!([1.5, 2.5, 3.5]))];
+    check_eval(
+        &["--node", "add", "--set", "a=[1,2,3]", "--set", "b=0.5"],
+        &expect,
+    );
+    check_eval(
+        &["--node", "add", "--set", "a=0.5", "--set", "b=[1,2,3]"],
+        &expect,
+    );
+    check_eval(
+        &["--node", "mul", "--set", "a=[1,2,3,4]", "--set", "b=2"],
+        &[("result", serde_json::json!([2.0, 4.0, 6.0, 8.0]))],
+    );
+    check_eval(
+        &["--node", "add", "--set", "a=1", "--set", "b=0.25"],
+        &[("result", num(1.25))],
+    );
+}
+
+#[test]
+fn eval_node_split() {
+    check_eval(
+        &["--node", "split", "--set", "v=[1,2,3]"],
+        &[
+            ("x", num(1.0)),
+            ("y", num(2.0)),
+            ("z", num(3.0)),
+            ("w", num(0.0)),
+        ],
+    );
+    check_eval(
+        &["--node", "split", "--set", "v=[0.25,-0.5]"],
+        &[
+            ("x", num(0.25)),
+            ("y", num(-0.5)),
+            ("z", num(0.0)),
+            ("w", num(0.0)),
+        ],
+    );
+    check_eval(
+        &["--node", "split", "--set", "v=[1,2,3,4]"],
+        &[
+            ("x", num(1.0)),
+            ("y", num(2.0)),
+            ("z", num(3.0)),
+            ("w", num(4.0)),
+        ],
+    );
+}
+
+#[test]
+fn eval_node_bool_input_and_output() {
+    // remap's `clamp` is a bool input (no builtin node has an enum input).
+    for (clamp, result) in [("true", 1.0), ("false", 1.5)] {
+        check_eval(
+            &[
+                "--node",
+                "remap",
+                "--set",
+                "x=1.5",
+                "--set",
+                &format!("clamp={clamp}"),
+            ],
+            &[("result", num(result))],
+        );
+    }
+    // refract's `tir` is a bool output; t is checked against GLSL refract in f64.
+    let refract = |i: [f64; 3], eta: f64| {
+        let n = [0.0, 0.0, 1.0];
+        let cos: f64 = (0..3).map(|k| n[k] * i[k]).sum();
+        let k = 1.0 - eta * eta * (1.0 - cos * cos);
+        if k < 0.0 {
+            let t: Vec<f64> = (0..3).map(|c| i[c] - 2.0 * cos * n[c]).collect();
+            (t, true)
+        } else {
+            let t: Vec<f64> = (0..3)
+                .map(|c| eta * i[c] - (eta * cos + k.sqrt()) * n[c])
+                .collect();
+            (t, false)
+        }
+    };
+    for (text, i, eta, tir) in [
+        // From water into air past the critical angle (48.75°): 53.13° incidence.
+        ("[0.8,0,-0.6]", [0.8, 0.0, -0.6], 1.33, true),
+        // From air into water at 36.87° incidence.
+        ("[0.6,0,-0.8]", [0.6, 0.0, -0.8], 1.0 / 1.33, false),
+        // From water into air inside the window.
+        ("[0.6,0,-0.8]", [0.6, 0.0, -0.8], 1.33, false),
+    ] {
+        let (t, expect_tir) = refract(i, eta);
+        assert_eq!(expect_tir, tir);
+        check_eval(
+            &[
+                "--node",
+                "refract",
+                "--set",
+                &format!("i={text}"),
+                "--set",
+                &format!("eta={eta}"),
+            ],
+            &[("t", serde_json::json!(t)), ("tir", J::Bool(tir))],
+        );
+    }
+    // Defaults: straight through at normal incidence.
+    check_eval(
+        &["--node", "refract"],
+        &[
+            ("t", serde_json::json!([0.0, 0.0, -1.0])),
+            ("tir", J::Bool(false)),
+        ],
+    );
+}
+
+#[test]
+fn eval_node_errors() {
+    fails(
+        &["eval", "--node", "fresnel_dielectrc", "--json"],
+        &["unknown node type 'fresnel_dielectrc' (did you mean 'fresnel_dielectric'?)"],
+    );
+    fails(
+        &[
+            "eval",
+            "--node",
+            "fresnel_dielectric",
+            "--set",
+            "ior_insde=1.3",
+        ],
+        &["unknown input 'ior_insde' (did you mean 'ior_inside'?)"],
+    );
+    fails(
+        &[
+            "eval",
+            "--node",
+            "fresnel_dielectric",
+            "--set",
+            "cos_theta=[0,0,1]",
+        ],
+        &["input 'cos_theta': expected float, found array of 3 items"],
+    );
+    fails(
+        &[
+            "eval",
+            "--node",
+            "fresnel_dielectric",
+            "--set",
+            "cos_theta=steep",
+        ],
+        &["input 'cos_theta': expected float, found string \"steep\""],
+    );
+    fails(
+        &["eval", "--node", "remap", "--set", "clamp=1"],
+        &["input 'clamp': expected bool, found number 1"],
+    );
+    fails(
+        &["eval", "--node", "hg_phase", "--set", "g=2"],
+        &["input 'g': value 2.0 is outside [-1, 1]"],
+    );
+    // A file and --node conflict.
+    let out = run(&["eval", GLASS, "--node", "add"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("cannot be used with"));
+}
+
+// ---------------------------------------------------------------------------------------
+// schema
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn schema_prints_the_library_schema() {
+    let stdout = ok(&["schema"]);
+    assert_eq!(stdout, matgraph::document::json_schema());
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("schema.json");
+    assert_eq!(ok(&["schema", "-o", path.to_str().unwrap()]), "");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), stdout);
+}
+
+// ---------------------------------------------------------------------------------------
+// fmt
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn fmt_check_and_rewrite() {
+    let canonical = std::fs::read_to_string(glass_path()).unwrap();
+    let registry = Registry::builtin();
+    assert_eq!(
+        Graph::from_json(&canonical, registry).unwrap().to_json(),
+        canonical,
+        "graphs/fresnel_glass.json is not canonical"
+    );
+    assert_eq!(ok(&["fmt", "--check", GLASS]), "");
+
+    let dir = tempfile::tempdir().unwrap();
+    let value: J = serde_json::from_str(&canonical).unwrap();
+    let reindented = serde_json::to_string_pretty(&value).unwrap() + "\n";
+    assert_ne!(reindented, canonical);
+    let copy = temp_copy(dir.path(), "copy.json", &reindented);
+    let path = copy.to_str().unwrap();
+
+    let (stdout, _) = fails(&["fmt", "--check", path], &["1 files are not canonical"]);
+    assert_eq!(stdout, format!("{path}: not canonical\n"));
+    assert_eq!(std::fs::read_to_string(&copy).unwrap(), reindented);
+
+    assert_eq!(ok(&["fmt", path]), format!("{path}: rewritten\n"));
+    assert_eq!(std::fs::read_to_string(&copy).unwrap(), canonical);
+    assert_eq!(ok(&["fmt", "--check", path]), "");
+    assert_eq!(ok(&["fmt", path]), "", "a canonical file is left alone");
+    // No temporary files are left beside the graph.
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["copy.json"]);
+}
+
+#[test]
+fn fmt_normalises_literals_and_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = temp_copy(
+        dir.path(),
+        "lits.json",
+        r#"{"nodes": [{"inputs": {"ior_inside": 2, "cos_theta": 0.5}, "type": "fresnel_dielectric", "id": "fr"}],
+            "name": "lits", "version": 1, "outputs": [{"from": "fr.reflectance", "name": "r"}]}"#,
+    );
+    let path = copy.to_str().unwrap();
+    fails(&["fmt", "--check", path], &["not canonical"]);
+    ok(&["fmt", path]);
+    assert_eq!(
+        std::fs::read_to_string(&copy).unwrap(),
+        "{\n  \"version\": 1,\n  \"name\": \"lits\",\n  \"nodes\": [\n    \
+         { \"id\": \"fr\", \"type\": \"fresnel_dielectric\", \"inputs\": { \"cos_theta\": 0.5, \"ior_inside\": 2.0 } }\n  \
+         ],\n  \"outputs\": [{ \"name\": \"r\", \"from\": \"fr.reflectance\" }]\n}\n"
+    );
+}
+
+#[test]
+fn fmt_refuses_invalid_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = temp_copy(
+        dir.path(),
+        "bad.json",
+        r#"{"version": 1, "name": "g", "nodes": [{"id": "a", "type": "ad"}]}"#,
+    );
+    let before = std::fs::read_to_string(&bad).unwrap();
+    let path = bad.to_str().unwrap();
+    fails(
+        &["fmt", path],
+        &[&format!(
+            "{path}: node 'a': unknown node type 'ad' (did you mean 'add'?)"
+        )],
+    );
+    assert_eq!(std::fs::read_to_string(&bad).unwrap(), before);
+}
