@@ -20,7 +20,10 @@ const N: usize = 1 << 20;
 /// Columns are re-sliced to the chunk first so the loop has no bounds checks.
 fn fused(n: &[f32], v: &[f32], l: &[f32], out: &mut [f32], len: usize, start: usize) {
     let m = out.len();
-    let col = |c: &[f32], k: usize| -> &[f32] { &c[k * len + start..k * len + start + m] };
+    fn column(c: &[f32], k: usize, len: usize, start: usize, m: usize) -> &[f32] {
+        &c[k * len + start..k * len + start + m]
+    }
+    let col = |c, k| column(c, k, len, start, m);
     let (nx, ny, nz) = (col(n, 0), col(n, 1), col(n, 2));
     let (vx, vy, vz) = (col(v, 0), col(v, 1), col(v, 2));
     let (lx, ly, lz) = (col(l, 0), col(l, 1), col(l, 2));

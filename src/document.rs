@@ -36,7 +36,7 @@ pub const FORMAT_VERSION: u32 = 1;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(title = "matgraph graph", extend("$id" = "https://matgraph.dev/graph.schema.json"))]
-pub struct GraphDocument {
+pub struct GraphDocument<N = NodeDocument> {
     /// Format version; this build reads versions up to 1.
     pub version: u32,
     /// The graph's name.
@@ -45,7 +45,7 @@ pub struct GraphDocument {
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub doc: String,
     /// The nodes, in the order the author wrote them.
-    pub nodes: Vec<NodeDocument>,
+    pub nodes: Vec<N>,
     /// The values the graph produces for its caller.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub outputs: Vec<OutputDocument>,
@@ -73,7 +73,11 @@ pub struct NodeDocument {
     #[schemars(with = "BTreeMap<String, InputSchema>")]
     pub inputs: BTreeMap<String, serde_json::Value>,
     /// Position in the node editor.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "shortest_pair"
+    )]
     pub position: Option<[f32; 2]>,
 }
 
@@ -151,7 +155,7 @@ impl GraphDocument {
             }]
         })?;
         check_version(&raw)?;
-        serde_json::from_str::<GraphDocument>(text).map_err(|e| structure_errors(&raw, &e))
+        serde_json::from_str::<GraphDocument>(text).map_err(|e| structure_errors(text, &e))
     }
 
     /// Saves as pretty JSON with a trailing newline; the same document gives the same bytes.
@@ -159,6 +163,15 @@ impl GraphDocument {
         // Fields serialise in declaration order and inputs are a BTreeMap, so output is stable.
         let value = serde_json::to_value(self).unwrap_or_default();
         crate::pretty::to_string(&value)
+    }
+}
+
+/// Serialises an editor position with the shortest decimals that read back to the same f32s.
+fn shortest_pair<S: serde::Serializer>(p: &Option<[f32; 2]>, s: S) -> Result<S::Ok, S::Error> {
+    let shortest = |x: f32| format!("{x:?}").parse::<f64>().unwrap_or(x as f64);
+    match p {
+        Some([x, y]) => [shortest(*x), shortest(*y)].serialize(s),
+        None => s.serialize_none(),
     }
 }
 
@@ -193,19 +206,33 @@ fn check_version(raw: &serde_json::Value) -> Result<(), Vec<GraphError>> {
     }
 }
 
-/// Turns a typed-parse failure into errors: one per malformed node entry (named by id),
-/// or the located top-level error when every node entry is well formed.
-fn structure_errors(raw: &serde_json::Value, e: &serde_json::Error) -> Vec<GraphError> {
+/// Turns a typed-parse failure into errors: one per malformed node entry (named by its id
+/// and located exactly), plus a malformed top level, located.
+fn structure_errors(text: &str, e: &serde_json::Error) -> Vec<GraphError> {
+    #[derive(Deserialize)]
+    struct RawNodes<'a> {
+        #[serde(borrow, default)]
+        nodes: Vec<&'a serde_json::value::RawValue>,
+    }
     let mut errors = Vec::new();
-    if let Some(nodes) = raw.get("nodes").and_then(|n| n.as_array()) {
-        for (i, node) in nodes.iter().enumerate() {
-            if let Err(ne) = NodeDocument::deserialize(node) {
-                let id = node.get("id").and_then(|v| v.as_str()).map(str::to_owned);
-                let (line, column) = if errors.is_empty() {
-                    (e.line(), e.column())
-                } else {
-                    (0, 0)
-                };
+    // The top level alone, with node entries skipped.
+    if let Err(top) = serde_json::from_str::<GraphDocument<serde::de::IgnoredAny>>(text) {
+        errors.push(GraphError::Structure {
+            node: None,
+            line: top.line(),
+            column: top.column(),
+            message: strip_location(&top),
+        });
+    }
+    if let Ok(raw) = serde_json::from_str::<RawNodes>(text) {
+        for (i, node) in raw.nodes.iter().enumerate() {
+            let slice = node.get();
+            if let Err(ne) = serde_json::from_str::<NodeDocument>(slice) {
+                let id = serde_json::from_str::<serde_json::Value>(slice)
+                    .ok()
+                    .and_then(|v| v.get("id").and_then(|id| id.as_str()).map(str::to_owned));
+                let offset = slice.as_ptr() as usize - text.as_ptr() as usize;
+                let (line, column) = offset_location(text, offset, ne.line(), ne.column());
                 errors.push(GraphError::Structure {
                     node: Some(id.unwrap_or_else(|| format!("#{i}"))),
                     line,
@@ -224,6 +251,19 @@ fn structure_errors(raw: &serde_json::Value, e: &serde_json::Error) -> Vec<Graph
         });
     }
     errors
+}
+
+/// The 1-based line and column in `text` of a position given relative to a slice starting
+/// at byte `offset`.
+fn offset_location(text: &str, offset: usize, line: usize, column: usize) -> (usize, usize) {
+    let before = &text[..offset];
+    let base_line = before.matches('\n').count() + 1;
+    let base_column = before.len() - before.rfind('\n').map_or(0, |i| i + 1);
+    if line <= 1 {
+        (base_line, base_column + column)
+    } else {
+        (base_line + line - 1, column)
+    }
 }
 
 /// serde_json's message without its trailing " at line L column C".

@@ -57,6 +57,12 @@ pub enum GraphError {
         /// The id.
         node: String,
     },
+    /// An editor position that is not a pair of finite f32 numbers.
+    #[error("node '{node}': position must be two finite numbers within the f32 range")]
+    BadPosition {
+        /// The node.
+        node: String,
+    },
     /// The node's type is not registered.
     #[error("node '{node}': unknown node type '{type_name}'{}", did_you_mean(.suggestion))]
     UnknownNodeType {
@@ -209,6 +215,7 @@ impl GraphError {
             Structure { node, .. } => node.as_deref(),
             DuplicateId { node }
             | InvalidId { node }
+            | BadPosition { node }
             | UnknownNodeType { node, .. }
             | BadDataType { node, .. }
             | UnknownInput { node, .. }

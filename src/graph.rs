@@ -30,8 +30,14 @@ pub struct OutputRef {
 pub enum InputSource {
     /// Not written in the file: the declared default (already of the port's type).
     Default(Value),
-    /// A literal written in the file (already converted to the port's type).
-    Value(Value),
+    /// A literal written in the file.
+    Value {
+        /// The literal converted to the port's type.
+        value: Value,
+        /// The literal as written (for a generic port its shape drives the inference of
+        /// `T`, so it is saved in that shape).
+        written: Value,
+    },
     /// A link to another node's output, with the conversion its types need.
     Link(OutputRef, Conversion),
 }
@@ -172,7 +178,7 @@ impl Graph {
                 for (decl, src) in n.node_type.inputs().iter().zip(&n.inputs) {
                     let json = match src {
                         InputSource::Default(_) => continue,
-                        InputSource::Value(v) => literal_json(decl, v),
+                        InputSource::Value { written, .. } => literal_json(decl, written),
                         InputSource::Link(r, _) => {
                             serde_json::json!({ "link": self.output_name(*r) })
                         }
@@ -254,6 +260,10 @@ impl Builder<'_> {
             if !valid_id(&n.id) {
                 self.errors
                     .push(GraphError::InvalidId { node: n.id.clone() });
+            }
+            if n.position.is_some_and(|p| !p.iter().all(|x| x.is_finite())) {
+                self.errors
+                    .push(GraphError::BadPosition { node: n.id.clone() });
             }
             if by_id.insert(n.id.clone(), i).is_some() {
                 self.errors
@@ -444,6 +454,7 @@ impl Builder<'_> {
     ) -> Option<Node> {
         let link_type = |p: &PendingLink| done[p.target].as_ref().map(|s| s.output_type(p.output));
         let errors_before = self.errors.len();
+        let mut incomplete = false;
         if t.evaluation() == Evaluation::Parameter {
             for p in links {
                 self.errors.push(GraphError::WrongValueType {
@@ -526,10 +537,17 @@ impl Builder<'_> {
                 }
             } else if let Some(json) = n.inputs.get(decl.name) {
                 if link_text(json).is_some() {
-                    continue; // a bad link, already reported
+                    incomplete = true; // a bad or dangling link, already reported
+                    continue;
                 }
                 match self.literal(n, decl, ty, json) {
-                    Some(v) => InputSource::Value(v),
+                    Some(value) => {
+                        let written = match decl.ty {
+                            PortType::Generic => Value::infer_json(json).unwrap_or(value),
+                            PortType::Fixed(_) => value,
+                        };
+                        InputSource::Value { value, written }
+                    }
                     None => continue,
                 }
             } else {
@@ -537,7 +555,7 @@ impl Builder<'_> {
             };
             inputs.push(src);
         }
-        if self.errors.len() > errors_before {
+        if incomplete || self.errors.len() > errors_before {
             return None;
         }
         Some(Node {
@@ -688,7 +706,7 @@ impl Builder<'_> {
                 continue;
             }
             let default = match &node.inputs[0] {
-                InputSource::Default(v) | InputSource::Value(v) => *v,
+                InputSource::Default(v) | InputSource::Value { value: v, .. } => *v,
                 InputSource::Link(..) => {
                     self.errors
                         .push(bad("a parameter node's value must be a literal".into()));

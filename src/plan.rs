@@ -551,7 +551,7 @@ impl<'g> Compiler<'g> {
             Evaluation::Parameter if !bake => {
                 // The file's value until a caller overrides an exposed parameter.
                 let init = match node.inputs[0] {
-                    InputSource::Default(v) | InputSource::Value(v) => v,
+                    InputSource::Default(v) | InputSource::Value { value: v, .. } => v,
                     InputSource::Link(..) => Value::zero(out_types[0]),
                 };
                 let slot = self.new_uniform(init);
@@ -567,7 +567,7 @@ impl<'g> Compiler<'g> {
         for (k, src) in node.inputs.iter().enumerate() {
             let to = node.input_type(k);
             let op = match src {
-                InputSource::Default(v) | InputSource::Value(v) => Operand::Const(*v),
+                InputSource::Default(v) | InputSource::Value { value: v, .. } => Operand::Const(*v),
                 InputSource::Link(r, c) => self.convert(self.operands[r], *c, to),
             };
             ins.push(op);

@@ -59,13 +59,14 @@ impl Registry {
 }
 
 /// The candidate nearest to `name` by edit distance, when within a third of its length
-/// (at least 2 edits), or a candidate that contains `name` or is contained in it.
+/// (at least 2 edits), or a candidate that contains `name` or is contained in it (both at
+/// least 3 characters long).
 pub fn nearest<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
     let limit = (name.len() / 3).max(2);
     candidates
         .map(|c| {
             let d = strsim::levenshtein(name, c);
-            let contained = c.contains(name) || name.contains(c);
+            let contained = name.len().min(c.len()) >= 3 && (c.contains(name) || name.contains(c));
             (if contained { d.min(limit) } else { d }, c)
         })
         .filter(|&(d, _)| d <= limit)
