@@ -13,6 +13,7 @@ use std::f32::consts::PI;
 /// Mirror reflection `R = I − 2 (N·I) N`.
 ///
 /// Source: MODELS.md "Reflect"; GLSL `reflect`.
+#[inline]
 pub fn reflect(i: Vec3, n: Vec3) -> Vec3 {
     i - 2.0 * n.dot(i) * n
 }
@@ -22,6 +23,7 @@ pub fn reflect(i: Vec3, n: Vec3) -> Vec3 {
 ///
 /// Under total internal reflection the result is the reflected direction and `tir` is true,
 /// so a graph never receives a silent zero vector. Source: MODELS.md "Refract"; GLSL `refract`.
+#[inline]
 pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
     let cos = n.dot(i);
     let k = 1.0 - eta * eta * (1.0 - cos * cos);
@@ -38,6 +40,7 @@ pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
 /// `R = (rs² + rp²)/2`; `R = 1` under total internal reflection. `cos_theta > 0`: light
 /// arrives from the outside medium (`n1 = ior_outside`); `cos_theta < 0`: from the inside,
 /// and the indices swap (pbrt-v4 `FrDielectric`). Source: MODELS.md "Exact dielectric Fresnel".
+#[inline]
 pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> (f32, f32) {
     let (n1, n2, cos_i) = if cos_theta >= 0.0 {
         (ior_outside, ior_inside, cos_theta.min(1.0))
@@ -61,6 +64,7 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
 ///
 /// Valid when light arrives from the less dense side; from the denser side feed it cosθt
 /// (MODELS.md "Schlick"). Source: Schlick 1994, eq. 24.
+#[inline]
 pub fn fresnel_schlick<
     T: Copy
         + std::ops::Add<Output = T>
@@ -96,29 +100,34 @@ impl OneT for Vec3 {
 ///
 /// With `bias = F0`, `scale = 1 − F0`, `power = 5` it equals Schlick. Source: Fernando &
 /// Kilgard, The Cg Tutorial (2003), §7.4; used by seed 004.
+#[inline]
 pub fn fresnel_empirical(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
     let base = (1.0 + i_dot_n).max(0.0);
     (bias + scale * base.powf(power)).clamp(0.0, 1.0)
 }
 
 /// Normal-incidence reflectance `R0 = ((n1 − n2)/(n1 + n2))²`. Source: MODELS.md "R0".
+#[inline]
 pub fn ior_to_f0(ior_outside: f32, ior_inside: f32) -> f32 {
     let r = (ior_outside - ior_inside) / (ior_outside + ior_inside);
     r * r
 }
 
 /// Inverse of [`ior_to_f0`] from air: `n = (1 + √R0)/(1 − √R0)`. Source: seed 003.
+#[inline]
 pub fn f0_to_ior(f0: f32) -> f32 {
     let s = f0.clamp(0.0, 0.99).sqrt();
     (1.0 + s) / (1.0 - s)
 }
 
 /// Unreal's non-metal Specular input: `specular = R0 / 0.08`. Source: seed 003.
+#[inline]
 pub fn f0_to_specular(f0: f32) -> f32 {
     f0 / 0.08
 }
 
 /// Inverse of [`f0_to_specular`]: `R0 = 0.08 · specular`. Source: seed 003.
+#[inline]
 pub fn specular_to_f0(specular: f32) -> f32 {
     0.08 * specular
 }
@@ -133,6 +142,7 @@ pub const HG_G_MAX: f32 = 0.9999;
 /// as `(1 − h)(1 + h) / (4π ((1 − h)² + 2h(1 − c))^1.5)`: no cancellation as `g → ±1`
 /// (MODELS.md "Henyey–Greenstein"); `g` is clamped to ±0.9999. Source: Henyey & Greenstein
 /// 1941, eq. 6.
+#[inline]
 pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
     let h = g.abs().min(HG_G_MAX);
     let c = cos_theta.clamp(-1.0, 1.0);
