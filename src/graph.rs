@@ -228,13 +228,12 @@ impl Graph {
 
 /// The JSON of a literal: enum choices by name, everything else by value.
 fn literal_json(decl: &InputDecl, v: &Value) -> serde_json::Value {
-    if !decl.choices.is_empty() {
-        if let Some(name) = usize::try_from(v.as_i32())
+    if !decl.choices.is_empty()
+        && let Some(name) = usize::try_from(v.as_i32())
             .ok()
             .and_then(|i| decl.choices.get(i))
-        {
-            return serde_json::Value::String((*name).to_owned());
-        }
+    {
+        return serde_json::Value::String((*name).to_owned());
     }
     v.to_json()
 }
@@ -606,17 +605,17 @@ impl Builder<'_> {
             });
             return None;
         };
-        if let Some(h) = decl.hard {
-            if !h.contains(&v) {
-                self.errors.push(GraphError::OutOfRange {
-                    node: n.id.clone(),
-                    input: decl.name.to_owned(),
-                    value: v.to_string(),
-                    min: h.min,
-                    max: h.max,
-                });
-                return None;
-            }
+        if let Some(h) = decl.hard
+            && !h.contains(&v)
+        {
+            self.errors.push(GraphError::OutOfRange {
+                node: n.id.clone(),
+                input: decl.name.to_owned(),
+                value: v.to_string(),
+                min: h.min,
+                max: h.max,
+            });
+            return None;
         }
         Some(v)
     }

@@ -602,19 +602,19 @@ impl NodeType {
                 problems.push(format!("{n}.{}: duplicate input", i.name));
             }
             seen.push(i.name);
-            if let Some(h) = i.hard {
-                if !h.contains(&i.default) {
-                    problems.push(format!(
-                        "{n}.{}: default {} outside hard range",
-                        i.name, i.default
-                    ));
-                }
+            if let Some(h) = i.hard
+                && !h.contains(&i.default)
+            {
+                problems.push(format!(
+                    "{n}.{}: default {} outside hard range",
+                    i.name, i.default
+                ));
             }
         }
-        if let Evaluation::Attributes(a) = self.evaluation {
-            if a.len() != self.outputs.len() {
-                problems.push(format!("{n}: one attribute per output expected"));
-            }
+        if let Evaluation::Attributes(a) = self.evaluation
+            && a.len() != self.outputs.len()
+        {
+            problems.push(format!("{n}: one attribute per output expected"));
         }
         for v in &self.variants {
             let t = v.generic.unwrap_or(SocketType::Float);
@@ -649,14 +649,14 @@ impl NodeType {
                         case.why
                     )),
                     Some(k) => {
-                        if let PortType::Fixed(t) = self.inputs[k].ty {
-                            if value.convert(t).is_none() {
-                                problems.push(format!(
-                                    "{n}: hard case '{}' gives {name} a {}",
-                                    case.why,
-                                    value.ty()
-                                ));
-                            }
+                        if let PortType::Fixed(t) = self.inputs[k].ty
+                            && value.convert(t).is_none()
+                        {
+                            problems.push(format!(
+                                "{n}: hard case '{}' gives {name} a {}",
+                                case.why,
+                                value.ty()
+                            ));
                         }
                     }
                 }
