@@ -6,7 +6,8 @@ use glam::{Vec2, Vec3, Vec4};
 
 /// Adds an identity compute for every value type, so `value` passes through.
 fn identity_variants(t: NodeType) -> NodeType {
-    t.variant(Float, |x: f32| x)
+    t.wgsl("fn $fn(value: $T) -> $T { return value; }")
+        .variant(Float, |x: f32| x)
         .variant(Vec2, |x: Vec2| x)
         .variant(Vec3, |x: Vec3| x)
         .variant(Vec4, |x: Vec4| x)

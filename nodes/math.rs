@@ -208,6 +208,67 @@ fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
     (x, y, z, w)
 }
 
+/// WGSL of [`div`]: the safe divide.
+const DIV_WGSL: &str =
+    "fn $fn(a: $T, b: $T) -> $T { return select(a / b, $T(0.0), b == $T(0.0)); }";
+
+/// WGSL of [`safe_pow`], component-wise with selects.
+const POW_WGSL: &str = r#"
+fn $fn(a: $T, b: $T) -> $T {
+    let zero = $T(0.0);
+    let one = $T(1.0);
+    // pow(|a|, b) with the zero base replaced, so the builtin never sees 0.
+    let mag = pow(select(abs(a), one, a == zero), b);
+    let is_int = fract(b) == zero;
+    let odd = fract(b * 0.5) != zero;
+    let negative_base = select(zero, select(mag, -mag, odd), is_int);
+    var r = select(mag, negative_base, a < zero);
+    r = select(r, select(zero, one, b == zero), a == zero);
+    return r;
+}
+"#;
+
+/// WGSL of [`smoothstep`] (explicit, since WGSL's builtin is undefined for equal edges).
+const SMOOTHSTEP_WGSL: &str = r#"
+fn $fn(edge0: $T, edge1: $T, x: $T) -> $T {
+    let same = edge0 == edge1;
+    let t = min(max((x - edge0) / select(edge1 - edge0, $T(1.0), same), $T(0.0)), $T(1.0));
+    let s = t * t * (3.0 - 2.0 * t);
+    return select(s, select($T(1.0), $T(0.0), x < edge0), same);
+}
+"#;
+
+/// WGSL of [`remap`].
+const REMAP_WGSL: &str = r#"
+fn $fn(x: $T, from_min: $T, from_max: $T, to_min: $T, to_max: $T, clamp_t: bool) -> $T {
+    let same = from_min == from_max;
+    let linear = (x - from_min) / select(from_max - from_min, $T(1.0), same);
+    var t = select(linear, select($T(1.0), $T(0.0), x < from_min), same);
+    if (clamp_t) {
+        t = min(max(t, $T(0.0)), $T(1.0));
+    }
+    return to_min + (to_max - to_min) * t;
+}
+"#;
+
+/// WGSL of [`normalize`]: zero for a zero, tiny or non-finite length.
+const NORMALIZE_WGSL: &str = r#"
+fn $fn(v: $T) -> $T {
+    let l = sqrt(dot(v, v));
+    if (l > 0.0 && l <= 3.4028235e38) {
+        return v * (1.0 / l);
+    }
+    return $T(0.0);
+}
+"#;
+
+/// WGSL of the `combine` node.
+const COMBINE_WGSL: &str = r#"
+fn $fn(x: f32, y: f32, z: f32, w: f32) -> $out {
+    return $out(vec2<f32>(x, y), vec3<f32>(x, y, z), vec4<f32>(x, y, z, w), vec3<f32>(x, y, z));
+}
+"#;
+
 /// Registers `f::<T>` for float, vec2, vec3 and vec4 (colour uses the vec3 variant).
 macro_rules! all_types {
     ($t:expr, $f:ident) => {
@@ -229,7 +290,13 @@ macro_rules! vector_types {
 
 const CLOSED_FORM: &str = "Closed form, component-wise.";
 
-fn binary(name: &'static str, summary: &'static str, a: f32, b: f32) -> NodeType {
+fn binary(
+    name: &'static str,
+    summary: &'static str,
+    a: f32,
+    b: f32,
+    wgsl: &'static str,
+) -> NodeType {
     NodeType::new(name, Category::Math, summary)
         .input(In::generic("a", a).range(-10.0, 10.0).doc("First operand."))
         .input(
@@ -238,17 +305,18 @@ fn binary(name: &'static str, summary: &'static str, a: f32, b: f32) -> NodeType
                 .doc("Second operand."),
         )
         .output(Out::generic("result").doc("The result, component-wise."))
+        .wgsl(wgsl)
 }
 
 /// The math-family node types.
 pub fn all() -> Vec<NodeType> {
     let v = |x: f32| Value::float(x);
     vec![
-        all_types!(binary("add", "a + b.", 0.0, 0.0).source(CLOSED_FORM), add),
-        all_types!(binary("sub", "a − b.", 0.0, 0.0).source(CLOSED_FORM), sub),
-        all_types!(binary("mul", "a · b, component-wise.", 1.0, 1.0).source(CLOSED_FORM), mul),
+        all_types!(binary("add", "a + b.", 0.0, 0.0, "fn $fn(a: $T, b: $T) -> $T { return a + b; }").source(CLOSED_FORM), add),
+        all_types!(binary("sub", "a − b.", 0.0, 0.0, "fn $fn(a: $T, b: $T) -> $T { return a - b; }").source(CLOSED_FORM), sub),
+        all_types!(binary("mul", "a · b, component-wise.", 1.0, 1.0, "fn $fn(a: $T, b: $T) -> $T { return a * b; }").source(CLOSED_FORM), mul),
         all_types!(
-            binary("div", "a / b, component-wise; 0 where b is 0.", 1.0, 1.0)
+            binary("div", "a / b, component-wise; 0 where b is 0.", 1.0, 1.0, DIV_WGSL)
                 .source("Closed form with Blender's safe divide: x / 0 = 0, so outputs stay finite.")
                 .hard_case("divide by zero", &[("a", v(1.0)), ("b", v(0.0))])
                 .hard_case("tiny divisor", &[("a", v(1.0)), ("b", v(1e-30))]),
@@ -264,6 +332,7 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("a", 1.0).range(-4.0, 4.0).doc("Base."))
                 .input(In::generic("b", 1.0).range(-4.0, 8.0).doc("Exponent."))
                 .output(Out::generic("result").doc("a^b."))
+                .wgsl(POW_WGSL)
                 .hard_case("negative base, fractional exponent", &[("a", v(-2.0)), ("b", v(0.5))])
                 .hard_case("zero to the zero", &[("a", v(0.0)), ("b", v(0.0))])
                 .hard_case("zero to a negative power", &[("a", v(0.0)), ("b", v(-4.0))])
@@ -275,6 +344,7 @@ pub fn all() -> Vec<NodeType> {
                 .source(CLOSED_FORM)
                 .input(In::generic("x", 0.0).range(-20.0, 20.0).doc("Exponent."))
                 .output(Out::generic("result").doc("e^x."))
+                .wgsl("fn $fn(x: $T) -> $T { return exp(x); }")
                 .hard_case("underflow", &[("x", v(-80.0))]),
             exp
         ),
@@ -284,7 +354,8 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("a", 0.0).range(-10.0, 10.0).doc("Value at t = 0."))
                 .input(In::generic("b", 1.0).range(-10.0, 10.0).doc("Value at t = 1."))
                 .input(In::float("t", 0.5).range(0.0, 1.0).doc("Blend factor."))
-                .output(Out::generic("result").doc("The blend.")),
+                .output(Out::generic("result").doc("The blend."))
+                .wgsl("fn $fn(a: $T, b: $T, t: f32) -> $T { return a + (b - a) * t; }"),
             mix
         ),
         all_types!(
@@ -293,14 +364,16 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("x", 0.0).range(-10.0, 10.0).doc("Value."))
                 .input(In::generic("min", 0.0).range(-10.0, 10.0).doc("Lower bound."))
                 .input(In::generic("max", 1.0).range(-10.0, 10.0).doc("Upper bound."))
-                .output(Out::generic("result").doc("The clamped value.")),
+                .output(Out::generic("result").doc("The clamped value."))
+                .wgsl("fn $fn(x: $T, lo: $T, hi: $T) -> $T { return min(max(x, lo), hi); }"),
             clamp
         ),
         all_types!(
             NodeType::new("saturate", Category::Math, "x limited to [0, 1], component-wise.")
                 .source(CLOSED_FORM)
                 .input(In::generic("x", 0.0).range(-10.0, 10.0).doc("Value."))
-                .output(Out::generic("result").doc("clamp(x, 0, 1).")),
+                .output(Out::generic("result").doc("clamp(x, 0, 1)."))
+                .wgsl("fn $fn(x: $T) -> $T { return min(max(x, $T(0.0)), $T(1.0)); }"),
             saturate
         ),
         all_types!(
@@ -310,6 +383,7 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("edge1", 1.0).range(-2.0, 2.0).doc("Where the result reaches 1."))
                 .input(In::generic("x", 0.5).range(-2.0, 2.0).doc("Value."))
                 .output(Out::generic("result").doc("Smooth 0 → 1 transition."))
+                .wgsl(SMOOTHSTEP_WGSL)
                 .hard_case("coincident edges", &[("edge0", v(0.5)), ("edge1", v(0.5)), ("x", v(0.5))]),
             smoothstep_t
         ),
@@ -318,7 +392,8 @@ pub fn all() -> Vec<NodeType> {
                 .source("GLSL/WGSL step(edge, x).")
                 .input(In::generic("edge", 0.5).range(-2.0, 2.0).doc("Threshold."))
                 .input(In::generic("x", 0.0).range(-2.0, 2.0).doc("Value."))
-                .output(Out::generic("result").doc("0 or 1.")),
+                .output(Out::generic("result").doc("0 or 1."))
+                .wgsl("fn $fn(edge: $T, x: $T) -> $T { return select($T(1.0), $T(0.0), x < edge); }"),
             step
         ),
         all_types!(
@@ -331,6 +406,7 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("to_max", 1.0).range(-2.0, 2.0).doc("End of the target range."))
                 .input(In::boolean("clamp", false).doc("Clamp t to [0, 1]."))
                 .output(Out::generic("result").doc("The remapped value."))
+                .wgsl(REMAP_WGSL)
                 .hard_case("empty source range", &[("from_min", v(0.3)), ("from_max", v(0.3))]),
             remap
         ),
@@ -339,7 +415,8 @@ pub fn all() -> Vec<NodeType> {
                 .source(CLOSED_FORM)
                 .input(In::generic("a", 0.0).range(-2.0, 2.0).doc("First vector."))
                 .input(In::generic("b", 0.0).range(-2.0, 2.0).doc("Second vector."))
-                .output(Out::float("result").doc("Σ aᵢbᵢ.")),
+                .output(Out::float("result").doc("Σ aᵢbᵢ."))
+                .wgsl("fn $fn(a: $T, b: $T) -> f32 { return dot(a, b); }"),
             dot
         ),
         NodeType::new("cross", Category::Vector, "Cross product a × b.")
@@ -347,12 +424,14 @@ pub fn all() -> Vec<NodeType> {
             .input(In::vec3("a", [1.0, 0.0, 0.0]).range(-2.0, 2.0).doc("First vector."))
             .input(In::vec3("b", [0.0, 1.0, 0.0]).range(-2.0, 2.0).doc("Second vector."))
             .output(Out::vec3("result").doc("a × b."))
+            .wgsl("fn $fn(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return cross(a, b); }")
             .compute(|a: Vec3, b: Vec3| a.cross(b)),
         vector_types!(
             NodeType::new("normalize", Category::Vector, "v scaled to unit length; 0 for a zero vector.")
                 .source("v / |v|, with normalize(0) = 0 instead of NaN.")
                 .input(In::generic("v", 1.0).range(-2.0, 2.0).doc("Vector."))
                 .output(Out::generic("result").doc("Unit vector along v."))
+                .wgsl(NORMALIZE_WGSL)
                 .hard_case("zero vector", &[("v", v(0.0))])
                 .hard_case("tiny vector", &[("v", v(1e-30))]),
             normalize
@@ -361,7 +440,8 @@ pub fn all() -> Vec<NodeType> {
             NodeType::new("length", Category::Vector, "Euclidean length |v|.")
                 .source(CLOSED_FORM)
                 .input(In::generic("v", 0.0).range(-2.0, 2.0).doc("Vector."))
-                .output(Out::float("result").doc("|v|.")),
+                .output(Out::float("result").doc("|v|."))
+                .wgsl("fn $fn(v: $T) -> f32 { return sqrt(dot(v, v)); }"),
             length
         ),
         vector_types!(
@@ -371,7 +451,10 @@ pub fn all() -> Vec<NodeType> {
                 .output(Out::float("x").doc("First component (red)."))
                 .output(Out::float("y").doc("Second component (green)."))
                 .output(Out::float("z").doc("Third component (blue); 0 for a vec2."))
-                .output(Out::float("w").doc("Fourth component; 0 below vec4.")),
+                .output(Out::float("w").doc("Fourth component; 0 below vec4."))
+                .wgsl_variant(Vec2, "fn $fn(v: vec2<f32>) -> $out { return $out(v.x, v.y, 0.0, 0.0); }")
+                .wgsl_variant(Vec3, "fn $fn(v: vec3<f32>) -> $out { return $out(v.x, v.y, v.z, 0.0); }")
+                .wgsl_variant(Vec4, "fn $fn(v: vec4<f32>) -> $out { return $out(v.x, v.y, v.z, v.w); }"),
             split
         ),
         NodeType::new("combine", Category::Vector, "Builds vectors and a colour from components.")
@@ -384,6 +467,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::vec3("vec3").doc("(x, y, z)."))
             .output(Out::vec4("vec4").doc("(x, y, z, w)."))
             .output(Out::color("color").doc("(x, y, z) as linear RGB."))
+            .wgsl(COMBINE_WGSL)
             .compute(|x: f32, y: f32, z: f32, w: f32| {
                 (Vec2::new(x, y), Vec3::new(x, y, z), Vec4::new(x, y, z, w), Vec3::new(x, y, z))
             }),

@@ -103,7 +103,13 @@ impl OneT for Vec3 {
 #[inline]
 pub fn fresnel_empirical(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
     let base = (1.0 + i_dot_n).max(0.0);
-    (bias + scale * base.powf(power)).clamp(0.0, 1.0)
+    // 0^power spelled out, as in the WGSL (where pow is undefined at a zero base).
+    let p = if base == 0.0 {
+        if power == 0.0 { 1.0 } else { 0.0 }
+    } else {
+        base.powf(power)
+    };
+    (bias + scale * p).clamp(0.0, 1.0)
 }
 
 /// Normal-incidence reflectance `R0 = ((n1 − n2)/(n1 + n2))²`. Source: MODELS.md "R0".
@@ -152,6 +158,74 @@ pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
     one_minus_h * (1.0 + h) / (4.0 * PI * base * base.sqrt())
 }
 
+/// WGSL of [`refract`].
+const REFRACT_WGSL: &str = r#"
+fn $fn(i: vec3<f32>, n: vec3<f32>, eta: f32) -> $out {
+    let c = dot(n, i);
+    let k = 1.0 - eta * eta * (1.0 - c * c);
+    if (k < 0.0) {
+        return $out(i - 2.0 * c * n, true);
+    }
+    return $out(eta * i - (eta * c + sqrt(k)) * n, false);
+}
+"#;
+
+/// WGSL of [`fresnel_schlick`].
+const SCHLICK_WGSL: &str = r#"
+fn $fn(cos_theta: f32, f0: $T) -> $T {
+    let m = max(1.0 - min(max(cos_theta, 0.0), 1.0), 0.0);
+    let m2 = m * m;
+    return f0 + ($T(1.0) - f0) * (m2 * m2 * m);
+}
+"#;
+
+/// WGSL of [`fresnel_empirical`]; `0^power` is spelled out (1 for power 0, else 0) because
+/// WGSL's `pow` is undefined at a zero base.
+const EMPIRICAL_WGSL: &str = r#"
+fn $fn(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
+    let base = max(1.0 + i_dot_n, 0.0);
+    let p = select(pow(select(base, 1.0, base == 0.0), power), select(0.0, 1.0, power == 0.0), base == 0.0);
+    return min(max(bias + scale * p, 0.0), 1.0);
+}
+"#;
+
+/// WGSL of [`hg_phase`].
+const HG_WGSL: &str = r#"
+fn $fn(cos_theta: f32, g: f32) -> f32 {
+    let h = min(abs(g), 0.9999);
+    let c0 = min(max(cos_theta, -1.0), 1.0);
+    let c = select(c0, -c0, g < 0.0);
+    let one_minus_h = 1.0 - h;
+    let base = one_minus_h * one_minus_h + 2.0 * h * (1.0 - c);
+    return one_minus_h * (1.0 + h) / (4.0 * 3.14159265358979 * base * sqrt(base));
+}
+"#;
+
+/// WGSL of [`fresnel_dielectric`], the same steps.
+const FRESNEL_DIELECTRIC_WGSL: &str = r#"
+fn $fn(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> $out {
+    var n1 = ior_outside;
+    var n2 = ior_inside;
+    var cos_i = min(cos_theta, 1.0);
+    if (cos_theta < 0.0) {
+        n1 = ior_inside;
+        n2 = ior_outside;
+        cos_i = min(-cos_theta, 1.0);
+    }
+    let sin2_i = max(1.0 - cos_i * cos_i, 0.0);
+    let ratio = n1 / n2;
+    let sin2_t = ratio * ratio * sin2_i;
+    if (sin2_t >= 1.0) {
+        return $out(1.0, 0.0);
+    }
+    let cos_t = sqrt(1.0 - sin2_t);
+    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
+    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    let r = 0.5 * (rs * rs + rp * rp);
+    return $out(r, 1.0 - r);
+}
+"#;
+
 /// The optics node types.
 pub fn all() -> Vec<NodeType> {
     let f = Value::float;
@@ -163,6 +237,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Incident direction, towards the surface."))
             .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Unit surface normal."))
             .output(Out::vec3("r").doc("Reflected direction, away from the surface."))
+            .wgsl("fn $fn(i: vec3<f32>, n: vec3<f32>) -> vec3<f32> { return i - 2.0 * dot(n, i) * n; }")
             .hard_case("grazing", &[("i", v3([1.0, 0.0, -1e-4]))])
             .compute(reflect),
         NodeType::new("refract", Category::Optics, "Snell refraction of an incident direction, with TIR flagged.")
@@ -176,6 +251,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("eta", 1.0 / 1.5).range(0.2, 3.0).hard(0.0, 100.0).doc("n_incident / n_transmitted."))
             .output(Out::vec3("t").doc("Refracted direction (reflected under TIR)."))
             .output(Out::boolean("tir").doc("True under total internal reflection."))
+            .wgsl(REFRACT_WGSL)
             .hard_case("grazing from air", &[("i", v3([1.0, 0.0, -1e-4])), ("eta", f(1.0 / 1.33))])
             .hard_case("just past the critical angle", &[("i", v3([0.7518, 0.0, -0.6594])), ("eta", f(1.33))])
             .hard_case("index match", &[("eta", f(1.0))])
@@ -195,12 +271,14 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
             .hard_case("inside at the critical angle", &[("cos_theta", f(-0.6593)), ("ior_outside", f(1.0)), ("ior_inside", f(1.33))])
             .hard_case("index match", &[("ior_inside", f(1.0))])
-            .compute(fresnel_dielectric),
+            .compute(fresnel_dielectric)
+            .wgsl(FRESNEL_DIELECTRIC_WGSL),
         NodeType::new("fresnel_schlick", Category::Optics, "Schlick's Fresnel approximation.")
             .source("F = F0 + (1 − F0)(1 − cosθ)⁵ (Schlick 1994, eq. 24; MODELS.md \"Schlick\"). f0 may be a colour (metals).")
             .input(In::float("cos_theta", 1.0).range(0.0, 1.0).doc("Cosine of the angle of incidence (use cosθt from the dense side)."))
             .input(In::generic("f0", 0.04).range(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::generic("reflectance").doc("Approximate reflectance."))
+            .wgsl(SCHLICK_WGSL)
             .hard_case("grazing", &grazing("cos_theta"))
             .variant(Float, fresnel_schlick::<f32>)
             .variant(Vec3, fresnel_schlick::<Vec3>),
@@ -214,6 +292,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("scale", 0.96).range(0.0, 2.0).doc("Weight of the angular term."))
             .input(In::float("power", 5.0).range(0.5, 8.0).hard(0.0, 64.0).doc("Exponent of the angular term."))
             .output(Out::float("factor").doc("Reflection weight in [0, 1]."))
+            .wgsl(EMPIRICAL_WGSL)
             .hard_case("grazing", &[("i_dot_n", f(-1e-4))])
             .compute(fresnel_empirical),
         NodeType::new("ior_to_f0", Category::Optics, "Normal-incidence reflectance from two indices.")
@@ -221,22 +300,26 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction outside."))
             .input(In::float("ior_inside", 1.5).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction inside."))
             .output(Out::float("f0").doc("Reflectance at normal incidence."))
+            .wgsl("fn $fn(ior_outside: f32, ior_inside: f32) -> f32 { let r = (ior_outside - ior_inside) / (ior_outside + ior_inside); return r * r; }")
             .compute(ior_to_f0),
         NodeType::new("f0_to_ior", Category::Optics, "Index of refraction (from air) giving a normal-incidence reflectance.")
             .source("n = (1 + √R0)/(1 − √R0) (seed 003); R0 is clamped to [0, 0.99].")
             .input(In::float("f0", 0.04).range(0.0, 0.9).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::float("ior").doc("Index of refraction relative to air."))
+            .wgsl("fn $fn(f0: f32) -> f32 { let s = sqrt(min(max(f0, 0.0), 0.99)); return (1.0 + s) / (1.0 - s); }")
             .hard_case("mirror", &[("f0", f(1.0))])
             .compute(f0_to_ior),
         NodeType::new("f0_to_specular", Category::Optics, "Unreal's Specular input from a normal-incidence reflectance.")
             .source("specular = R0 / 0.08, so 0.5 ↔ 4% ↔ n = 1.5 (seed 003).")
             .input(In::float("f0", 0.04).range(0.0, 0.2).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::float("specular").doc("Unreal Specular (0–1 covers R0 0–8%)."))
+            .wgsl("fn $fn(f0: f32) -> f32 { return f0 / 0.08; }")
             .compute(f0_to_specular),
         NodeType::new("specular_to_f0", Category::Optics, "Normal-incidence reflectance from Unreal's Specular input.")
             .source("R0 = 0.08 · specular (seed 003).")
             .input(In::float("specular", 0.5).range(0.0, 1.0).hard(0.0, 12.5).doc("Unreal Specular."))
             .output(Out::float("f0").doc("Reflectance at normal incidence."))
+            .wgsl("fn $fn(specular: f32) -> f32 { return 0.08 * specular; }")
             .compute(specular_to_f0),
         NodeType::new("hg_phase", Category::Optics, "Henyey–Greenstein phase function, normalised over the sphere.")
             .source(
@@ -247,6 +330,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine between the propagation directions."))
             .input(In::float("g", 0.8).range(-0.99, 0.99).hard(-1.0, 1.0).doc("Mean cosine; > 0 scatters forward."))
             .output(Out::float("phase").unit("1/sr").doc("Probability density per steradian."))
+            .wgsl(HG_WGSL)
             .hard_case("strong forward peak", &[("cos_theta", f(1.0)), ("g", f(0.999))])
             .hard_case("strong backward peak", &[("cos_theta", f(-1.0)), ("g", f(-0.999))])
             .hard_case("g = 1", &[("cos_theta", f(1.0)), ("g", f(1.0))])

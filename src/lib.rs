@@ -19,6 +19,7 @@ pub mod pretty;
 pub mod registry;
 pub mod types;
 pub mod value;
+pub mod wgsl;
 
 /// The node library (the repository's `nodes/` folder).
 #[path = "../nodes/mod.rs"]

@@ -418,6 +418,8 @@ pub struct NodeType {
     variants: Vec<Variant>,
     hard_cases: Vec<HardCase>,
     wgsl: Option<&'static str>,
+    wgsl_variants: Vec<(SocketType, &'static str)>,
+    wgsl_helpers: Vec<&'static str>,
 }
 
 impl NodeType {
@@ -434,6 +436,8 @@ impl NodeType {
             variants: Vec::new(),
             hard_cases: Vec::new(),
             wgsl: None,
+            wgsl_variants: Vec::new(),
+            wgsl_helpers: Vec::new(),
         }
     }
     /// Sets the longer doc: the source (paper, equation) and conventions.
@@ -485,9 +489,25 @@ impl NodeType {
         });
         self
     }
-    /// Sets the node's WGSL source (filled in by the WGSL backend).
-    pub fn wgsl(mut self, source: &'static str) -> NodeType {
-        self.wgsl = Some(source);
+    /// Sets the node's WGSL function: the same math as the CPU compute, written once.
+    ///
+    /// The template defines one function named `$fn` taking the inputs in port order. For a
+    /// generic node `$T` stands for the WGSL type of `T`. A node with several outputs returns
+    /// `$out`, a struct the code generator declares with one member per output, built
+    /// positionally: `return $out(r, 1.0 - r);`. Ints are `i32`, bools `bool`.
+    pub fn wgsl(mut self, template: &'static str) -> NodeType {
+        self.wgsl = Some(template);
+        self
+    }
+    /// Sets the WGSL template for one generic type only, where the body must differ by type
+    /// (for example component access); it takes precedence over [`NodeType::wgsl`].
+    pub fn wgsl_variant(mut self, t: SocketType, template: &'static str) -> NodeType {
+        self.wgsl_variants.push((t, template));
+        self
+    }
+    /// Declares WGSL helper functions the node's template calls (emitted once per module).
+    pub fn wgsl_uses(mut self, helpers: &[&'static str]) -> NodeType {
+        self.wgsl_helpers.extend_from_slice(helpers);
         self
     }
 
@@ -527,9 +547,26 @@ impl NodeType {
     pub fn hard_cases(&self) -> &[HardCase] {
         &self.hard_cases
     }
-    /// The WGSL source, once the WGSL backend provides it.
+    /// The WGSL function template (see [`NodeType::wgsl`]).
     pub fn wgsl_source(&self) -> Option<&'static str> {
         self.wgsl
+    }
+    /// The WGSL template for generic type `t` (colour uses vec3's).
+    pub fn wgsl_for(&self, t: SocketType) -> Option<&'static str> {
+        let t = if t == SocketType::Color {
+            SocketType::Vec3
+        } else {
+            t
+        };
+        self.wgsl_variants
+            .iter()
+            .find(|(v, _)| *v == t)
+            .map(|(_, s)| *s)
+            .or(self.wgsl)
+    }
+    /// WGSL helper functions the template calls.
+    pub fn wgsl_helpers(&self) -> &[&'static str] {
+        &self.wgsl_helpers
     }
     /// Index of the input called `name`.
     pub fn input_index(&self, name: &str) -> Option<usize> {

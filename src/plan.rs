@@ -223,6 +223,10 @@ pub struct Plan {
     pub(crate) steps: Vec<Step>,
     pub(crate) attributes: Vec<Attribute>,
     pub(crate) stats: PlanStats,
+    /// Which graph nodes reach a requested output.
+    pub(crate) live: Vec<bool>,
+    /// Where each node output of a live node lives (constants are folded values).
+    pub(crate) node_operands: HashMap<OutputRef, Operand>,
 }
 
 impl Plan {
@@ -249,6 +253,17 @@ impl Plan {
     /// What the compiler kept, folded and hoisted.
     pub fn stats(&self) -> PlanStats {
         self.stats
+    }
+    /// Whether graph node `i` reaches a requested output.
+    pub fn is_live(&self, i: NodeIndex) -> bool {
+        self.live.get(i).copied().unwrap_or(false)
+    }
+    /// The value of a node output that was folded into a constant.
+    pub fn folded(&self, r: OutputRef) -> Option<Value> {
+        match self.node_operands.get(&r) {
+            Some(Operand::Const(v)) => Some(*v),
+            _ => None,
+        }
     }
     /// A readable listing of the compiled program: uniform steps, per-sample steps, outputs.
     pub fn listing(&self) -> String {
@@ -436,6 +451,8 @@ impl<'g> Compiler<'g> {
             steps: self.steps,
             attributes,
             stats: self.stats,
+            live,
+            node_operands: self.operands,
         })
     }
 

@@ -1,0 +1,59 @@
+//! Load a graph file and get WGSL a wgpu app can use, with its uniform layout.
+//!
+//! Run: `cargo run --example wgsl_codegen [GRAPH] [compute|fragment]`
+//! (default `graphs/fresnel_glass.json`, compute).
+
+use matgraph::Registry;
+use matgraph::wgsl::{Binding, Entry, WgslOptions, generate};
+use std::error::Error;
+use std::path::PathBuf;
+
+fn main() -> Result<(), Box<dyn Error>> {
+    let mut args = std::env::args().skip(1);
+    let path = args.next().map(PathBuf::from).unwrap_or_else(|| {
+        PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/graphs/fresnel_glass.json"
+        ))
+    });
+    let entry = match args.next().as_deref() {
+        Some("fragment") => Entry::Fragment,
+        _ => Entry::Compute,
+    };
+    let graph = matgraph::io::load_graph(&path, Registry::builtin())?;
+    let shader = generate(
+        &graph,
+        &WgslOptions {
+            entry,
+            ..Default::default()
+        },
+    )?;
+
+    println!("{}", shader.source);
+    println!("// --- what the app binds (group 0) ---");
+    for (binding, b) in &shader.bindings {
+        let what = match b {
+            Binding::Params => format!("uniform MgParams, {} bytes", shader.uniforms.size),
+            Binding::Dispatch => "uniform MgDispatch { count: u32, row: u32 }".into(),
+            Binding::Attribute(a) => format!(
+                "storage array<f32>: {} planar, {} floats per sample",
+                a.name(),
+                a.ty().width()
+            ),
+            Binding::Output => format!(
+                "storage array<f32>: {} planar columns",
+                shader.output_columns()
+            ),
+        };
+        println!("// binding {binding}: {what}");
+    }
+    println!("// --- MgParams layout (from naga) ---");
+    for f in &shader.uniforms.fields {
+        let name = f.parameter.as_deref().unwrap_or("time");
+        println!(
+            "// offset {:>3}: {} ({}) <- parameter '{name}', default {}",
+            f.offset, f.field, f.ty, f.default
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,88 @@
+//! The layout of the parameter uniform block, read from naga's struct member offsets (which
+//! include WGSL's vec3 padding), and packing parameter values into it.
+
+use super::emit::UniformSpec;
+use crate::plan::ParamValues;
+use crate::types::SocketType;
+use crate::value::Value;
+
+/// One member of `MgParams`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UniformField {
+    /// WGSL member name.
+    pub field: String,
+    /// The parameter callers set it by (`None` for `time`).
+    pub parameter: Option<String>,
+    /// Its type (bools are stored as `u32`).
+    pub ty: SocketType,
+    /// Byte offset from naga.
+    pub offset: u32,
+    /// Value used when the caller sets none.
+    pub default: Value,
+}
+
+/// The layout of `MgParams`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UniformLayout {
+    /// Size in bytes, as naga computed it (a multiple of the struct's alignment).
+    pub size: u32,
+    /// Members in declaration order.
+    pub fields: Vec<UniformField>,
+}
+
+impl UniformLayout {
+    /// Reads the layout of `MgParams` from a validated module.
+    pub(super) fn read(module: &naga::Module, specs: &[UniformSpec]) -> UniformLayout {
+        let Some((members, span)) =
+            module
+                .types
+                .iter()
+                .find_map(|(_, t)| match (&t.name, &t.inner) {
+                    (Some(name), naga::TypeInner::Struct { members, span })
+                        if name == "MgParams" =>
+                    {
+                        Some((members, *span))
+                    }
+                    _ => None,
+                })
+        else {
+            return UniformLayout::default();
+        };
+        let fields = members
+            .iter()
+            .zip(specs)
+            .map(|(m, s)| UniformField {
+                field: s.field.clone(),
+                parameter: s.parameter.clone(),
+                ty: s.ty,
+                offset: m.offset,
+                default: s.default,
+            })
+            .collect();
+        UniformLayout { size: span, fields }
+    }
+
+    /// The bytes of the block for these parameter values and time.
+    pub fn pack(&self, params: &ParamValues, time: f32) -> Vec<u8> {
+        let mut bytes = vec![0u8; self.size as usize];
+        for f in &self.fields {
+            let v = match &f.parameter {
+                Some(name) => params.get(name).unwrap_or(f.default),
+                None => Value::float(time),
+            };
+            let at = f.offset as usize;
+            match f.ty {
+                SocketType::Int => bytes[at..at + 4].copy_from_slice(&v.as_i32().to_le_bytes()),
+                SocketType::Bool => {
+                    bytes[at..at + 4].copy_from_slice(&(v.as_bool() as u32).to_le_bytes())
+                }
+                _ => {
+                    for (c, x) in v.lanes().iter().enumerate() {
+                        bytes[at + 4 * c..at + 4 * c + 4].copy_from_slice(&x.to_le_bytes());
+                    }
+                }
+            }
+        }
+        bytes
+    }
+}
