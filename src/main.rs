@@ -57,6 +57,26 @@ enum Command {
         #[arg(long)]
         explain: bool,
     },
+    /// Compile a graph to WGSL (validated by naga) or, through naga, SPIR-V, GLSL, MSL or HLSL.
+    Wgsl {
+        /// Graph file.
+        file: PathBuf,
+        /// Output language.
+        #[arg(long, default_value = "wgsl", value_parser = ["wgsl", "spirv", "glsl", "msl", "hlsl"])]
+        target: String,
+        /// Entry point: batch evaluation (compute) or per-pixel rendering (fragment).
+        #[arg(long, default_value = "compute", value_parser = ["compute", "fragment"])]
+        entry: String,
+        /// Fold parameters into constants instead of a uniform buffer.
+        #[arg(long)]
+        bake: bool,
+        /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
+        #[arg(long = "output", value_name = "NODE.OUTPUT")]
+        outputs: Vec<String>,
+        /// Output file; standard output when absent (SPIR-V is binary).
+        #[arg(short = 'o', long = "out")]
+        out: Option<PathBuf>,
+    },
     /// Write the JSON Schema of the graph format (docs/graph.schema.json).
     Schema {
         /// Output file; standard output when absent.
@@ -94,6 +114,14 @@ fn main() -> ExitCode {
             json,
             explain,
         }),
+        Command::Wgsl {
+            file,
+            target,
+            entry,
+            bake,
+            outputs,
+            out,
+        } => wgsl(&file, &target, &entry, bake, &outputs, out.as_deref()),
         Command::Schema { output } => schema(output.as_deref()),
         Command::Fmt { files, check } => fmt(&files, check),
     };
@@ -368,6 +396,43 @@ fn print_outputs(out: &OutputBatch, json: bool) {
         let width = out.names().iter().map(|n| n.len()).max().unwrap_or(0);
         for (k, name) in out.names().iter().enumerate() {
             println!("{name:<width$} = {}  ({})", out.value(k, 0), out.ty(k));
+        }
+    }
+}
+
+fn wgsl(
+    file: &Path,
+    target: &str,
+    entry: &str,
+    bake: bool,
+    outputs: &[String],
+    out: Option<&Path>,
+) -> CliResult {
+    use matgraph::wgsl::{Entry, Target, WgslOptions, generate};
+    let graph = matgraph::io::load_graph(file, registry()).map_err(|e| e.to_string())?;
+    let options = WgslOptions {
+        plan: PlanOptions {
+            outputs: outputs.to_vec(),
+            bake_parameters: bake,
+        },
+        entry: if entry == "fragment" {
+            Entry::Fragment
+        } else {
+            Entry::Compute
+        },
+    };
+    let shader = generate(&graph, &options).map_err(|e| format!("{}: {e}", file.display()))?;
+    let target = Target::from_name(target).ok_or_else(|| format!("unknown target '{target}'"))?;
+    let bytes = shader
+        .translate(target)
+        .map_err(|e| format!("{}: {e}", file.display()))?;
+    match out {
+        Some(p) => std::fs::write(p, &bytes).map_err(|e| format!("{}: {e}", p.display())),
+        None => {
+            use std::io::Write;
+            std::io::stdout()
+                .write_all(&bytes)
+                .map_err(|e| e.to_string())
         }
     }
 }

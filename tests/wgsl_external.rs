@@ -1,0 +1,114 @@
+//! The Khronos validators on naga's output for every bundled graph: `spirv-val` on SPIR-V and
+//! `glslangValidator` on GLSL (Debian packages spirv-tools, glslang-tools), and insta snapshots
+//! of the generated WGSL. With `MATGRAPH_REQUIRE_TOOLS` set (CI sets it) a missing validator
+//! fails; elsewhere the test says loudly that it skipped.
+
+use matgraph::Registry;
+use matgraph::wgsl::{Entry, Target, WgslOptions, generate};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bundled_graphs() -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+    v.sort();
+    v
+}
+
+/// Whether `tool` runs; fails the test when it must be present.
+fn have(tool: &str) -> bool {
+    let ok = Command::new(tool)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            std::env::var_os("MATGRAPH_REQUIRE_TOOLS").is_none(),
+            "{tool} is required (MATGRAPH_REQUIRE_TOOLS is set) but not found: apt-get install spirv-tools glslang-tools"
+        );
+        eprintln!("SKIPPED: {tool} not found (apt-get install spirv-tools glslang-tools)");
+    }
+    ok
+}
+
+fn validate_with(tool: &str, args: &[&str], file: &Path) {
+    let out = Command::new(tool).args(args).arg(file).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{tool} rejected {}:\n{}{}",
+        file.display(),
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn spirv_val_accepts_every_bundled_graph() {
+    if !have("spirv-val") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for entry in [Entry::Compute, Entry::Fragment] {
+            let m = generate(
+                &graph,
+                &WgslOptions {
+                    entry,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let file = dir.path().join(format!("{}.{entry:?}.spv", graph.name));
+            std::fs::write(&file, m.translate(Target::SpirV).unwrap()).unwrap();
+            validate_with("spirv-val", &[], &file);
+        }
+    }
+}
+
+#[test]
+fn glslang_accepts_every_bundled_graph() {
+    if !have("glslangValidator") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for (entry, ext) in [(Entry::Compute, "comp"), (Entry::Fragment, "frag")] {
+            let m = generate(
+                &graph,
+                &WgslOptions {
+                    entry,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let file = dir.path().join(format!("{}.{ext}", graph.name));
+            std::fs::write(&file, m.translate(Target::Glsl).unwrap()).unwrap();
+            validate_with("glslangValidator", &[], &file);
+        }
+    }
+}
+
+#[test]
+fn wgsl_snapshots_of_bundled_graphs() {
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for entry in [Entry::Compute, Entry::Fragment] {
+            let m = generate(
+                &graph,
+                &WgslOptions {
+                    entry,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let name = format!("{}_{}", graph.name, entry.function());
+            insta::assert_snapshot!(name, m.source);
+        }
+    }
+}
