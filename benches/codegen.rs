@@ -33,9 +33,15 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("wgsl_codegen_and_naga");
     group.sample_size(20);
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs");
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
-    for path in files.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+    for path in files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+    {
         let graph = matgraph::io::load_graph(path, Registry::builtin()).unwrap();
         group.bench_with_input(BenchmarkId::new("bundled", &graph.name), &graph, |b, g| {
             b.iter(|| black_box(generate(g, &WgslOptions::default()).unwrap()))
@@ -43,9 +49,11 @@ fn bench(c: &mut Criterion) {
     }
     for n in [100, 1000, 5000] {
         let graph = synthetic(n);
-        group.bench_with_input(BenchmarkId::new("synthetic_nodes", graph.nodes().len()), &graph, |b, g| {
-            b.iter(|| black_box(generate(g, &WgslOptions::default()).unwrap()))
-        });
+        group.bench_with_input(
+            BenchmarkId::new("synthetic_nodes", graph.nodes().len()),
+            &graph,
+            |b, g| b.iter(|| black_box(generate(g, &WgslOptions::default()).unwrap())),
+        );
     }
     group.finish();
 }

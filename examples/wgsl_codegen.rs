@@ -4,7 +4,7 @@
 //! (default `graphs/fresnel_glass.json`, compute).
 
 use matgraph::Registry;
-use matgraph::wgsl::{Binding, Entry, WgslOptions, generate};
+use matgraph::wgsl::{Binding, Entry, UniformSource, WgslOptions, generate};
 use std::error::Error;
 use std::path::PathBuf;
 
@@ -49,9 +49,13 @@ fn main() -> Result<(), Box<dyn Error>> {
     }
     println!("// --- MgParams layout (from naga) ---");
     for f in &shader.uniforms.fields {
-        let name = f.parameter.as_deref().unwrap_or("time");
+        let from = match &f.source {
+            UniformSource::Parameter(name) => format!("parameter '{name}'"),
+            UniformSource::Fixed => "fixed (unexposed parameter node)".to_owned(),
+            UniformSource::Time => "the batch's time".to_owned(),
+        };
         println!(
-            "// offset {:>3}: {} ({}) <- parameter '{name}', default {}",
+            "// offset {:>3}: {} ({}) <- {from}, default {}",
             f.offset, f.field, f.ty, f.default
         );
     }

@@ -10,6 +10,7 @@
 pub mod document;
 pub mod error;
 pub mod exec;
+pub mod gpu;
 pub mod graph;
 pub mod io;
 pub mod kernel;

@@ -15,8 +15,8 @@ use std::ops::Range;
 pub(super) struct UniformSpec {
     /// WGSL member name.
     pub(super) field: String,
-    /// Parameter name callers set it by (`None` for time).
-    pub(super) parameter: Option<String>,
+    /// Where its value comes from.
+    pub(super) source: super::UniformSource,
     /// Its socket type.
     pub(super) ty: SocketType,
     /// Its value from the file (parameters not exposed keep it).
@@ -167,14 +167,19 @@ pub(super) fn output_member(t: &NodeType, k: usize) -> String {
     ident(t.outputs()[k].name)
 }
 
-/// Builds the WGSL function of `t` for generic type `generic` from its template.
-pub(super) fn node_function(t: &NodeType, generic: SocketType) -> Option<NodeFunction> {
-    let template = t.wgsl_for(generic)?;
-    let name = if t.is_generic() {
+/// The emitted name of `t`'s function for generic type `generic` (colour shares vec3's).
+pub(super) fn function_name(t: &NodeType, generic: SocketType) -> String {
+    if t.is_generic() {
         format!("mg_{}_{}", t.name(), type_suffix(generic))
     } else {
         format!("mg_{}", t.name())
-    };
+    }
+}
+
+/// Builds the WGSL function of `t` for generic type `generic` from its template.
+pub(super) fn node_function(t: &NodeType, generic: SocketType) -> Option<NodeFunction> {
+    let template = t.wgsl_for(generic)?;
+    let name = function_name(t, generic);
     let mut definition = String::new();
     let out_struct = (t.outputs().len() > 1).then(|| format!("{name}_out"));
     if let Some(s) = &out_struct {
@@ -283,7 +288,10 @@ impl<'a> Emitter<'a> {
                     self.exprs.insert(OutputRef { node: i, output: 0 }, access);
                     uniform_fields.push(UniformSpec {
                         field,
-                        parameter: exposed.map(|p| p.name.clone()),
+                        source: match exposed {
+                            Some(p) => super::UniformSource::Parameter(p.name.clone()),
+                            None => super::UniformSource::Fixed,
+                        },
                         ty: n.output_type(0),
                         default,
                     });
@@ -313,7 +321,7 @@ impl<'a> Emitter<'a> {
             let field = unique("time".into());
             uniform_fields.push(UniformSpec {
                 field,
-                parameter: None,
+                source: super::UniformSource::Time,
                 ty: SocketType::Float,
                 default: Value::float(0.0),
             });
@@ -327,7 +335,8 @@ impl<'a> Emitter<'a> {
             if n.node_type.evaluation() != Evaluation::Compute || self.folded(i) {
                 continue;
             }
-            let key = format!("{}:{}", n.node_type.name(), n.generic);
+            // Keyed by the emitted name: vec3 and colour share one function.
+            let key = function_name(&n.node_type, n.generic);
             if functions.iter().any(|(k, ..)| *k == key) {
                 continue;
             }
@@ -437,7 +446,7 @@ impl<'a> Emitter<'a> {
             }
             let f = &functions
                 .iter()
-                .find(|(k, ..)| *k == format!("{}:{}", n.node_type.name(), n.generic))
+                .find(|(k, ..)| *k == function_name(&n.node_type, n.generic))
                 .expect("declared")
                 .1;
             let args: Vec<String> = (0..n.inputs.len()).map(|k| self.input_expr(i, k)).collect();

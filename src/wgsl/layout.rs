@@ -6,13 +6,24 @@ use crate::plan::ParamValues;
 use crate::types::SocketType;
 use crate::value::Value;
 
+/// Where a member of `MgParams` gets its value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum UniformSource {
+    /// An exposed parameter, set by name through `ParamValues`.
+    Parameter(String),
+    /// A `parameter` node the graph does not list: its value from the file.
+    Fixed,
+    /// The batch's time.
+    Time,
+}
+
 /// One member of `MgParams`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UniformField {
     /// WGSL member name.
     pub field: String,
-    /// The parameter callers set it by (`None` for `time`).
-    pub parameter: Option<String>,
+    /// Where its value comes from.
+    pub source: UniformSource,
     /// Its type (bools are stored as `u32`).
     pub ty: SocketType,
     /// Byte offset from naga.
@@ -53,7 +64,7 @@ impl UniformLayout {
             .zip(specs)
             .map(|(m, s)| UniformField {
                 field: s.field.clone(),
-                parameter: s.parameter.clone(),
+                source: s.source.clone(),
                 ty: s.ty,
                 offset: m.offset,
                 default: s.default,
@@ -66,9 +77,10 @@ impl UniformLayout {
     pub fn pack(&self, params: &ParamValues, time: f32) -> Vec<u8> {
         let mut bytes = vec![0u8; self.size as usize];
         for f in &self.fields {
-            let v = match &f.parameter {
-                Some(name) => params.get(name).unwrap_or(f.default),
-                None => Value::float(time),
+            let v = match &f.source {
+                UniformSource::Parameter(name) => params.get(name).unwrap_or(f.default),
+                UniformSource::Fixed => f.default,
+                UniformSource::Time => Value::float(time),
             };
             let at = f.offset as usize;
             match f.ty {

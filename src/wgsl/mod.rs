@@ -14,7 +14,7 @@ mod targets;
 mod validate;
 
 pub use harness::{HarnessModule, node_harness};
-pub use layout::{UniformField, UniformLayout};
+pub use layout::{UniformField, UniformLayout, UniformSource};
 pub use targets::Target;
 
 use crate::graph::Graph;
