@@ -3,10 +3,12 @@
 //! Graph: `benches/skin_chain.json`, 20 nodes of Fresnel, Snell and Henyey–Greenstein
 //! (a single-scattering skin term with a Phong sheen) over 1M samples. The hand-written
 //! version calls the same per-sample functions in one loop: the limit the executor is
-//! measured against. Run with `cargo bench --bench executor`.
+//! measured against. The same graph also runs through wgpu (upload, dispatch, read back) on
+//! whatever adapter is present. Run with `cargo bench --bench executor`.
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::Vec3;
+use matgraph::gpu::GpuPlan;
 use matgraph::nodes::math::safe_pow;
 use matgraph::nodes::optics::{fresnel_dielectric, hg_phase, reflect, refract};
 use matgraph::{Attribute, Graph, Plan, PlanOptions, Registry, SampleBatch};
@@ -137,6 +139,31 @@ fn bench(c: &mut Criterion) {
         );
     }
     group.finish();
+
+    // The same graph through wgpu: upload, dispatch and read back, end to end.
+    let mut gpu_group = c.benchmark_group("skin_chain_1M_gpu");
+    gpu_group.throughput(Throughput::Elements(N as u64));
+    gpu_group.sample_size(10);
+    match matgraph::gpu::GpuContext::shared()
+        .and_then(|ctx| GpuPlan::compile(ctx, &graph, &PlanOptions::default()).map(|p| (ctx, p)))
+    {
+        Ok((ctx, gpu)) => {
+            let got = gpu.execute(&batch, &params).unwrap();
+            let worst = got
+                .planar(0)
+                .iter()
+                .zip(out.planar(0))
+                .map(|(a, b)| (a - b).abs() / b.abs().max(1.0))
+                .fold(0.0, f32::max);
+            assert!(worst < 1e-4, "GPU and CPU differ by {worst}");
+            let name = ctx.adapter_info().name.replace([' ', '(', ')', ','], "_");
+            gpu_group.bench_function(BenchmarkId::new("wgpu", name), |bch| {
+                bch.iter(|| black_box(gpu.execute(&batch, &params).unwrap()))
+            });
+        }
+        Err(e) => eprintln!("SKIPPED GPU benchmark: {e}"),
+    }
+    gpu_group.finish();
 }
 
 criterion_group!(benches, bench);
