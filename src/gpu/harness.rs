@@ -1,0 +1,114 @@
+//! Running one node type's WGSL harness module on packed samples (node-level parity).
+
+use super::context::GpuContext;
+use super::device::{DeviceState, dispatch_shape};
+use crate::plan::EvalError;
+use crate::wgsl::HarnessModule;
+use std::sync::Arc;
+
+/// A compiled [`HarnessModule`]: runs one node type's WGSL function over packed samples.
+pub struct GpuHarness {
+    state: Arc<DeviceState>,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    input_width: usize,
+    output_width: usize,
+    max_groups_x: u32,
+}
+
+impl GpuHarness {
+    /// Creates the harness's pipeline on `ctx`.
+    pub fn new(ctx: &GpuContext, harness: &HarnessModule) -> Result<GpuHarness, EvalError> {
+        use wgpu::BufferBindingType as T;
+        let state = ctx.state.clone();
+        let entries = [
+            (0, T::Storage { read_only: true }),
+            (1, T::Storage { read_only: false }),
+            (2, T::Uniform),
+        ];
+        let (layout, pipeline) = state.scoped("compiling a node harness", || {
+            let layout = state.layout("matgraph harness", &entries);
+            let pipeline = state.pipeline("matgraph harness", &harness.source, &layout);
+            Ok((layout, pipeline))
+        })?;
+        let max_groups_x = state.device.limits().max_compute_workgroups_per_dimension;
+        Ok(GpuHarness {
+            state,
+            layout,
+            pipeline,
+            input_width: harness.input_width,
+            output_width: harness.output_width,
+            max_groups_x,
+        })
+    }
+
+    /// Floats per sample of the packed inputs.
+    pub fn input_width(&self) -> usize {
+        self.input_width
+    }
+
+    /// Floats per sample of the packed outputs.
+    pub fn output_width(&self) -> usize {
+        self.output_width
+    }
+
+    /// Runs `count` samples: `inputs` holds `input_width` floats per sample (ints and bools
+    /// as floats); returns `output_width` floats per sample.
+    pub fn run(&self, inputs: &[f32], count: usize) -> Result<Vec<f32>, EvalError> {
+        if inputs.len() != count * self.input_width {
+            return Err(EvalError::Gpu(format!(
+                "harness: expected {} input floats ({count} samples × {}), found {}",
+                count * self.input_width,
+                self.input_width,
+                inputs.len()
+            )));
+        }
+        if count == 0 || self.output_width == 0 {
+            return Ok(Vec::new());
+        }
+        use wgpu::BufferUsages as U;
+        let s = &self.state;
+        let (gx, gy, row) = dispatch_shape(count as u32, self.max_groups_x);
+        let out_bytes = (count * self.output_width * 4) as u64;
+        s.scoped("running a node harness", || {
+            let input = s.buffer("mg_in", (inputs.len() * 4) as u64, U::STORAGE | U::COPY_DST);
+            let output = s.buffer("mg_out", out_bytes, U::STORAGE | U::COPY_SRC);
+            let staging = s.buffer("mg_out staging", out_bytes, U::MAP_READ | U::COPY_DST);
+            let dispatch = s.buffer("MgDispatch", 16, U::UNIFORM | U::COPY_DST);
+            if !inputs.is_empty() {
+                s.queue
+                    .write_buffer(&input, 0, bytemuck::cast_slice(inputs));
+            }
+            let mut d = [0u8; 8];
+            d[..4].copy_from_slice(&(count as u32).to_le_bytes());
+            d[4..].copy_from_slice(&row.to_le_bytes());
+            s.queue.write_buffer(&dispatch, 0, &d);
+            let bind_group = s.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("matgraph harness"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: input.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: output.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: dispatch.as_entire_binding(),
+                    },
+                ],
+            });
+            s.dispatch_and_read(
+                &self.pipeline,
+                &bind_group,
+                (gx, gy),
+                &output,
+                &staging,
+                out_bytes,
+            )
+        })
+    }
+}

@@ -1,0 +1,298 @@
+//! A graph compiled to a WGSL compute pipeline, evaluating batches like the CPU plan.
+
+use super::context::GpuContext;
+use super::device::{DeviceState, dispatch_shape};
+use crate::exec::{Evaluator, OutputBatch, SampleBatch};
+use crate::graph::Graph;
+use crate::plan::{EvalError, ParamValues, Plan, PlanOptions};
+use crate::wgsl::{self, Binding, Entry, ShaderError, ShaderModule, WgslOptions};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+fn shader_error(e: ShaderError) -> EvalError {
+    match e {
+        ShaderError::Plan(e) => e,
+        e => EvalError::Gpu(format!("WGSL generation: {e}")),
+    }
+}
+
+/// Buffers of one [`GpuPlan`], kept between evaluations and grown when a batch is larger.
+struct Buffers {
+    /// Samples the storage buffers hold.
+    capacity: usize,
+    params: Option<wgpu::Buffer>,
+    dispatch: wgpu::Buffer,
+    /// One per attribute binding, in binding order.
+    attributes: Vec<wgpu::Buffer>,
+    output: wgpu::Buffer,
+    staging: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+/// A graph compiled to a WGSL compute pipeline: evaluates batches like [`Plan`], with the
+/// parameters in a uniform buffer so changing them never recompiles.
+pub struct GpuPlan {
+    state: Arc<DeviceState>,
+    shader: ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    defaults: ParamValues,
+    max_groups_x: u32,
+    max_binding_bytes: u64,
+    compilations: AtomicUsize,
+    buffers: Mutex<Option<Buffers>>,
+}
+
+impl GpuPlan {
+    /// Generates the graph's compute module and creates its shader module, bind group layout
+    /// and pipeline, once.
+    pub fn compile(
+        ctx: &GpuContext,
+        graph: &Graph,
+        options: &PlanOptions,
+    ) -> Result<GpuPlan, EvalError> {
+        let defaults = Plan::compile(graph, options)?.default_parameters();
+        let shader = wgsl::generate(
+            graph,
+            &WgslOptions {
+                plan: options.clone(),
+                entry: Entry::Compute,
+            },
+        )
+        .map_err(shader_error)?;
+        let state = ctx.state.clone();
+        let label = format!("matgraph '{}'", graph.name);
+        let entries: Vec<(u32, wgpu::BufferBindingType)> = shader
+            .bindings
+            .iter()
+            .map(|(b, kind)| {
+                let ty = match kind {
+                    Binding::Params | Binding::Dispatch => wgpu::BufferBindingType::Uniform,
+                    Binding::Attribute(_) => wgpu::BufferBindingType::Storage { read_only: true },
+                    Binding::Output => wgpu::BufferBindingType::Storage { read_only: false },
+                };
+                (*b, ty)
+            })
+            .collect();
+        let (layout, pipeline) = state.scoped(&format!("compiling {label}"), || {
+            let layout = state.layout(&label, &entries);
+            let pipeline = state.pipeline(&label, &shader.source, &layout);
+            Ok((layout, pipeline))
+        })?;
+        let limits = state.device.limits();
+        Ok(GpuPlan {
+            max_groups_x: limits.max_compute_workgroups_per_dimension,
+            max_binding_bytes: limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size),
+            state,
+            shader,
+            layout,
+            pipeline,
+            defaults,
+            compilations: AtomicUsize::new(1),
+            buffers: Mutex::new(None),
+        })
+    }
+
+    /// Limits the workgroups per dispatch row (normally the device's per-dimension limit), so
+    /// the two-dimensional split of large batches can be exercised with small ones.
+    pub fn with_max_workgroups_per_row(mut self, max: u32) -> GpuPlan {
+        self.max_groups_x = max.clamp(
+            1,
+            self.state
+                .device
+                .limits()
+                .max_compute_workgroups_per_dimension,
+        );
+        self
+    }
+
+    /// The parameter values from the graph file, ready to be overridden.
+    pub fn default_parameters(&self) -> ParamValues {
+        self.defaults.clone()
+    }
+
+    /// The generated module the pipeline runs.
+    pub fn shader(&self) -> &ShaderModule {
+        &self.shader
+    }
+
+    /// Pipelines this plan created: 1, however many evaluations and parameter changes.
+    pub fn pipelines_created(&self) -> usize {
+        self.compilations.load(Ordering::Relaxed)
+    }
+
+    /// Evaluates every output for every sample of `batch` on the GPU.
+    pub fn execute(
+        &self,
+        batch: &SampleBatch,
+        params: &ParamValues,
+    ) -> Result<OutputBatch, EvalError> {
+        if params.values().len() != self.defaults.values().len() {
+            return Err(EvalError::UnknownParameter {
+                name: "(parameter set of another plan)".into(),
+                suggestion: None,
+            });
+        }
+        let n = batch.len();
+        let outputs = &self.shader.outputs;
+        let names = outputs.iter().map(|o| o.name.clone()).collect();
+        let types = outputs.iter().map(|o| o.ty).collect();
+        if n == 0 {
+            return Ok(OutputBatch::from_columns(
+                0,
+                names,
+                types,
+                outputs.iter().map(|_| Vec::new()).collect(),
+            ));
+        }
+        let columns = self.shader.output_columns() as usize;
+        let widest = columns.max(3);
+        if n > u32::MAX as usize / 4 || (widest * n * 4) as u64 > self.max_binding_bytes {
+            return Err(EvalError::Gpu(format!(
+                "a batch of {n} samples needs {}-byte buffers, above the device's storage binding limit of {} bytes; split it",
+                widest * n * 4,
+                self.max_binding_bytes
+            )));
+        }
+        let (gx, gy, row) = dispatch_shape(n as u32, self.max_groups_x);
+        let out_bytes = (columns * n * 4) as u64;
+
+        let mut guard = self.buffers.lock().unwrap_or_else(|p| p.into_inner());
+        let data = self.state.scoped("evaluating on the GPU", || {
+            if guard.as_ref().is_none_or(|b| b.capacity < n) {
+                *guard = None;
+                // Room to grow, within the binding limit checked above for `n`.
+                let fits = (self.max_binding_bytes / (widest as u64 * 4)) as usize;
+                *guard = Some(self.buffers(n.next_power_of_two().min(fits).max(n)));
+            }
+            let b = guard.as_ref().expect("allocated above");
+            let queue = &self.state.queue;
+            if let Some(p) = &b.params {
+                queue.write_buffer(p, 0, &pad4(self.shader.uniforms.pack(params, batch.time())));
+            }
+            let mut dispatch = [0u8; 8];
+            dispatch[..4].copy_from_slice(&(n as u32).to_le_bytes());
+            dispatch[4..].copy_from_slice(&row.to_le_bytes());
+            queue.write_buffer(&b.dispatch, 0, &dispatch);
+            let attributes = self.shader.bindings.iter().filter_map(|(_, k)| match k {
+                Binding::Attribute(a) => Some(*a),
+                _ => None,
+            });
+            for (a, buf) in attributes.zip(&b.attributes) {
+                match batch.column(a) {
+                    Some(col) => queue.write_buffer(buf, 0, bytemuck::cast_slice(col)),
+                    None => {
+                        let v = a.default_value();
+                        let planar: Vec<f32> = v
+                            .lanes()
+                            .iter()
+                            .flat_map(|&x| std::iter::repeat_n(x, n))
+                            .collect();
+                        queue.write_buffer(buf, 0, bytemuck::cast_slice(&planar));
+                    }
+                }
+            }
+            self.state.dispatch_and_read(
+                &self.pipeline,
+                &b.bind_group,
+                (gx, gy),
+                &b.output,
+                &b.staging,
+                out_bytes,
+            )
+        })?;
+        drop(guard);
+
+        let planar = outputs
+            .iter()
+            .map(|o| {
+                let start = o.column as usize * n;
+                data[start..start + o.ty.width() * n].to_vec()
+            })
+            .collect();
+        Ok(OutputBatch::from_columns(n, names, types, planar))
+    }
+
+    /// Allocates the buffers and bind group for batches of up to `capacity` samples.
+    fn buffers(&self, capacity: usize) -> Buffers {
+        use wgpu::BufferUsages as U;
+        let s = &self.state;
+        let params = self
+            .shader
+            .bindings
+            .iter()
+            .any(|(_, k)| *k == Binding::Params)
+            .then(|| {
+                s.buffer(
+                    "MgParams",
+                    (self.shader.uniforms.size as u64)
+                        .next_multiple_of(16)
+                        .max(16),
+                    U::UNIFORM | U::COPY_DST,
+                )
+            });
+        let dispatch = s.buffer("MgDispatch", 16, U::UNIFORM | U::COPY_DST);
+        let mut attributes = Vec::new();
+        for (_, k) in &self.shader.bindings {
+            if let Binding::Attribute(a) = k {
+                let bytes = (a.ty().width() * capacity * 4) as u64;
+                attributes.push(s.buffer(a.name(), bytes, U::STORAGE | U::COPY_DST));
+            }
+        }
+        let out_bytes = (self.shader.output_columns() as usize * capacity * 4) as u64;
+        let output = s.buffer("mg_out", out_bytes, U::STORAGE | U::COPY_SRC);
+        let staging = s.buffer("mg_out staging", out_bytes, U::MAP_READ | U::COPY_DST);
+        let mut next_attribute = attributes.iter();
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .shader
+            .bindings
+            .iter()
+            .map(|(binding, k)| {
+                let buffer = match k {
+                    Binding::Params => params.as_ref().expect("created for the Params binding"),
+                    Binding::Dispatch => &dispatch,
+                    Binding::Attribute(_) => next_attribute
+                        .next()
+                        .expect("one buffer per attribute binding"),
+                    Binding::Output => &output,
+                };
+                wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: buffer.as_entire_binding(),
+                }
+            })
+            .collect();
+        let bind_group = s.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("matgraph"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        Buffers {
+            capacity,
+            params,
+            dispatch,
+            attributes,
+            output,
+            staging,
+            bind_group,
+        }
+    }
+}
+
+/// Pads bytes with zeros to a multiple of 4 (what `write_buffer` requires).
+fn pad4(mut bytes: Vec<u8>) -> Vec<u8> {
+    bytes.resize(bytes.len().next_multiple_of(4), 0);
+    bytes
+}
+
+impl Evaluator for GpuPlan {
+    fn evaluate(
+        &self,
+        batch: &SampleBatch,
+        params: &ParamValues,
+    ) -> Result<OutputBatch, EvalError> {
+        self.execute(batch, params)
+    }
+}
