@@ -57,7 +57,9 @@ fn geometry() -> NodeType {
     )
     .source(
         "Conventions of ../shared/MODELS.md: N points out of the surface, V from the surface \
-             to the eye, L from the surface to the light; all unit length. I = -V.",
+             to the eye, L from the surface to the light; all unit length. I = -V. When a scene \
+             has several lights the renderer evaluates the graph once per light (light and \
+             light_color change) and sums the `color` outputs.",
     )
     .output(Out::vec3("position").unit("m").doc("World-space position."))
     .output(Out::vec3("normal").doc("Unit surface normal N."))

@@ -314,17 +314,26 @@ pub enum Attribute {
     Light,
     /// Surface texture coordinates.
     Uv,
+    /// Radiance arriving from the light (colour × intensity × falloff), linear RGB.
+    LightColor,
+    /// Position on the screen, (0, 0) top left to (1, 1) bottom right.
+    ScreenUv,
+    /// Depth below the water surface in metres (0 above it or where there is no water).
+    Depth,
     /// Time in seconds; the same for every sample of a batch.
     Time,
 }
 
 /// Every attribute, in declaration order.
-pub const ALL_ATTRIBUTES: [Attribute; 6] = [
+pub const ALL_ATTRIBUTES: [Attribute; 9] = [
     Attribute::Position,
     Attribute::Normal,
     Attribute::View,
     Attribute::Light,
     Attribute::Uv,
+    Attribute::LightColor,
+    Attribute::ScreenUv,
+    Attribute::Depth,
     Attribute::Time,
 ];
 
@@ -337,6 +346,9 @@ impl Attribute {
             Attribute::View => "view",
             Attribute::Light => "light",
             Attribute::Uv => "uv",
+            Attribute::LightColor => "light_color",
+            Attribute::ScreenUv => "screen_uv",
+            Attribute::Depth => "depth",
             Attribute::Time => "time",
         }
     }
@@ -347,8 +359,9 @@ impl Attribute {
     /// The attribute's type.
     pub const fn ty(self) -> SocketType {
         match self {
-            Attribute::Uv => SocketType::Vec2,
-            Attribute::Time => SocketType::Float,
+            Attribute::Uv | Attribute::ScreenUv => SocketType::Vec2,
+            Attribute::LightColor => SocketType::Color,
+            Attribute::Time | Attribute::Depth => SocketType::Float,
             _ => SocketType::Vec3,
         }
     }
@@ -357,13 +370,15 @@ impl Attribute {
         matches!(self, Attribute::Time)
     }
     /// The value used when the caller supplies none: the origin, a +z normal, view and
-    /// light straight above (normal incidence), uv (0.5, 0.5), time 0.
+    /// light straight above (normal incidence), uv and screen uv (0.5, 0.5), white light,
+    /// depth 0, time 0.
     pub const fn default_value(self) -> Value {
         match self {
             Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
             Attribute::Normal | Attribute::View | Attribute::Light => Value::vec3([0.0, 0.0, 1.0]),
-            Attribute::Uv => Value::vec2([0.5, 0.5]),
-            Attribute::Time => Value::float(0.0),
+            Attribute::Uv | Attribute::ScreenUv => Value::vec2([0.5, 0.5]),
+            Attribute::LightColor => Value::color([1.0, 1.0, 1.0]),
+            Attribute::Depth | Attribute::Time => Value::float(0.0),
         }
     }
 }

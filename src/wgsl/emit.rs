@@ -656,6 +656,9 @@ pub fn fragment_location(a: Attribute) -> u32 {
         Attribute::View => 2,
         Attribute::Light => 3,
         Attribute::Uv => 4,
-        Attribute::Time => 5,
+        Attribute::LightColor => 5,
+        Attribute::ScreenUv => 6,
+        Attribute::Depth => 7,
+        Attribute::Time => 8,
     }
 }
