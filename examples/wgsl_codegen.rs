@@ -44,6 +44,16 @@ fn main() -> Result<(), Box<dyn Error>> {
                 "storage array<f32>: {} planar columns",
                 shader.output_columns()
             ),
+            Binding::TextureTexels => {
+                "storage array<f32>: texels (TexturePack::texel_bytes)".into()
+            }
+            Binding::TextureLevels => {
+                "storage array<vec4<u32>>: mip levels (TexturePack::level_bytes)".into()
+            }
+            Binding::TextureTable => format!(
+                "storage array<vec2<u32>>: textures {:?} in this order",
+                shader.textures
+            ),
         };
         println!("// binding {binding}: {what}");
     }

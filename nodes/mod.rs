@@ -1,9 +1,11 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all`] lists them for the registry.
 
+pub mod image;
 pub mod input;
 pub mod math;
 pub mod optics;
+pub mod texture;
 
 use crate::node::NodeType;
 
@@ -13,5 +15,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(input::all());
     v.extend(math::all());
     v.extend(optics::all());
+    v.extend(texture::all());
+    v.extend(image::all());
     v
 }

@@ -63,6 +63,14 @@ pub enum GraphError {
         /// The node.
         node: String,
     },
+    /// A texture node without an image, or an image on a node that samples none.
+    #[error("node '{node}': {message}")]
+    BadTexture {
+        /// The node.
+        node: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The node's type is not registered.
     #[error("node '{node}': unknown node type '{type_name}'{}", did_you_mean(.suggestion))]
     UnknownNodeType {
@@ -216,6 +224,7 @@ impl GraphError {
             DuplicateId { node }
             | InvalidId { node }
             | BadPosition { node }
+            | BadTexture { node, .. }
             | UnknownNodeType { node, .. }
             | BadDataType { node, .. }
             | UnknownInput { node, .. }

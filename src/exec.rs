@@ -2,11 +2,14 @@
 //! samples, one kernel call per step per tile, tiles spread over threads with rayon.
 
 use crate::node::Attribute;
-use crate::plan::{EvalError, Operand, ParamValues, Plan, RegFill, TILE, run_single};
+use crate::plan::{EvalError, KernelRef, Operand, ParamValues, Plan, RegFill, TILE, run_single};
+use crate::texture::{Filter, TextureSet, Wrap};
 use crate::types::SocketType;
 use crate::value::Value;
+use glam::Vec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// Per-sample inputs of one evaluation: attribute columns in planar layout (component `c`
 /// of sample `i` at `c * len + i`) and the batch's time.
@@ -15,6 +18,7 @@ pub struct SampleBatch {
     len: usize,
     time: f32,
     columns: BTreeMap<Attribute, Vec<f32>>,
+    textures: Option<Arc<TextureSet>>,
 }
 
 impl SampleBatch {
@@ -24,6 +28,7 @@ impl SampleBatch {
             len,
             time: 0.0,
             columns: BTreeMap::new(),
+            textures: None,
         }
     }
     /// Number of samples.
@@ -90,6 +95,14 @@ impl SampleBatch {
             data[c * self.len..(c + 1) * self.len].fill(v.lanes()[c]);
         }
         self.set_planar(attr, data)
+    }
+    /// Binds the textures that texture nodes sample, by key (see [`Plan::textures`]).
+    pub fn set_textures(&mut self, textures: Arc<TextureSet>) {
+        self.textures = Some(textures);
+    }
+    /// The bound textures.
+    pub fn textures(&self) -> Option<&TextureSet> {
+        self.textures.as_deref()
     }
     /// The planar column of an attribute, if set.
     pub fn column(&self, attr: Attribute) -> Option<&[f32]> {
@@ -198,11 +211,13 @@ impl Plan {
                 .iter()
                 .map(|&s| slots[s as usize].ty())
                 .collect();
-            for (&s, v) in step
-                .outputs
-                .iter()
-                .zip(run_single(step.kernel.get(), &ins, &types))
-            {
+            for (&s, v) in step.outputs.iter().zip(run_single(
+                step.kernel
+                    .kernel()
+                    .expect("uniform steps are never texture steps"),
+                &ins,
+                &types,
+            )) {
                 slots[s as usize] = v;
             }
         }
@@ -236,6 +251,19 @@ impl Plan {
         }
     }
 
+    /// The index in the batch's texture set of each texture the plan samples.
+    pub(crate) fn bind_textures(&self, batch: &SampleBatch) -> Result<Vec<u32>, EvalError> {
+        self.textures
+            .iter()
+            .map(|key| {
+                batch
+                    .textures()
+                    .and_then(|set| set.index_of(key))
+                    .ok_or_else(|| EvalError::MissingTexture { name: key.clone() })
+            })
+            .collect()
+    }
+
     /// Evaluates the plan over `batch` on the current rayon pool.
     pub fn execute(
         &self,
@@ -250,6 +278,7 @@ impl Plan {
         }
         let len = batch.len();
         let uniforms = self.uniforms(batch, params);
+        let tex = self.bind_textures(batch)?;
         let mut data: Vec<Vec<f32>> = self
             .outputs
             .iter()
@@ -285,7 +314,9 @@ impl Plan {
                 .enumerate()
                 .for_each_init(
                     || self.scratch(&uniforms, batch),
-                    |scratch, (t, out)| self.run_tile(scratch, batch, &attrs, &uniforms, t, out),
+                    |scratch, (t, out)| {
+                        self.run_tile(scratch, batch, &attrs, &uniforms, &tex, t, out)
+                    },
                 );
         }
         Ok(OutputBatch {
@@ -302,6 +333,7 @@ impl Plan {
         batch: &SampleBatch,
         attrs: &[(usize, Attribute)],
         uniforms: &[Value],
+        tex: &[u32],
         t: usize,
         out: &mut [Option<&mut [f32]>],
     ) {
@@ -331,12 +363,22 @@ impl Plan {
             for (slot, buf) in outs.iter_mut().zip(scratch.outs.iter_mut()) {
                 *slot = buf;
             }
-            step.kernel.get().run(
-                &ins[..step.inputs.len()],
-                &mut outs[..step.outputs.len()],
-                TILE,
-                n,
-            );
+            match (step.kernel.kernel(), &step.kernel, batch.textures()) {
+                (Some(k), ..) => k.run(
+                    &ins[..step.inputs.len()],
+                    &mut outs[..step.outputs.len()],
+                    TILE,
+                    n,
+                ),
+                (None, KernelRef::Texture(slot), Some(set)) => sample_tile(
+                    set,
+                    tex[*slot],
+                    &ins[..step.inputs.len()],
+                    &mut outs[..step.outputs.len()],
+                    n,
+                ),
+                _ => {}
+            }
             for (&r, buf) in step.outputs.iter().zip(scratch.outs.drain(..)) {
                 scratch.regs[r as usize] = buf;
             }
@@ -355,5 +397,24 @@ impl Plan {
                 col += 1;
             }
         }
+    }
+}
+
+/// Samples texture `tex` for `n` samples of a tile: inputs uv (vec2), lod, wrap, filter;
+/// outputs colour (rgb) and alpha.
+fn sample_tile(set: &TextureSet, tex: u32, ins: &[&[f32]], outs: &mut [&mut [f32]], n: usize) {
+    let (uv, lod, wrap, filter) = (ins[0], ins[1], ins[2], ins[3]);
+    for i in 0..n {
+        let c = set.sample(
+            tex,
+            Vec2::new(uv[i], uv[TILE + i]),
+            lod[i],
+            Wrap::from_index(wrap[i] as u32),
+            Filter::from_index(filter[i] as u32),
+        );
+        outs[0][i] = c.x;
+        outs[0][TILE + i] = c.y;
+        outs[0][2 * TILE + i] = c.z;
+        outs[1][i] = c.w;
     }
 }

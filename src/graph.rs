@@ -55,6 +55,8 @@ pub struct Node {
     pub generic: SocketType,
     /// One source per declared input, in port order.
     pub inputs: Vec<InputSource>,
+    /// The image of a texture node.
+    pub texture: Option<crate::document::TextureSource>,
     /// Editor position.
     pub position: Option<[f32; 2]>,
 }
@@ -190,6 +192,7 @@ impl Graph {
                     node_type: n.node_type.name().to_owned(),
                     data_type: n.data_type.map(|t| t.name().to_owned()),
                     inputs,
+                    texture: n.texture.clone(),
                     position: n.position,
                 }
             })
@@ -554,6 +557,20 @@ impl Builder<'_> {
             };
             inputs.push(src);
         }
+        match (t.evaluation() == Evaluation::Texture, &n.texture) {
+            (true, None) => self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: "a texture node needs \"texture\": an image path, a list of mip level paths or a scene: texture".into(),
+            }),
+            (true, Some(src)) if src.files().iter().any(|f| f.is_empty()) || matches!(src, crate::document::TextureSource::MipChain(v) if v.is_empty()) => {
+                self.errors.push(GraphError::BadTexture { node: n.id.clone(), message: "empty texture path".into() })
+            }
+            (false, Some(_)) => self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!("a '{}' node samples no texture: remove \"texture\"", t.name()),
+            }),
+            _ => {}
+        }
         if incomplete || self.errors.len() > errors_before {
             return None;
         }
@@ -563,6 +580,7 @@ impl Builder<'_> {
             data_type,
             generic,
             inputs,
+            texture: n.texture.clone(),
             position: n.position,
         })
     }
@@ -864,6 +882,7 @@ impl Graph {
                 node_type: type_name.to_owned(),
                 data_type: None,
                 inputs,
+                texture: None,
                 position: None,
             }],
             outputs,

@@ -39,6 +39,8 @@ pub enum Category {
     Skin,
     /// Physically based rendering (seed 003).
     Pbr,
+    /// Procedural and image textures (noise, checker, ramp).
+    Texture,
 }
 
 impl Category {
@@ -53,6 +55,7 @@ impl Category {
             Category::Optics => "optics",
             Category::Skin => "skin",
             Category::Pbr => "pbr",
+            Category::Texture => "texture",
         }
     }
 }
@@ -393,6 +396,9 @@ pub enum Evaluation {
     Parameter,
     /// Output `k` is the caller-supplied attribute `k`.
     Attributes(&'static [Attribute]),
+    /// Samples the image named by the node's `texture` field; its kernel is the texture
+    /// sampler, run with the textures bound to the batch.
+    Texture,
 }
 
 /// One concrete implementation of a node type, for one resolved generic type.
@@ -489,6 +495,11 @@ impl NodeType {
     /// Marks the node as an exposed parameter (see [`Evaluation::Parameter`]).
     pub fn parameter(mut self) -> NodeType {
         self.evaluation = Evaluation::Parameter;
+        self
+    }
+    /// Marks the node as sampling the image named by its `texture` field.
+    pub fn texture(mut self) -> NodeType {
+        self.evaluation = Evaluation::Texture;
         self
     }
     /// Marks the node's outputs as caller-supplied attributes, one per output.

@@ -61,6 +61,12 @@ pub enum EvalError {
         /// What was given.
         found: usize,
     },
+    /// A texture the plan samples that the batch does not hold.
+    #[error("texture '{name}' is not loaded (bind it to the batch with SampleBatch::set_textures)")]
+    MissingTexture {
+        /// The texture's key.
+        name: String,
+    },
     /// The GPU path could not run (no adapter, device lost, ...); callers may fall back to the CPU.
     #[error("GPU unavailable: {0}")]
     Gpu(String),
@@ -90,13 +96,18 @@ pub(crate) enum KernelRef {
     Node(Arc<NodeType>, usize),
     /// An implicit conversion on a link.
     Convert(usize),
+    /// Sampling texture `k` of [`Plan::textures`] (inputs uv, lod, wrap, filter; outputs
+    /// color, alpha).
+    Texture(usize),
 }
 
 impl KernelRef {
-    pub(crate) fn get(&self) -> &dyn TileKernel {
+    /// The tile kernel; `None` for a texture step, which the executor samples itself.
+    pub(crate) fn kernel(&self) -> Option<&dyn TileKernel> {
         match self {
-            KernelRef::Node(t, v) => t.variants()[*v].kernel.as_ref(),
-            KernelRef::Convert(i) => CONVERSIONS[*i].as_ref(),
+            KernelRef::Node(t, v) => t.variants().get(*v).map(|v| v.kernel.as_ref()),
+            KernelRef::Convert(i) => Some(CONVERSIONS[*i].as_ref()),
+            KernelRef::Texture(_) => None,
         }
     }
 }
@@ -223,6 +234,8 @@ pub struct Plan {
     pub(crate) steps: Vec<Step>,
     pub(crate) attributes: Vec<Attribute>,
     pub(crate) stats: PlanStats,
+    /// Keys of the textures the plan samples, in slot order (see `TextureSource::key`).
+    pub(crate) textures: Vec<String>,
     /// Which graph nodes reach a requested output.
     pub(crate) live: Vec<bool>,
     /// Where each node output of a live node lives (constants are folded values).
@@ -245,6 +258,11 @@ impl Plan {
     /// Per-sample attributes the varying program reads.
     pub fn attributes(&self) -> &[Attribute] {
         &self.attributes
+    }
+    /// Keys of the textures the plan samples, in slot order: the keys the batch's texture
+    /// set must hold (see [`crate::document::TextureSource::key`]).
+    pub fn textures(&self) -> &[String] {
+        &self.textures
     }
     /// Whether the plan reads `time`.
     pub fn uses_time(&self) -> bool {
@@ -368,6 +386,7 @@ struct Compiler<'g> {
     converted: HashMap<(u32, bool, SocketType), u32>,
     param_slots: HashMap<NodeIndex, u32>,
     const_regs: HashMap<(SocketType, [u32; 4]), u32>,
+    textures: Vec<String>,
     read: std::collections::HashSet<OutputRef>,
     stats: PlanStats,
 }
@@ -387,6 +406,7 @@ impl<'g> Compiler<'g> {
             converted: HashMap::new(),
             param_slots: HashMap::new(),
             const_regs: HashMap::new(),
+            textures: Vec::new(),
             read: Default::default(),
             stats: PlanStats {
                 graph_nodes: graph.nodes().len(),
@@ -451,6 +471,7 @@ impl<'g> Compiler<'g> {
             steps: self.steps,
             attributes,
             stats: self.stats,
+            textures: self.textures,
             live,
             node_operands: self.operands,
         })
@@ -599,10 +620,23 @@ impl<'g> Compiler<'g> {
                 }
             }
         });
-        let Some(variant) = variant else { return };
-        let kref = KernelRef::Node(t.clone(), variant);
+        let is_texture = t.evaluation() == Evaluation::Texture;
+        let kref = if is_texture {
+            let key = node.texture.as_ref().map(|s| s.key()).unwrap_or_default();
+            let slot = match self.textures.iter().position(|k| *k == key) {
+                Some(k) => k,
+                None => {
+                    self.textures.push(key);
+                    self.textures.len() - 1
+                }
+            };
+            KernelRef::Texture(slot)
+        } else {
+            let Some(variant) = variant else { return };
+            KernelRef::Node(t.clone(), variant)
+        };
 
-        if ins.iter().all(|o| matches!(o, Operand::Const(_))) {
+        if !is_texture && ins.iter().all(|o| matches!(o, Operand::Const(_))) {
             // Fold.
             let values: Vec<Value> = ins
                 .iter()
@@ -614,14 +648,18 @@ impl<'g> Compiler<'g> {
                     }
                 })
                 .collect();
-            for (k, v) in run_single(kref.get(), &values, &out_types)
-                .into_iter()
-                .enumerate()
+            for (k, v) in run_single(
+                kref.kernel().expect("compute nodes have kernels"),
+                &values,
+                &out_types,
+            )
+            .into_iter()
+            .enumerate()
             {
                 set(self, k, Operand::Const(v));
             }
             self.stats.folded += 1;
-        } else if ins.iter().all(|o| !matches!(o, Operand::Reg(_))) {
+        } else if !is_texture && ins.iter().all(|o| !matches!(o, Operand::Reg(_))) {
             // Hoist.
             let inputs = ins.iter().map(|o| self.uniform_slot(*o)).collect();
             let outputs: Vec<u32> = out_types

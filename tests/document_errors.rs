@@ -374,7 +374,7 @@ fn unknown_field_inside_a_node_names_the_node() {
          {\"id\": \"geo\", \"type\": \"geometry\"},\n    \
          {\"id\": \"fr\", \"type\": \"fresnel_dielectric\", \"colour\": 1}\n  ]\n}",
         "g.json: node 'fr': unknown field `colour`, expected one of `id`, `type`, `data_type`, \
-         `inputs`, `position` at line 6, column 55",
+         `inputs`, `texture`, `position` at line 6, column 55",
     );
 }
 

@@ -83,6 +83,26 @@ fn value_json(decl: &InputDecl, ty: SocketType, v: Value) -> Result<J, String> {
     Ok(v.to_json())
 }
 
+/// The key texture nodes sample in these tests.
+const TEST_TEXTURE: &str = "test:gradient";
+
+/// A batch of `n` samples with [`TEST_TEXTURE`] bound: an 8 × 8 RGBA gradient with mips.
+fn new_batch(n: usize) -> SampleBatch {
+    use matgraph::texture::{Image, Texture, TextureSet};
+    static SET: std::sync::LazyLock<std::sync::Arc<TextureSet>> = std::sync::LazyLock::new(|| {
+        let image = Image::from_fn(8, 8, |x, y| {
+            [x as f32 / 7.0, y as f32 / 7.0, 0.25, 1.0 - x as f32 / 14.0]
+        });
+        let mut set = TextureSet::new();
+        set.insert(TEST_TEXTURE, Texture::new(image, true).unwrap())
+            .unwrap();
+        std::sync::Arc::new(set)
+    });
+    let mut batch = SampleBatch::new(n);
+    batch.set_textures(SET.clone());
+    batch
+}
+
 /// A one-node graph of type `t` with `T = g`. Built with `Graph::single_node` (T inferred
 /// from the literals' shapes); colour, which no literal shape selects, is pinned with
 /// `data_type` in a one-node document. Checks the resolved `T`.
@@ -91,7 +111,21 @@ fn build(
     g: Option<SocketType>,
     inputs: BTreeMap<String, J>,
 ) -> Result<Graph, String> {
-    let graph = if g == Some(SocketType::Color) {
+    let graph = if t.evaluation() == Evaluation::Texture {
+        // Texture nodes sample TEST_TEXTURE, which every batch of this file binds.
+        let outputs: Vec<J> = t
+            .outputs()
+            .iter()
+            .map(|o| json!({ "name": o.name, "from": format!("node.{}", o.name) }))
+            .collect();
+        let doc = json!({
+            "version": 1,
+            "name": t.name(),
+            "nodes": [{ "id": "node", "type": t.name(), "texture": TEST_TEXTURE, "inputs": inputs }],
+            "outputs": outputs,
+        });
+        Graph::from_json(&doc.to_string(), registry())
+    } else if g == Some(SocketType::Color) {
         let outputs: Vec<J> = t
             .outputs()
             .iter()
@@ -120,7 +154,7 @@ fn build(
 /// Compiles every graph output and evaluates a batch of `n` samples.
 fn evaluate(graph: &Graph, n: usize) -> Result<OutputBatch, String> {
     let plan = Plan::compile(graph, &PlanOptions::default()).map_err(|e| e.to_string())?;
-    plan.execute(&SampleBatch::new(n), &plan.default_parameters())
+    plan.execute(&new_batch(n), &plan.default_parameters())
         .map_err(|e| e.to_string())
 }
 
@@ -602,7 +636,7 @@ fn evaluation_is_bit_reproducible() {
         let g2 = build(t, g, inputs.clone())?;
         let p1 = Plan::compile(&g1, &PlanOptions::default()).map_err(|e| e.to_string())?;
         let p2 = Plan::compile(&g2, &PlanOptions::default()).map_err(|e| e.to_string())?;
-        let batch = SampleBatch::new(5);
+        let batch = new_batch(5);
         let run = |p: &Plan| {
             p.execute(&batch, &p.default_parameters())
                 .map_err(|e| e.to_string())
@@ -612,7 +646,7 @@ fn evaluation_is_bit_reproducible() {
         compare_batches(&a, &run(&p2)?)?;
         // Every sample of the batch agrees with a one-sample evaluation.
         let one = p1
-            .execute(&SampleBatch::new(1), &p1.default_parameters())
+            .execute(&new_batch(1), &p1.default_parameters())
             .map_err(|e| e.to_string())?;
         for k in 0..a.names().len() {
             for i in 0..a.len() {
@@ -675,6 +709,9 @@ fn linked_graph(t: &NodeType, g: Option<SocketType>, k: usize) -> Result<Graph, 
     });
     if let Some(g) = g {
         node["data_type"] = json!(g.name());
+    }
+    if t.evaluation() == Evaluation::Texture {
+        node["texture"] = json!(TEST_TEXTURE);
     }
     let outputs: Vec<J> = t
         .outputs()
@@ -744,7 +781,7 @@ fn batch_equals_one_sample_evaluations() {
                     .collect();
                 let position: Vec<[f32; 3]> =
                     (0..BATCH).map(|_| [rng.in_range(r), 0.0, 0.0]).collect();
-                let mut batch = SampleBatch::new(BATCH);
+                let mut batch = new_batch(BATCH);
                 batch
                     .set_values(Attribute::View, &view)
                     .map_err(|e| e.to_string())?;
@@ -764,7 +801,7 @@ fn batch_equals_one_sample_evaluations() {
                     return Err("every sample gave the same outputs: the link had no effect".into());
                 }
                 for i in 0..BATCH {
-                    let mut one = SampleBatch::new(1);
+                    let mut one = new_batch(1);
                     one.set_values(Attribute::View, &view[i..=i])
                         .map_err(|e| e.to_string())?;
                     one.set_values(Attribute::Position, &position[i..=i])
@@ -854,7 +891,7 @@ fn dead_nodes_are_dropped() {
     assert_eq!(plan.stats().per_sample_steps, 3, "{:?}", plan.stats());
 
     // The live output is right: 2 · view.
-    let mut batch = SampleBatch::new(3);
+    let mut batch = new_batch(3);
     batch
         .set_values(
             Attribute::View,
@@ -900,7 +937,7 @@ fn literal_only_nodes_are_folded() {
         other => panic!("f.reflectance not folded: {other:?}"),
     }
     let out = plan
-        .execute(&SampleBatch::new(300), &plan.default_parameters())
+        .execute(&new_batch(300), &plan.default_parameters())
         .unwrap();
     assert!((0..300).all(|i| out.value(0, i) == Value::float(7.5)));
 }
@@ -934,7 +971,7 @@ fn parameter_and_time_nodes_are_hoisted_and_overridable() {
     assert!(matches!(plan.outputs()[1].operand, Operand::Reg(_)));
     assert!(plan.uses_time());
 
-    let mut batch = SampleBatch::new(2);
+    let mut batch = new_batch(2);
     batch
         .set_values(Attribute::Uv, &[[1.0, 0.5, 0.0], [-2.0, 0.25, 0.0]])
         .unwrap();
@@ -1025,7 +1062,7 @@ fn registers_are_reused_along_a_chain() {
     let view: Vec<[f32; 3]> = (0..BATCH)
         .map(|_| [rng.next_f32() * 2.0 - 1.0, rng.next_f32(), -rng.next_f32()])
         .collect();
-    let mut batch = SampleBatch::new(BATCH);
+    let mut batch = new_batch(BATCH);
     batch.set_values(Attribute::View, &view).unwrap();
     let out = plan.execute(&batch, &plan.default_parameters()).unwrap();
     for (i, v) in view.iter().enumerate() {
@@ -1053,7 +1090,7 @@ fn outputs_can_be_requested_by_node_id() {
     .unwrap();
     assert_eq!(plan.outputs()[0].name, "n3.result");
     assert_eq!(plan.outputs()[0].ty, SocketType::Vec3);
-    let mut batch = SampleBatch::new(1);
+    let mut batch = new_batch(1);
     batch
         .set_values(Attribute::View, &[[1.0, -2.0, 0.5]])
         .unwrap();

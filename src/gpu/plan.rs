@@ -1,7 +1,7 @@
 //! A graph compiled to a WGSL compute pipeline, evaluating batches like the CPU plan.
 
 use super::context::GpuContext;
-use super::device::{DeviceState, dispatch_shape};
+use super::device::{DeviceState, dispatch_shape, gpu_err};
 use crate::exec::{Evaluator, OutputBatch, SampleBatch};
 use crate::graph::Graph;
 use crate::plan::{EvalError, ParamValues, Plan, PlanOptions};
@@ -26,7 +26,6 @@ struct Buffers {
     attributes: Vec<wgpu::Buffer>,
     output: wgpu::Buffer,
     staging: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
 }
 
 /// A graph compiled to a WGSL compute pipeline: evaluates batches like [`Plan`], with the
@@ -70,6 +69,9 @@ impl GpuPlan {
                     Binding::Params | Binding::Dispatch => wgpu::BufferBindingType::Uniform,
                     Binding::Attribute(_) => wgpu::BufferBindingType::Storage { read_only: true },
                     Binding::Output => wgpu::BufferBindingType::Storage { read_only: false },
+                    Binding::TextureTexels | Binding::TextureLevels | Binding::TextureTable => {
+                        wgpu::BufferBindingType::Storage { read_only: true }
+                    }
                 };
                 (*b, ty)
             })
@@ -194,9 +196,11 @@ impl GpuPlan {
                     }
                 }
             }
+            let textures = self.texture_buffers(batch)?;
+            let bind_group = self.bind_group(b, textures.as_ref());
             self.state.dispatch_and_read(
                 &self.pipeline,
-                &b.bind_group,
+                &bind_group,
                 (gx, gy),
                 &b.output,
                 &b.staging,
@@ -244,31 +248,6 @@ impl GpuPlan {
         let out_bytes = (self.shader.output_columns() as usize * capacity * 4) as u64;
         let output = s.buffer("mg_out", out_bytes, U::STORAGE | U::COPY_SRC);
         let staging = s.buffer("mg_out staging", out_bytes, U::MAP_READ | U::COPY_DST);
-        let mut next_attribute = attributes.iter();
-        let entries: Vec<wgpu::BindGroupEntry> = self
-            .shader
-            .bindings
-            .iter()
-            .map(|(binding, k)| {
-                let buffer = match k {
-                    Binding::Params => params.as_ref().expect("created for the Params binding"),
-                    Binding::Dispatch => &dispatch,
-                    Binding::Attribute(_) => next_attribute
-                        .next()
-                        .expect("one buffer per attribute binding"),
-                    Binding::Output => &output,
-                };
-                wgpu::BindGroupEntry {
-                    binding: *binding,
-                    resource: buffer.as_entire_binding(),
-                }
-            })
-            .collect();
-        let bind_group = s.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("matgraph"),
-            layout: &self.layout,
-            entries: &entries,
-        });
         Buffers {
             capacity,
             params,
@@ -276,8 +255,71 @@ impl GpuPlan {
             attributes,
             output,
             staging,
-            bind_group,
         }
+    }
+
+    /// The textures the module samples, packed in slot order and uploaded.
+    fn texture_buffers(&self, batch: &SampleBatch) -> Result<Option<[wgpu::Buffer; 3]>, EvalError> {
+        use wgpu::BufferUsages as U;
+        if self.shader.textures.is_empty() {
+            return Ok(None);
+        }
+        let missing = |name: &str| EvalError::MissingTexture {
+            name: name.to_owned(),
+        };
+        let set = batch
+            .textures()
+            .ok_or_else(|| missing(&self.shader.textures[0]))?;
+        let pack = set
+            .pack_selection(&self.shader.textures)
+            .map_err(|e| match e {
+                crate::texture::TextureError::Missing(name) => missing(&name),
+                e => gpu_err("packing textures", e),
+            })?;
+        let s = &self.state;
+        let upload = |label: &str, bytes: &[u8]| {
+            let b = s.buffer(label, bytes.len() as u64, U::STORAGE | U::COPY_DST);
+            s.queue.write_buffer(&b, 0, &pad4(bytes.to_vec()));
+            b
+        };
+        Ok(Some([
+            upload("mg_texels", pack.texel_bytes()),
+            upload("mg_levels", pack.level_bytes()),
+            upload("mg_textures", pack.texture_bytes()),
+        ]))
+    }
+
+    /// The bind group of one evaluation: the plan's buffers and, when it samples textures,
+    /// this batch's texture buffers.
+    fn bind_group(&self, b: &Buffers, textures: Option<&[wgpu::Buffer; 3]>) -> wgpu::BindGroup {
+        let mut next_attribute = b.attributes.iter();
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .shader
+            .bindings
+            .iter()
+            .filter_map(|(binding, k)| {
+                let buffer = match k {
+                    Binding::Params => b.params.as_ref()?,
+                    Binding::Dispatch => &b.dispatch,
+                    Binding::Attribute(_) => next_attribute.next()?,
+                    Binding::Output => &b.output,
+                    Binding::TextureTexels => &textures?[0],
+                    Binding::TextureLevels => &textures?[1],
+                    Binding::TextureTable => &textures?[2],
+                };
+                Some(wgpu::BindGroupEntry {
+                    binding: *binding,
+                    resource: buffer.as_entire_binding(),
+                })
+            })
+            .collect();
+        self.state
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("matgraph"),
+                layout: &self.layout,
+                entries: &entries,
+            })
     }
 }
 

@@ -31,6 +31,7 @@ pub(super) struct Text {
     pub(super) attributes: Vec<Attribute>,
     pub(super) outputs: Vec<ShaderOutput>,
     pub(super) uniform_fields: Vec<UniformSpec>,
+    pub(super) textures: Vec<String>,
 }
 
 /// Names that WGSL reserves or predeclares and that a port or parameter might be called.
@@ -332,7 +333,7 @@ impl<'a> Emitter<'a> {
         let mut functions: Vec<(String, NodeFunction, String)> = Vec::new(); // (key, fn, first node id)
         for &i in &order {
             let n = &nodes[i];
-            if n.node_type.evaluation() != Evaluation::Compute || self.folded(i) {
+            if !emits_call(n.node_type.evaluation()) || self.folded(i) {
                 continue;
             }
             // Keyed by the emitted name: vec3 and colour share one function.
@@ -441,7 +442,7 @@ impl<'a> Emitter<'a> {
         let _ = writeln!(self.out, "fn mg_material({arg}) -> MgOutputs {{");
         for &i in &order {
             let n = &nodes[i];
-            if n.node_type.evaluation() != Evaluation::Compute || self.folded(i) {
+            if !emits_call(n.node_type.evaluation()) || self.folded(i) {
                 continue;
             }
             let f = &functions
@@ -449,7 +450,19 @@ impl<'a> Emitter<'a> {
                 .find(|(k, ..)| *k == function_name(&n.node_type, n.generic))
                 .expect("declared")
                 .1;
-            let args: Vec<String> = (0..n.inputs.len()).map(|k| self.input_expr(i, k)).collect();
+            let mut args: Vec<String> = Vec::new();
+            if let Some(src) = &n.texture {
+                // Texture nodes take their slot in the packed texture set first.
+                let key = src.key();
+                let slot = self
+                    .plan
+                    .textures()
+                    .iter()
+                    .position(|k| *k == key)
+                    .unwrap_or(0);
+                args.push(format!("{slot}u"));
+            }
+            args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
             let var = format!("n{i}_{}", ident(&n.id));
             let start = self.out.len();
             let _ = writeln!(self.out, "    let {var} = {}({});", f.name, args.join(", "));
@@ -490,6 +503,21 @@ impl<'a> Emitter<'a> {
             }
             Entry::Fragment => self.fragment_entry(&attributes, &shader_outputs, &out_fields),
         }
+        if !self.plan.textures().is_empty() {
+            // Module-scope declarations may follow their use in WGSL.
+            let first = bindings
+                .iter()
+                .map(|(b, _)| b + 1)
+                .max()
+                .unwrap_or(0)
+                .max(1);
+            self.out.push('\n');
+            self.out
+                .push_str(&crate::texture::sample_bindings_wgsl(0, first));
+            bindings.push((first, Binding::TextureTexels));
+            bindings.push((first + 1, Binding::TextureLevels));
+            bindings.push((first + 2, Binding::TextureTable));
+        }
         Ok(Text {
             source: self.out,
             spans: self.spans,
@@ -497,6 +525,7 @@ impl<'a> Emitter<'a> {
             attributes,
             outputs: shader_outputs,
             uniform_fields,
+            textures: self.plan.textures().to_vec(),
         })
     }
 
@@ -646,6 +675,11 @@ impl<'a> Emitter<'a> {
         };
         let _ = writeln!(self.out, "    return {rgba};\n}}");
     }
+}
+
+/// Whether nodes of this kind become a function call in the material function.
+fn emits_call(e: Evaluation) -> bool {
+    matches!(e, Evaluation::Compute | Evaluation::Texture)
 }
 
 /// The fixed `@location` of an attribute in the fragment entry's varyings.

@@ -72,6 +72,12 @@ pub enum Binding {
     Attribute(Attribute),
     /// The planar `array<f32>` of every output (read-write storage).
     Output,
+    /// `mg_texels`: RGBA floats of every texture level (see [`crate::texture::TexturePack`]).
+    TextureTexels,
+    /// `mg_levels`: the level table.
+    TextureLevels,
+    /// `mg_textures`: the texture table, in the order of [`ShaderModule::textures`].
+    TextureTable,
 }
 
 /// One output of a generated module, as laid out in the compute output buffer.
@@ -105,6 +111,9 @@ pub struct ShaderModule {
     pub attributes: Vec<Attribute>,
     /// Outputs in request order.
     pub outputs: Vec<ShaderOutput>,
+    /// Keys of the textures the module samples, in slot order: pack the batch's textures in
+    /// this order (see [`crate::plan::Plan::textures`]).
+    pub textures: Vec<String>,
     /// Byte ranges of the text and the node id each was generated for.
     pub spans: Vec<(std::ops::Range<usize>, String)>,
 }
@@ -174,6 +183,7 @@ pub fn generate(graph: &Graph, options: &WgslOptions) -> Result<ShaderModule, Sh
         bindings: text.bindings,
         attributes: text.attributes,
         outputs: text.outputs,
+        textures: text.textures,
         spans: text.spans,
     })
 }

@@ -1,0 +1,440 @@
+//! Reading and writing texture images with the `image` crate: the I/O side of
+//! [`crate::texture`] (which does none).
+//!
+//! Colour conventions: PNG and JPEG files are sRGB-encoded colour (any bit depth) and are
+//! decoded to linear light with the IEC 61966-2-1 transfer function; their alpha is linear
+//! and kept as is. Radiance HDR and OpenEXR files are linear and are read unchanged.
+//! Greyscale images are expanded to RGB; images without alpha get alpha 1. Saving mirrors
+//! this: [`save_png`] clamps to [0, 1] and sRGB-encodes to 8 bits, [`save_exr`] writes linear
+//! f32 RGBA exactly. Saves are atomic (temporary file in the same folder, synced, renamed)
+//! and deterministic (the same image gives the same bytes).
+//!
+//! Texture files are referenced from a graph by a path relative to the graph file
+//! ([`resolve_relative`]). Every error names the file at fault.
+
+use crate::texture::{Image, Texture, TextureError};
+use image::{ImageEncoder, ImageFormat};
+use std::path::{Path, PathBuf};
+
+/// sRGB-encoded value to linear light: `c/12.92` for c ≤ 0.04045, else `((c + 0.055)/1.055)^2.4`.
+///
+/// Source: IEC 61966-2-1:1999 (sRGB), the inverse transfer function.
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.040_45 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear light to sRGB encoding: `12.92 c` for c ≤ 0.0031308, else `1.055 c^(1/2.4) − 0.055`.
+///
+/// Source: IEC 61966-2-1:1999 (sRGB), the transfer function.
+pub fn linear_to_srgb(c: f32) -> f32 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// The path of a texture referenced as `reference` from the graph file `graph_file`:
+/// relative references are taken from the graph file's folder, absolute ones kept.
+pub fn resolve_relative(graph_file: &Path, reference: &Path) -> PathBuf {
+    if reference.is_absolute() {
+        return reference.to_owned();
+    }
+    match graph_file.parent() {
+        Some(dir) => dir.join(reference),
+        None => reference.to_owned(),
+    }
+}
+
+/// A [`TextureError::File`] naming `path`.
+fn file_error(path: &Path, message: impl std::fmt::Display) -> TextureError {
+    TextureError::File {
+        path: path.to_owned(),
+        message: message.to_string(),
+    }
+}
+
+/// Reads an image file (PNG, JPEG, Radiance HDR or OpenEXR, recognised by content, else by
+/// extension) as linear RGBA; see the module doc for the colour conventions.
+pub fn load_image(path: &Path) -> Result<Image, TextureError> {
+    let reader = image::ImageReader::open(path)
+        .and_then(|r| r.with_guessed_format())
+        .map_err(|e| file_error(path, format_args!("cannot read: {e}")))?;
+    let srgb = match reader.format() {
+        Some(ImageFormat::Png | ImageFormat::Jpeg) => true,
+        Some(ImageFormat::Hdr | ImageFormat::OpenExr) => false,
+        Some(f) => {
+            return Err(file_error(
+                path,
+                format_args!("unsupported image format {f:?} (PNG, JPEG, HDR or EXR expected)"),
+            ));
+        }
+        None => {
+            return Err(file_error(
+                path,
+                "unknown image format (PNG, JPEG, HDR or EXR expected)",
+            ));
+        }
+    };
+    let decoded = reader
+        .decode()
+        .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
+    let rgba = decoded.to_rgba32f();
+    let (width, height) = rgba.dimensions();
+    let data = rgba
+        .pixels()
+        .map(|p| {
+            let [r, g, b, a] = p.0;
+            if srgb {
+                [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), a]
+            } else {
+                [r, g, b, a]
+            }
+        })
+        .collect();
+    Image::new(width, height, data).map_err(|e| TextureError::InFile {
+        path: path.to_owned(),
+        source: Box::new(e),
+    })
+}
+
+/// Reads a texture: one path gives that image, with generated mip levels when `mips` is
+/// true; several paths give a custom mip chain, largest level first (`mips` is then
+/// ignored), each level half the size of the one before ([`Texture::from_levels`]). Errors
+/// name the file at fault.
+pub fn load_texture(paths: &[PathBuf], mips: bool) -> Result<Texture, TextureError> {
+    match paths {
+        [] => Err(TextureError::NoLevels),
+        [one] => {
+            let image = load_image(one)?;
+            Texture::new(image, mips).map_err(|e| TextureError::InFile {
+                path: one.clone(),
+                source: Box::new(e),
+            })
+        }
+        several => {
+            let levels = several
+                .iter()
+                .map(|p| load_image(p))
+                .collect::<Result<Vec<_>, _>>()?;
+            Texture::from_levels(levels).map_err(|e| {
+                let at = match &e {
+                    TextureError::LevelSize { level, .. } | TextureError::Level { level, .. } => {
+                        *level
+                    }
+                    _ => 0,
+                };
+                TextureError::InFile {
+                    path: several[at.min(several.len() - 1)].clone(),
+                    source: Box::new(e),
+                }
+            })
+        }
+    }
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same folder, synced, then
+/// renamed over the target (the pattern of [`crate::io::write_atomic`], for bytes).
+fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Checks `image` before it is saved to `path`.
+fn check(path: &Path, image: &Image) -> Result<(), TextureError> {
+    image.validate().map_err(|e| TextureError::InFile {
+        path: path.to_owned(),
+        source: Box::new(e),
+    })
+}
+
+/// The 8-bit value of `x` in [0, 1] (clamped; NaN gives 0), rounded to nearest.
+fn to_u8(x: f32) -> u8 {
+    (x.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// Encodes `image` as an 8-bit RGBA PNG, colour sRGB-encoded, alpha linear.
+fn encode_png(image: &Image) -> Result<Vec<u8>, String> {
+    image.validate().map_err(|e| e.to_string())?;
+    let bytes: Vec<u8> = image
+        .data
+        .iter()
+        .flat_map(|&[r, g, b, a]| {
+            [
+                to_u8(linear_to_srgb(r.clamp(0.0, 1.0))),
+                to_u8(linear_to_srgb(g.clamp(0.0, 1.0))),
+                to_u8(linear_to_srgb(b.clamp(0.0, 1.0))),
+                to_u8(a),
+            ]
+        })
+        .collect();
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(
+            &bytes,
+            image.width,
+            image.height,
+            image::ExtendedColorType::Rgba8,
+        )
+        .map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+/// Encodes `image` as a linear f32 RGBA OpenEXR file.
+fn encode_exr(image: &Image) -> Result<Vec<u8>, String> {
+    image.validate().map_err(|e| e.to_string())?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::codecs::openexr::OpenExrEncoder::new(&mut out)
+        .write_image(
+            bytemuck::cast_slice(&image.data),
+            image.width,
+            image.height,
+            image::ExtendedColorType::Rgba32F,
+        )
+        .map_err(|e| e.to_string())?;
+    Ok(out.into_inner())
+}
+
+/// Saves `image` as an 8-bit RGBA PNG, colour clamped to [0, 1] and sRGB-encoded, alpha
+/// clamped and linear, atomically.
+pub fn save_png(path: &Path, image: &Image) -> Result<(), TextureError> {
+    check(path, image)?;
+    let bytes =
+        encode_png(image).map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
+    write_bytes_atomic(path, &bytes)
+        .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
+}
+
+/// Saves `image` as a linear f32 RGBA OpenEXR file (exact), atomically.
+pub fn save_exr(path: &Path, image: &Image) -> Result<(), TextureError> {
+    check(path, image)?;
+    let bytes =
+        encode_exr(image).map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
+    write_bytes_atomic(path, &bytes)
+        .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic test image: colours spanning [0, 1] and a little beyond, alpha in [0, 1].
+    fn test_image(w: u32, h: u32) -> Image {
+        let mut s = 12345u32;
+        Image::from_fn(w, h, |_, _| {
+            let mut next = || {
+                s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                (s >> 8) as f32 / 16_777_216.0
+            };
+            [next(), next() * next(), next(), next()]
+        })
+    }
+
+    #[test]
+    fn srgb_transfer_functions_invert_each_other() {
+        for i in 0..=1000 {
+            let x = i as f32 / 1000.0;
+            assert!((srgb_to_linear(linear_to_srgb(x)) - x).abs() < 1e-6, "{x}");
+        }
+        // Reference values (IEC 61966-2-1): sRGB 0.5 ↔ linear 0.214041.
+        assert!((srgb_to_linear(0.5) - 0.214_041).abs() < 1e-6);
+        assert_eq!(srgb_to_linear(0.0), 0.0);
+        assert!((srgb_to_linear(1.0) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn png_round_trips_within_one_step_of_255() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.png");
+        let img = test_image(7, 5);
+        save_png(&path, &img).unwrap();
+        let back = load_image(&path).unwrap();
+        assert_eq!((back.width, back.height), (7, 5));
+        for (a, b) in img.data.iter().zip(&back.data) {
+            for c in 0..3 {
+                let (ea, eb) = (linear_to_srgb(a[c]), linear_to_srgb(b[c]));
+                assert!((ea - eb).abs() <= 0.5 / 255.0 + 1e-5, "{a:?} → {b:?}");
+            }
+            assert!(
+                (a[3] - b[3]).abs() <= 0.5 / 255.0 + 1e-6,
+                "alpha {a:?} → {b:?}"
+            );
+        }
+        // Deterministic bytes, and no temporary file left behind.
+        let first = std::fs::read(&path).unwrap();
+        save_png(&path, &img).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), first);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn png_is_decoded_as_srgb_and_out_of_range_values_clamp() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("grey.png");
+        let grey = srgb_to_linear(128.0 / 255.0);
+        let mut img = Image::filled(2, 1, [grey, grey, grey, 0.5]);
+        img.data[1] = [-1.0, 2.0, f32::NAN, 7.0];
+        save_png(&path, &img).unwrap();
+        // The file holds sRGB code 128 and alpha 128 (0.5 · 255 rounded).
+        let raw = image::open(&path).unwrap().to_rgba8();
+        assert_eq!(raw.get_pixel(0, 0).0, [128, 128, 128, 128]);
+        assert_eq!(raw.get_pixel(1, 0).0, [0, 255, 0, 255]);
+        let back = load_image(&path).unwrap();
+        let want = srgb_to_linear(128.0 / 255.0);
+        assert!((back.data[0][0] - want).abs() < 1e-6, "{:?}", back.data[0]);
+        assert!(
+            (back.data[0][3] - 128.0 / 255.0).abs() < 1e-6,
+            "alpha stays linear"
+        );
+    }
+
+    #[test]
+    fn exr_round_trips_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.exr");
+        let mut img = test_image(9, 4);
+        img.data[0] = [1e-30, 65504.0, 3.0e6, -2.5];
+        save_exr(&path, &img).unwrap();
+        let back = load_image(&path).unwrap();
+        assert_eq!((back.width, back.height), (9, 4));
+        for (a, b) in img.data.iter().zip(&back.data) {
+            assert_eq!(a.map(f32::to_bits), b.map(f32::to_bits));
+        }
+        let first = std::fs::read(&path).unwrap();
+        save_exr(&path, &img).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), first, "deterministic bytes");
+    }
+
+    #[test]
+    fn hdr_is_linear_and_jpeg_is_srgb() {
+        let dir = tempfile::tempdir().unwrap();
+        // Radiance HDR: 0.5 and 4.0 are exact in RGBE and must not be sRGB-decoded.
+        let hdr = dir.path().join("t.hdr");
+        let pixels = vec![image::Rgb([0.5f32, 4.0, 0.25]); 6];
+        let mut bytes = Vec::new();
+        image::codecs::hdr::HdrEncoder::new(&mut bytes)
+            .encode(&pixels, 3, 2)
+            .unwrap();
+        std::fs::write(&hdr, bytes).unwrap();
+        let img = load_image(&hdr).unwrap();
+        assert_eq!((img.width, img.height), (3, 2));
+        assert_eq!(img.data[4], [0.5, 4.0, 0.25, 1.0]);
+        // JPEG of a flat sRGB 128 grey: decoded to linear (JPEG may be off by a code value).
+        let jpg = dir.path().join("t.jpg");
+        let mut bytes = Vec::new();
+        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 95)
+            .write_image(&[128u8; 8 * 8 * 3], 8, 8, image::ExtendedColorType::Rgb8)
+            .unwrap();
+        std::fs::write(&jpg, bytes).unwrap();
+        let img = load_image(&jpg).unwrap();
+        let want = srgb_to_linear(128.0 / 255.0);
+        for t in &img.data {
+            assert!((t[0] - want).abs() < 0.005, "{t:?} vs {want}");
+            assert_eq!(t[3], 1.0);
+        }
+    }
+
+    #[test]
+    fn load_texture_generates_or_reads_mip_chains() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = |n: &str| dir.path().join(n);
+        save_exr(&p("l0.exr"), &Image::filled(4, 2, [0.0, 0.0, 0.0, 1.0])).unwrap();
+        save_exr(&p("l1.exr"), &Image::filled(2, 1, [1.0, 1.0, 1.0, 1.0])).unwrap();
+        save_exr(&p("l2.exr"), &Image::filled(1, 1, [0.0, 0.0, 0.0, 1.0])).unwrap();
+        save_exr(&p("bad.exr"), &Image::filled(2, 2, [0.0; 4])).unwrap();
+        let t = load_texture(&[p("l0.exr")], true).unwrap();
+        assert_eq!(t.level_count(), 3);
+        let t = load_texture(&[p("l0.exr")], false).unwrap();
+        assert_eq!(t.level_count(), 1);
+        let t = load_texture(&[p("l0.exr"), p("l1.exr"), p("l2.exr")], false).unwrap();
+        assert_eq!(t.level_count(), 3);
+        assert_eq!(t.levels()[1].texel(1, 0), [1.0; 4]);
+        let e = load_texture(&[p("l0.exr"), p("bad.exr")], true).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.contains("bad.exr") && msg.contains("mip level 1 is 2×2, expected 2×1"),
+            "{msg}"
+        );
+        assert_eq!(load_texture(&[], true).unwrap_err(), TextureError::NoLevels);
+    }
+
+    #[test]
+    fn errors_name_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("missing.png");
+        let msg = load_image(&missing).unwrap_err().to_string();
+        assert!(
+            msg.contains("missing.png") && msg.contains("cannot read"),
+            "{msg}"
+        );
+        let junk = dir.path().join("junk.png");
+        std::fs::write(&junk, b"\x89PNG\r\n\x1a\nnot really").unwrap();
+        let msg = load_image(&junk).unwrap_err().to_string();
+        assert!(
+            msg.contains("junk.png") && msg.contains("cannot decode"),
+            "{msg}"
+        );
+        let text = dir.path().join("notes.txt");
+        std::fs::write(&text, b"hello").unwrap();
+        let msg = load_image(&text).unwrap_err().to_string();
+        assert!(msg.contains("notes.txt") && msg.contains("format"), "{msg}");
+        let e = load_texture(&[dir.path().join("a.exr"), missing.clone()], true).unwrap_err();
+        assert!(e.to_string().contains("a.exr"), "{e}");
+        // Saving into a folder that does not exist names the file, leaves nothing behind.
+        let nowhere = dir.path().join("no/such/dir/out.png");
+        let msg = save_png(&nowhere, &Image::filled(1, 1, [0.0; 4]))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.contains("out.png") && msg.contains("cannot write"),
+            "{msg}"
+        );
+        // An invalid image is refused before anything is written.
+        let bad = Image {
+            width: 2,
+            height: 2,
+            data: vec![],
+        };
+        let out = dir.path().join("bad.exr");
+        let msg = save_exr(&out, &bad).unwrap_err().to_string();
+        assert!(
+            msg.contains("bad.exr") && msg.contains("data holds 0 texels"),
+            "{msg}"
+        );
+        assert!(!out.exists());
+    }
+
+    #[test]
+    fn references_resolve_from_the_graph_folder() {
+        let g = Path::new("graphs/water.json");
+        assert_eq!(
+            resolve_relative(g, Path::new("textures/wave.png")),
+            Path::new("graphs/textures/wave.png")
+        );
+        assert_eq!(
+            resolve_relative(Path::new("water.json"), Path::new("wave.png")),
+            Path::new("wave.png")
+        );
+        let abs = std::env::temp_dir().join("wave.png");
+        assert_eq!(resolve_relative(g, &abs), abs);
+    }
+}
