@@ -186,6 +186,18 @@ impl Evaluator for Plan {
     }
 }
 
+/// What every tile of one evaluation shares.
+#[derive(Clone, Copy)]
+struct Run<'a> {
+    batch: &'a SampleBatch,
+    /// Attribute registers to fill from the batch's columns.
+    attrs: &'a [(usize, Attribute)],
+    /// The uniform program's results.
+    uniforms: &'a [Value],
+    /// Index in the batch's texture set of each texture slot.
+    tex: &'a [u32],
+}
+
 /// A worker's registers: one buffer of `width × TILE` floats per register.
 struct Scratch {
     regs: Vec<Box<[f32]>>,
@@ -308,15 +320,19 @@ impl Plan {
             })
             .collect();
 
+        let run = Run {
+            batch,
+            attrs: &attrs,
+            uniforms: &uniforms,
+            tex: &tex,
+        };
         if cols_per_tile > 0 {
             views
                 .par_chunks_mut(cols_per_tile)
                 .enumerate()
                 .for_each_init(
                     || self.scratch(&uniforms, batch),
-                    |scratch, (t, out)| {
-                        self.run_tile(scratch, batch, &attrs, &uniforms, &tex, t, out)
-                    },
+                    |scratch, (t, out)| self.run_tile(scratch, &run, t, out),
                 );
         }
         Ok(OutputBatch {
@@ -327,16 +343,13 @@ impl Plan {
         })
     }
 
-    fn run_tile(
-        &self,
-        scratch: &mut Scratch,
-        batch: &SampleBatch,
-        attrs: &[(usize, Attribute)],
-        uniforms: &[Value],
-        tex: &[u32],
-        t: usize,
-        out: &mut [Option<&mut [f32]>],
-    ) {
+    fn run_tile(&self, scratch: &mut Scratch, run: &Run, t: usize, out: &mut [Option<&mut [f32]>]) {
+        let Run {
+            batch,
+            attrs,
+            uniforms,
+            tex,
+        } = *run;
         let len = batch.len();
         let start = t * TILE;
         let n = TILE.min(len - start);
