@@ -66,8 +66,31 @@ fn geometry() -> NodeType {
     .output(Out::vec3("view").doc("Unit direction V from the surface to the eye."))
     .output(Out::vec3("light").doc("Unit direction L from the surface to the light."))
     .output(Out::vec2("uv").doc("Texture coordinates."))
-    .attributes(&[Position, Normal, View, Light, Uv])
-    .compute(|| (Vec3::ZERO, Vec3::Z, Vec3::Z, Vec3::Z, Vec2::splat(0.5)))
+    .output(
+        Out::color("light_color")
+            .doc("Radiance arriving from the light: colour × intensity × falloff."),
+    )
+    .output(Out::vec2("screen_uv").doc("Screen position, (0, 0) top left to (1, 1) bottom right."))
+    .output(
+        Out::float("depth")
+            .unit("m")
+            .doc("Depth below the water surface (0 above it)."),
+    )
+    .attributes(&[
+        Position, Normal, View, Light, Uv, LightColor, ScreenUv, Depth,
+    ])
+    .compute(|| {
+        (
+            Vec3::ZERO,
+            Vec3::Z,
+            Vec3::Z,
+            Vec3::Z,
+            Vec2::splat(0.5),
+            Vec3::ONE,
+            Vec2::splat(0.5),
+            0.0f32,
+        )
+    })
 }
 
 fn time() -> NodeType {

@@ -52,6 +52,11 @@ pub struct GraphDocument<N = NodeDocument> {
     /// The parameter nodes exposed to the caller (material settings).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParameterDocument>,
+    /// The scene the graph is previewed in: a preset name (`"ball"`, `"water"`) or a scene
+    /// object (see `matgraph::scene`); `matgraph render --scene` overrides it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<serde_json::Value>")]
+    pub scene: Option<serde_json::Value>,
 }
 
 /// One node of a graph file.

@@ -372,7 +372,7 @@ impl Plan {
             for (slot, &r) in ins.iter_mut().zip(&step.inputs) {
                 *slot = &scratch.regs[r as usize];
             }
-            let mut outs: [&mut [f32]; 6] = Default::default();
+            let mut outs: [&mut [f32]; crate::kernel::MAX_OUTPUTS] = Default::default();
             for (slot, buf) in outs.iter_mut().zip(scratch.outs.iter_mut()) {
                 *slot = buf;
             }

@@ -112,6 +112,8 @@ pub struct Graph {
     order: Vec<NodeIndex>,
     outputs: Vec<GraphOutput>,
     parameters: Vec<GraphParameter>,
+    /// The preview scene from the file, as written (checked by the renderer).
+    pub scene: Option<serde_json::Value>,
 }
 
 impl Graph {
@@ -220,6 +222,7 @@ impl Graph {
                     group: p.group.clone(),
                 })
                 .collect(),
+            scene: self.scene.clone(),
         }
     }
 
@@ -345,6 +348,7 @@ impl Builder<'_> {
             order: order.unwrap_or_default(),
             outputs,
             parameters,
+            scene: doc.scene.clone(),
         })
     }
 
@@ -887,6 +891,7 @@ impl Graph {
             }],
             outputs,
             parameters: Vec::new(),
+            scene: None,
         };
         Graph::from_document(&doc, registry)
     }

@@ -137,28 +137,6 @@ pub fn load_texture(paths: &[PathBuf], mips: bool) -> Result<Texture, TextureErr
     }
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file in the same folder, synced, then
-/// renamed over the target (the pattern of [`crate::io::write_atomic`], for bytes).
-fn write_bytes_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::io::Write;
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("image");
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
 /// Checks `image` before it is saved to `path`.
 fn check(path: &Path, image: &Image) -> Result<(), TextureError> {
     image.validate().map_err(|e| TextureError::InFile {
@@ -220,7 +198,35 @@ pub fn save_png(path: &Path, image: &Image) -> Result<(), TextureError> {
     check(path, image)?;
     let bytes =
         encode_png(image).map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
-    write_bytes_atomic(path, &bytes)
+    crate::io::write_atomic(path, &bytes)
+        .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
+}
+
+/// Saves display-ready 8-bit sRGB pixels (row-major, top row first) as an RGB PNG,
+/// atomically. The bytes depend only on the pixels (no time stamps).
+pub fn save_png_rgb8(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[[u8; 3]],
+) -> Result<(), TextureError> {
+    use image::ImageEncoder;
+    if pixels.len() != (width as usize) * (height as usize) || width == 0 || height == 0 {
+        return Err(file_error(
+            path,
+            format_args!("{width}×{height} image with {} pixels", pixels.len()),
+        ));
+    }
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(
+            pixels.as_flattened(),
+            width,
+            height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
+    crate::io::write_atomic(path, out.into_inner())
         .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
 }
 
@@ -229,8 +235,34 @@ pub fn save_exr(path: &Path, image: &Image) -> Result<(), TextureError> {
     check(path, image)?;
     let bytes =
         encode_exr(image).map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
-    write_bytes_atomic(path, &bytes)
+    crate::io::write_atomic(path, &bytes)
         .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
+}
+
+/// Loads every image the graph's texture nodes name (paths relative to `graph_file`; custom
+/// mip chains as listed), keyed as the plan expects ([`crate::document::TextureSource::key`]).
+/// Scene textures (`scene:…`) are left to the renderer.
+pub fn load_graph_textures(
+    graph: &crate::Graph,
+    graph_file: &Path,
+) -> Result<crate::texture::TextureSet, TextureError> {
+    let mut set = crate::texture::TextureSet::new();
+    for node in graph.nodes() {
+        let Some(source) = &node.texture else {
+            continue;
+        };
+        let key = source.key();
+        if source.scene_name().is_some() || set.index_of(&key).is_some() {
+            continue;
+        }
+        let paths: Vec<PathBuf> = source
+            .files()
+            .iter()
+            .map(|f| resolve_relative(graph_file, Path::new(f)))
+            .collect();
+        set.insert(key, load_texture(&paths, true)?)?;
+    }
+    Ok(set)
 }
 
 #[cfg(test)]

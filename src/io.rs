@@ -22,9 +22,9 @@ pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors
     Graph::from_json(&text, registry).map_err(wrap)
 }
 
-/// Writes `text` to `path` atomically: a temporary file in the same folder, synced, then
+/// Writes `contents` to `path` atomically: a temporary file in the same folder, synced, then
 /// renamed over the target, so a crash never leaves a half-written file.
-pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
     use std::io::Write;
     let dir = path
         .parent()
@@ -34,7 +34,7 @@ pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
+        f.write_all(contents.as_ref())?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();

@@ -160,6 +160,9 @@ fn columns_mut(buf: &mut [f32], width: usize, stride: usize, len: usize) -> [&mu
     out
 }
 
+/// The most outputs a node may have.
+pub const MAX_OUTPUTS: usize = 8;
+
 /// The outputs of a compute function: one [`Lane`] or a tuple of them.
 pub trait Outputs: Copy + Send + Sync + 'static {
     /// Shapes of the outputs in order.
@@ -205,6 +208,8 @@ impl_outputs_tuple!(3; A 0, B 1, C 2);
 impl_outputs_tuple!(4; A 0, B 1, C 2, D 3);
 impl_outputs_tuple!(5; A 0, B 1, C 2, D 3, E 4);
 impl_outputs_tuple!(6; A 0, B 1, C 2, D 3, E 4, F 5);
+impl_outputs_tuple!(7; A 0, B 1, C 2, D 3, E 4, F 5, G 6);
+impl_outputs_tuple!(8; A 0, B 1, C 2, D 3, E 4, F 5, G 6, H 7);
 
 /// A whole-tile kernel: what the executor calls once per node per tile.
 pub trait TileKernel: Send + Sync {
@@ -262,8 +267,8 @@ fn output_columns<'a, R: Outputs>(
     outputs: &'a mut [&mut [f32]],
     stride: usize,
     len: usize,
-) -> [[&'a mut [f32]; 4]; 6] {
-    let mut cols: [[&'a mut [f32]; 4]; 6] = Default::default();
+) -> [[&'a mut [f32]; 4]; MAX_OUTPUTS] {
+    let mut cols: [[&'a mut [f32]; 4]; MAX_OUTPUTS] = Default::default();
     for ((slot, buf), &width) in cols.iter_mut().zip(outputs.iter_mut()).zip(R::WIDTHS) {
         *slot = columns_mut(buf, width, stride, len);
     }

@@ -19,6 +19,8 @@ pub mod node;
 pub mod plan;
 pub mod pretty;
 pub mod registry;
+pub mod render;
+pub mod scene;
 pub mod texture;
 pub mod types;
 pub mod value;

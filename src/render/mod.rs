@@ -1,0 +1,452 @@
+//! Rendering a material graph in a scene (deferred shading).
+//!
+//! 1. **Geometry.** The scene's material surface is a mesh. If the graph has a `displacement`
+//!    output (vec3, world-space offset) it is evaluated at the mesh vertices (position,
+//!    normal, uv and time set) and the mesh is displaced and its normals recomputed — on both
+//!    paths this happens on the CPU, before rasterisation, so both shade the same surface.
+//! 2. **G-buffer.** The CPU rasteriser of [`crate::scene`] finds, for every sample of the
+//!    frame, the nearest surface; samples that see the material surface get its attributes
+//!    (position, normal, view, uv, screen uv, depth below water), the others the radiance of
+//!    the rest of the scene (backdrop, seabed, sky).
+//! 3. **Material.** The graph is evaluated over the G-buffer samples by the chosen backend
+//!    (the CPU executor or a wgpu compute pipeline): its `color` output once per light, with
+//!    `light` and `light_color` set for that light, summed; `emission` and `alpha` once. A
+//!    graph without a `color` output is shown unlit: its first output as is.
+//! 4. **Composite.** `alpha · (color + emission) + (1 − alpha) · background` per sample, the
+//!    samples of a pixel averaged (box filter), then tone mapped for display ([`tonemap`]).
+
+pub mod sheet;
+pub mod tonemap;
+
+use crate::exec::{Evaluator, SampleBatch};
+use crate::gpu::Backend;
+use crate::graph::Graph;
+use crate::node::Attribute;
+use crate::plan::{EvalError, PlanOptions};
+use crate::scene::{GBuffer, Mesh, Scene};
+use crate::texture::{Image, Texture, TextureSet};
+use crate::types::SocketType;
+use glam::Vec3;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Output names the renderer gives a meaning to.
+pub mod outputs {
+    /// Light-dependent radiance (color, vec3 or float), evaluated per light and summed.
+    pub const COLOR: &str = "color";
+    /// Light-independent radiance, added once.
+    pub const EMISSION: &str = "emission";
+    /// Coverage in [0, 1] over the background (1 when absent).
+    pub const ALPHA: &str = "alpha";
+    /// World-space vertex offset (vec3), applied to the mesh before rasterisation.
+    pub const DISPLACEMENT: &str = "displacement";
+}
+
+/// Errors of a render, naming the output or stage at fault.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    /// Planning or evaluating the material failed.
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+    /// A texture could not be prepared.
+    #[error("texture: {0}")]
+    Texture(String),
+    /// An output the renderer reads has a type it cannot use.
+    #[error("output '{name}' is a {ty}; the renderer needs {expected}")]
+    OutputType {
+        /// The output.
+        name: String,
+        /// Its type.
+        ty: SocketType,
+        /// What the renderer accepts.
+        expected: &'static str,
+    },
+}
+
+/// How to render.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel (stratified), averaged with a box filter.
+    pub samples: u32,
+    /// Scene time override in seconds (the scene's own time when `None`).
+    pub time: Option<f32>,
+    /// Where the material is evaluated.
+    pub backend: Backend,
+    /// Parameter values that replace the graph file's.
+    pub parameters: Vec<(String, crate::value::Value)>,
+    /// The graph's images (see [`crate::image_io::load_graph_textures`]); scene textures
+    /// (`scene:refraction`, `scene:reflection`, `scene:background`) are rendered and added.
+    pub textures: Option<Arc<TextureSet>>,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            width: 512,
+            height: 512,
+            samples: 1,
+            time: None,
+            backend: Backend::Cpu,
+            parameters: Vec::new(),
+            textures: None,
+        }
+    }
+}
+
+/// Wall-clock time of each stage of a render.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderTimings {
+    /// Compiling the material (CPU plan or GPU pipeline).
+    pub compile: Duration,
+    /// Displacing the mesh.
+    pub displace: Duration,
+    /// Rasterising the G-buffer and shading the background.
+    pub gbuffer: Duration,
+    /// Evaluating the material over the G-buffer, all lights.
+    pub shade: Duration,
+    /// Compositing and resolving the samples.
+    pub resolve: Duration,
+}
+
+/// A rendered linear HDR image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HdrImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Linear RGB radiance per pixel, row-major, top row first.
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl HdrImage {
+    /// The tone-mapped 8-bit sRGB image (see [`tonemap::to_srgb8`]).
+    pub fn to_srgb8(&self, exposure: f32) -> sheet::Rgb8Image {
+        sheet::Rgb8Image {
+            width: self.width,
+            height: self.height,
+            pixels: self
+                .pixels
+                .iter()
+                .map(|&c| tonemap::to_srgb8(c, exposure))
+                .collect(),
+        }
+    }
+}
+
+/// The outputs of a graph the renderer reads, with their roles.
+#[derive(Clone, Debug, Default)]
+struct Roles {
+    /// Lit radiance (per light), if any.
+    color: Option<(String, SocketType)>,
+    /// Unlit radiance, if any (the first output when there is no `color`).
+    emission: Option<(String, SocketType)>,
+    alpha: Option<String>,
+    displacement: Option<String>,
+}
+
+fn roles(graph: &Graph) -> Result<Roles, RenderError> {
+    let find = |name: &str| {
+        graph
+            .outputs()
+            .iter()
+            .find(|o| o.name == name)
+            .map(|o| (o.name.clone(), o.ty))
+    };
+    let colorish = |o: Option<(String, SocketType)>| -> Result<_, RenderError> {
+        match o {
+            Some((n, t))
+                if !matches!(
+                    t,
+                    SocketType::Float
+                        | SocketType::Vec3
+                        | SocketType::Color
+                        | SocketType::Int
+                        | SocketType::Bool
+                ) =>
+            {
+                Err(RenderError::OutputType {
+                    name: n,
+                    ty: t,
+                    expected: "a color, vec3 or float",
+                })
+            }
+            o => Ok(o),
+        }
+    };
+    let mut r = Roles {
+        color: colorish(find(outputs::COLOR))?,
+        emission: colorish(find(outputs::EMISSION))?,
+        ..Roles::default()
+    };
+    if let Some((n, t)) = find(outputs::ALPHA) {
+        if t.conversion_to(SocketType::Float).is_none() {
+            return Err(RenderError::OutputType {
+                name: n,
+                ty: t,
+                expected: "a float",
+            });
+        }
+        r.alpha = Some(n);
+    }
+    if let Some((n, t)) = find(outputs::DISPLACEMENT) {
+        if t != SocketType::Vec3 {
+            return Err(RenderError::OutputType {
+                name: n,
+                ty: t,
+                expected: "a vec3",
+            });
+        }
+        r.displacement = Some(n);
+    }
+    if r.color.is_none() && r.emission.is_none() {
+        // Unlit preview of the first output that is not a role of its own.
+        let first = graph
+            .outputs()
+            .iter()
+            .find(|o| o.name != outputs::ALPHA && o.name != outputs::DISPLACEMENT)
+            .map(|o| (o.name.clone(), o.ty));
+        r.emission = colorish(first).or_else(|_| Ok::<_, RenderError>(None))?;
+    }
+    Ok(r)
+}
+
+/// Reads output `k` of a batch as RGB per sample (floats are grey).
+fn rgb(out: &crate::exec::OutputBatch, k: usize) -> impl Fn(usize) -> Vec3 + '_ {
+    let n = out.len();
+    let w = out.ty(k).width();
+    let d = out.planar(k);
+    move |i| {
+        if w >= 3 {
+            Vec3::new(d[i], d[n + i], d[2 * n + i])
+        } else {
+            Vec3::splat(d[i])
+        }
+    }
+}
+
+/// Compiles the material for some of its outputs on `backend`.
+fn evaluator(
+    graph: &Graph,
+    names: Vec<String>,
+    backend: Backend,
+) -> Result<Box<dyn Evaluator>, EvalError> {
+    crate::gpu::compile(
+        graph,
+        &PlanOptions {
+            outputs: names,
+            bake_parameters: false,
+        },
+        backend,
+    )
+}
+
+/// The textures a render binds: the caller's graph images plus the scene textures the graph
+/// samples, rendered at the image's size.
+fn textures(
+    graph: &Graph,
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<TextureSet, RenderError> {
+    let mut set = TextureSet::new();
+    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
+    if let Some(given) = &options.textures {
+        for (name, t) in given.iter() {
+            set.insert(name, t.clone()).map_err(texture_error)?;
+        }
+    }
+    let wanted: Vec<&str> = graph
+        .nodes()
+        .iter()
+        .filter_map(|n| n.texture.as_ref()?.scene_name())
+        .collect();
+    if wanted.is_empty() {
+        return Ok(set);
+    }
+    let maps = scene.scene_textures(options.width, options.height);
+    for name in ["background", "refraction", "reflection"] {
+        if !wanted.contains(&name) {
+            continue;
+        }
+        let img = match name {
+            "background" => &maps.background,
+            "refraction" => &maps.refraction,
+            _ => &maps.reflection,
+        };
+        let image = Image::new(
+            img.width,
+            img.height,
+            img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
+        )
+        .map_err(texture_error)?;
+        let key = format!("{}{name}", crate::document::TextureSource::SCENE);
+        set.insert(key, Texture::new(image, true).map_err(texture_error)?)
+            .map_err(texture_error)?;
+    }
+    Ok(set)
+}
+
+/// Renders `graph` in `scene`.
+pub fn render(
+    graph: &Graph,
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<HdrImage, RenderError> {
+    render_timed(graph, scene, options).map(|(img, _)| img)
+}
+
+/// Renders `graph` in `scene` and reports how long each stage took.
+pub fn render_timed(
+    graph: &Graph,
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<(HdrImage, RenderTimings), RenderError> {
+    let mut t = RenderTimings::default();
+    let roles = roles(graph)?;
+    let time = options.time.unwrap_or(scene.time);
+    let Some(first) = roles.color.as_ref().or(roles.emission.as_ref()) else {
+        return Err(EvalError::NoOutputs.into());
+    };
+    // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
+    let mut params = crate::gpu::default_parameters(
+        graph,
+        &PlanOptions {
+            outputs: vec![first.0.clone()],
+            bake_parameters: false,
+        },
+    )?;
+    for (name, value) in &options.parameters {
+        params.set(name, *value)?;
+    }
+
+    let start = Instant::now();
+    let lit = roles
+        .color
+        .as_ref()
+        .map(|(n, _)| evaluator(graph, vec![n.clone()], options.backend))
+        .transpose()?;
+    let mut unlit_names: Vec<String> = Vec::new();
+    unlit_names.extend(roles.emission.iter().map(|(n, _)| n.clone()));
+    unlit_names.extend(roles.alpha.iter().cloned());
+    let unlit = (!unlit_names.is_empty())
+        .then(|| evaluator(graph, unlit_names.clone(), options.backend))
+        .transpose()?;
+    t.compile = start.elapsed();
+
+    // 1. Displacement at the vertices.
+    let start = Instant::now();
+    let mut mesh: Mesh = scene.material_mesh();
+    if let Some(name) = &roles.displacement {
+        let plan = crate::plan::Plan::compile(
+            graph,
+            &PlanOptions {
+                outputs: vec![name.clone()],
+                bake_parameters: false,
+            },
+        )?;
+        let n = mesh.positions.len();
+        let mut batch = SampleBatch::new(n);
+        let flat3 =
+            |v: &[Vec3]| -> Vec<f32> { (0..3).flat_map(|c| v.iter().map(move |p| p[c])).collect() };
+        batch.set_planar(Attribute::Position, flat3(&mesh.positions))?;
+        batch.set_planar(Attribute::Normal, flat3(&mesh.normals))?;
+        batch.set_planar(
+            Attribute::Uv,
+            (0..2)
+                .flat_map(|c| mesh.uvs.iter().map(move |p| p[c]))
+                .collect(),
+        )?;
+        batch.set_time(time);
+        let out = plan.execute(&batch, &params)?;
+        let d = out.planar(0);
+        let offsets: Vec<Vec3> = (0..n)
+            .map(|i| Vec3::new(d[i], d[n + i], d[2 * n + i]))
+            .collect();
+        mesh = mesh.displaced(&offsets);
+    }
+    t.displace = start.elapsed();
+
+    // 2. G-buffer.
+    let start = Instant::now();
+    let mut g: GBuffer =
+        scene.gbuffer(&mesh, options.width, options.height, options.samples.max(1));
+    g.batch.set_time(time);
+    g.batch
+        .set_textures(Arc::new(textures(graph, scene, options)?));
+    t.gbuffer = start.elapsed();
+
+    // 3. Material.
+    let start = Instant::now();
+    let n = g.samples.len();
+    let mut radiance = vec![Vec3::ZERO; n];
+    let mut alpha = vec![1.0f32; n];
+    if n > 0 {
+        if let Some(lit) = &lit {
+            let positions = g
+                .batch
+                .column(Attribute::Position)
+                .map(<[f32]>::to_vec)
+                .unwrap_or_default();
+            for light in &scene.lights {
+                let (dir, color) = scene.light_columns(light, &positions, n);
+                g.batch.set_planar(Attribute::Light, dir)?;
+                g.batch.set_planar(Attribute::LightColor, color)?;
+                let out = lit.evaluate(&g.batch, &params)?;
+                let c = rgb(&out, 0);
+                for (i, r) in radiance.iter_mut().enumerate() {
+                    *r += c(i);
+                }
+            }
+        }
+        if let Some(unlit) = &unlit {
+            let out = unlit.evaluate(&g.batch, &params)?;
+            let mut k = 0;
+            if roles.emission.is_some() {
+                let c = rgb(&out, 0);
+                for (i, r) in radiance.iter_mut().enumerate() {
+                    *r += c(i);
+                }
+                k = 1;
+            }
+            if roles.alpha.is_some() {
+                let a = out.planar(k);
+                for (i, x) in alpha.iter_mut().enumerate() {
+                    *x = if a[i].is_finite() {
+                        a[i].clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                }
+            }
+        }
+    }
+    t.shade = start.elapsed();
+
+    // 4. Composite and resolve.
+    let start = Instant::now();
+    let mut samples: Vec<Vec3> = g.background.iter().map(|&c| Vec3::from_array(c)).collect();
+    for (k, &s) in g.samples.iter().enumerate() {
+        let bg = samples[s as usize];
+        let c = radiance[k];
+        let c = if c.is_finite() { c } else { Vec3::ZERO };
+        samples[s as usize] = c * alpha[k] + bg * (1.0 - alpha[k]);
+    }
+    let spp = g.spp as usize;
+    let pixels = samples
+        .chunks(spp)
+        .map(|px| (px.iter().copied().sum::<Vec3>() / spp as f32).to_array())
+        .collect();
+    t.resolve = start.elapsed();
+    Ok((
+        HdrImage {
+            width: g.width,
+            height: g.height,
+            pixels,
+        },
+        t,
+    ))
+}

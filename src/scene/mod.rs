@@ -1,0 +1,221 @@
+//! Scenes for rendering materials: the material ball and the water scene of seed 004,
+//! described in JSON, with the geometry side of deferred shading — meshes, a CPU
+//! rasterizer, the G-buffer of the material surface, per-light columns, and the scene
+//! textures (background, refraction, reflection).
+//!
+//! A scene file is a JSON object; every field may be left out (`{}` is the material ball):
+//!
+//! ```json
+//! {
+//!   "kind": "water",
+//!   "camera": { "position": [0, 3, 18], "target": [0, 0, 0], "fov_y_deg": 50 },
+//!   "lights": ["sunset", { "point": { "position": [2, 3, 4], "color": [1, 0.9, 0.7], "intensity": 20 } }],
+//!   "environment": "sunset",
+//!   "time": 1.5
+//! }
+//! ```
+//!
+//! - `kind`: `"ball"` or `"water"`, or `{"ball": {...}}` / `{"water": {...}}` with the
+//!   kind's parameters ([`BallSetup`], [`WaterSetup`]);
+//! - `camera`: [`Camera`]; fields left out take the kind's default camera's;
+//! - `lights`: a list of [`Light`]s or preset names (`sunrise`, `day`, `sunset`, `night`);
+//!   left out, the kind's default lights ([`Scene::default_lights`]);
+//! - `environment`: [`Environment`] (`{"sky": {...}}`, `{"image": {...}}` or a sky preset
+//!   name); left out, the kind's default sky;
+//! - `time`: seconds, the `time` attribute.
+//!
+//! Unknown fields are errors, with line and column. A graph file may carry a scene under a
+//! key of its own once the graph format has one: pass that value's text to
+//! [`Scene::from_json`]. The core does no I/O: an image environment's file is loaded by the
+//! caller and read through an [`EnvLookup`].
+//!
+//! World space is right-handed, metres, `y` up; the water plane is `y = 0`. Conventions of
+//! the attributes are those of [`crate::node::Attribute`]: `N` out of the surface, `V` from
+//! the surface to the eye, `L` from the surface to the light, all unit length.
+//!
+//! Deferred shading with it:
+//!
+//! ```
+//! use glam::Vec3;
+//! use matgraph::scene::Scene;
+//! use matgraph::Attribute;
+//!
+//! let scene = Scene::from_json(r#"{"kind": "water", "lights": ["sunset"]}"#)?;
+//! let mesh = scene.material_mesh();
+//! // A graph's displacement, evaluated at the vertices (position, normal, uv), moves them:
+//! let offsets: Vec<Vec3> = mesh.positions.iter().map(|p| Vec3::Y * 0.1 * p.x.sin()).collect();
+//! let mesh = mesh.displaced(&offsets);
+//! let g = scene.gbuffer(&mesh, 32, 24, 1); // the water's samples and their attributes
+//! let textures = scene.scene_textures(32, 24); // refraction and reflection maps
+//! let n = g.samples.len();
+//! let positions = g.batch.column(Attribute::Position).unwrap();
+//! for light in &scene.lights {
+//!     let (_dir, _color) = scene.light_columns(light, positions, n); // set Light, LightColor
+//!     // … evaluate the graph over `g.batch` and sum the lights …
+//! }
+//! let colours = vec![[0.0, 0.2, 0.4]; n];
+//! let frame = g.resolve(&colours); // material where seen, background elsewhere
+//! assert_eq!(frame.data.len(), 32 * 24);
+//! assert_eq!(textures.reflection.data.len(), 32 * 24);
+//! # Ok::<(), matgraph::scene::SceneError>(())
+//! ```
+
+mod camera;
+mod columns;
+mod environment;
+mod error;
+mod gbuffer;
+mod image;
+mod json;
+mod kind;
+mod light;
+mod mesh;
+mod objects;
+mod raster;
+mod shade;
+mod textures;
+mod validate;
+
+pub use camera::{Camera, CameraFrame, DEFAULT_NEAR};
+pub use environment::{
+    AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
+};
+pub use error::SceneError;
+pub use gbuffer::GBuffer;
+pub use image::SceneImage;
+pub use kind::{
+    Backdrop, BallSetup, BoxObject, PoleObject, SceneKind, Seabed, SphereObject, WaterObject,
+    WaterSetup,
+};
+pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
+pub use mesh::Mesh;
+pub use raster::sample_offsets;
+pub use textures::SceneTextures;
+
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// The names of the scene presets.
+pub const SCENE_PRESETS: [&str; 2] = ["ball", "water"];
+
+/// A scene: what is in it, seen by which camera, under which lights and sky, at what time.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(from = "json::SceneDoc")]
+pub struct Scene {
+    /// The ball or the water scene, with its parameters.
+    pub kind: SceneKind,
+    /// The camera.
+    pub camera: Camera,
+    /// The lights, in order (the first directional light is the sky's sun by default).
+    pub lights: Vec<Light>,
+    /// What is seen where nothing is hit, and the ambient light.
+    pub environment: Environment,
+    /// Time in seconds (the `time` attribute).
+    pub time: f32,
+}
+
+impl Default for Scene {
+    /// The material ball.
+    fn default() -> Self {
+        Scene::for_kind(SceneKind::default())
+    }
+}
+
+impl Scene {
+    /// A scene of `kind` with that kind's default camera, lights and environment.
+    pub fn for_kind(kind: SceneKind) -> Scene {
+        Scene {
+            camera: Scene::default_camera(&kind),
+            lights: Scene::default_lights(&kind),
+            environment: Scene::default_environment(&kind),
+            kind,
+            time: 0.0,
+        }
+    }
+
+    /// The preset scene `"ball"` or `"water"` (every parameter at its default), or `None`.
+    pub fn preset(name: &str) -> Option<Scene> {
+        match name {
+            "ball" => Some(Scene::for_kind(SceneKind::Ball(BallSetup::default()))),
+            "water" => Some(Scene::for_kind(SceneKind::Water(WaterSetup::default()))),
+            _ => None,
+        }
+    }
+
+    /// The default camera of a kind: ball, from `center + (0, 0.6, 5) · radius` (for the
+    /// default ball, `(0, 1.6, 5)`) at the ball's centre with a 35° field of view; water,
+    /// from `(0, 3, 18)` (3 m above the water) at the origin with 50°.
+    pub fn default_camera(kind: &SceneKind) -> Camera {
+        match kind {
+            SceneKind::Ball(b) => Camera {
+                position: (Vec3::from(b.center) + Vec3::new(0.0, 0.6, 5.0) * b.radius).to_array(),
+                target: b.center,
+                fov_y_deg: 35.0,
+                near: DEFAULT_NEAR,
+            },
+            SceneKind::Water(_) => Camera {
+                position: [0.0, 3.0, 18.0],
+                target: [0.0, 0.0, 0.0],
+                fov_y_deg: 50.0,
+                near: DEFAULT_NEAR,
+            },
+        }
+    }
+
+    /// The default lights of a kind: the `day` sun, plus for the ball a cool point fill
+    /// light at `(3.5, 2, 3)` (colour (0.55, 0.6, 0.7), intensity 3).
+    pub fn default_lights(kind: &SceneKind) -> Vec<Light> {
+        let day = Light::preset("day").expect("built-in preset");
+        match kind {
+            SceneKind::Ball(_) => vec![
+                day,
+                Light::Point(PointLight {
+                    position: [3.5, 2.0, 3.0],
+                    color: [0.55, 0.6, 0.7],
+                    intensity: 3.0,
+                }),
+            ],
+            SceneKind::Water(_) => vec![day],
+        }
+    }
+
+    /// The default environment of a kind: the `day` sky; for water its ground colour is a
+    /// far-sea blue (0.03, 0.09, 0.14), seen past the far edge of the water plane.
+    pub fn default_environment(kind: &SceneKind) -> Environment {
+        let mut sky = Sky::default();
+        if let SceneKind::Water(_) = kind {
+            sky.ground_color = [0.03, 0.09, 0.14];
+        }
+        Environment::Sky(sky)
+    }
+
+    /// The mesh that carries the material: the ball's UV sphere (`segments`), or the water
+    /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
+    /// along `-z`).
+    pub fn material_mesh(&self) -> Mesh {
+        match &self.kind {
+            SceneKind::Ball(b) => {
+                Mesh::uv_sphere(Vec3::from(b.center), b.radius, b.segments[0], b.segments[1])
+            }
+            SceneKind::Water(w) => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
+        }
+    }
+
+    /// Unit direction towards the sky's sun ([`SunPosition`]; an image environment uses the
+    /// first directional light, or `+y`).
+    pub fn sun_direction(&self) -> Vec3 {
+        let first = self.lights.iter().find_map(|l| match l {
+            Light::Directional(d) => Some(Vec3::from(d.direction).normalize_or(Vec3::Y)),
+            Light::Point(_) => None,
+        });
+        match &self.environment {
+            Environment::Sky(s) => environment::resolve_sun(s.sun, first),
+            Environment::Image(_) => first.unwrap_or(Vec3::Y),
+        }
+    }
+
+    /// Radiance of the environment towards unit `dir` (see [`Environment::radiance`]).
+    pub fn environment_radiance(&self, dir: Vec3, image: Option<&EnvLookup>) -> Vec3 {
+        self.environment.radiance(dir, self.sun_direction(), image)
+    }
+}
