@@ -96,6 +96,8 @@ mod tests {
             assert!((srgb_decode(srgb_encode(x)) - x).abs() < 1e-5);
         }
         assert_eq!(to_srgb8([0.0; 3], 0.0), [0, 0, 0]);
-        assert_eq!(to_srgb8([f32::NAN, -1.0, 1e9], 0.0)[..2], [0, 0]);
+        // NaN and negative radiance show as black; a huge highlight desaturates to white.
+        assert_eq!(to_srgb8([f32::NAN, -1.0, 0.0], 0.0), [0, 0, 0]);
+        assert_eq!(to_srgb8([1e9, 0.0, 0.0], 0.0), [255, 255, 255]);
     }
 }
