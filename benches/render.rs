@@ -22,7 +22,10 @@ fn scene_of(graph: &Graph) -> Scene {
 
 fn bench(c: &mut Criterion) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs");
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     let gpu = matgraph::gpu::GpuContext::shared();
     if let Err(e) = &gpu {
@@ -30,7 +33,10 @@ fn bench(c: &mut Criterion) {
     }
     let mut group = c.benchmark_group("render_1024");
     group.sample_size(10);
-    for path in files.iter().filter(|p| p.extension().is_some_and(|e| e == "json")) {
+    for path in files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+    {
         let graph = matgraph::io::load_graph(path, Registry::builtin()).unwrap();
         let scene = scene_of(&graph);
         let textures = Arc::new(matgraph::image_io::load_graph_textures(&graph, path).unwrap());
@@ -43,10 +49,15 @@ fn bench(c: &mut Criterion) {
         };
         let all = rayon::current_num_threads();
         for threads in [1, all] {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
             let id = BenchmarkId::new(format!("cpu_{threads}_threads"), &graph.name);
             let o = options(Backend::Cpu);
-            group.bench_function(id, |b| b.iter(|| pool.install(|| black_box(render(&graph, &scene, &o).unwrap()))));
+            group.bench_function(id, |b| {
+                b.iter(|| pool.install(|| black_box(render(&graph, &scene, &o).unwrap())))
+            });
         }
         if gpu.is_ok() {
             let o = options(Backend::Gpu);

@@ -46,5 +46,5 @@ pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<
 
 /// Saves a graph as pretty, deterministic JSON, atomically.
 pub fn save_graph(path: &Path, graph: &Graph) -> std::io::Result<()> {
-    write_atomic(path, &graph.to_json())
+    write_atomic(path, graph.to_json())
 }

@@ -517,6 +517,21 @@ fn load_scene(spec: &str) -> Result<matgraph::scene::Scene, String> {
     matgraph::scene::Scene::from_json(&text).map_err(|e| format!("{spec}: {e}"))
 }
 
+/// The image of an image environment, loaded relative to `base` (the file the scene was
+/// written in); `None` for a sky.
+fn environment_image(
+    scene: &matgraph::scene::Scene,
+    base: &Path,
+) -> Result<Option<std::sync::Arc<matgraph::texture::Texture>>, String> {
+    let matgraph::scene::Environment::Image(img) = &scene.environment else {
+        return Ok(None);
+    };
+    let path = matgraph::image_io::resolve_relative(base, Path::new(&img.path));
+    let texture = matgraph::image_io::load_texture(&[path], false)
+        .map_err(|e| format!("environment: {e}"))?;
+    Ok(Some(std::sync::Arc::new(texture)))
+}
+
 /// A progress spinner on stderr that appears only once the work has taken a second.
 fn delayed_progress() -> indicatif::ProgressBar {
     let bar =
@@ -580,6 +595,14 @@ fn render(args: &RenderArgs) -> CliResult {
             let graph = matgraph::io::load_graph(file, registry()).map_err(|e| e.to_string())?;
             let textures = matgraph::image_io::load_graph_textures(&graph, file)
                 .map_err(|e| format!("{}: {e}", file.display()))?;
+            // Paths inside a scene (an environment image) are relative to where it was written.
+            let scene_base = match (&args.scene, &graph.scene) {
+                (Some(spec), _) => PathBuf::from(spec),
+                (None, Some(serde_json::Value::String(name))) => {
+                    matgraph::image_io::resolve_relative(file, Path::new(name))
+                }
+                _ => file.clone(),
+            };
             let scene = match (&forced, &graph.scene) {
                 (Some(s), _) => s.clone(),
                 (None, Some(serde_json::Value::String(name))) => {
@@ -607,6 +630,8 @@ fn render(args: &RenderArgs) -> CliResult {
                 backend,
                 parameters: parameters.clone(),
                 textures: Some(std::sync::Arc::new(textures)),
+                environment: environment_image(&scene, &scene_base)
+                    .map_err(|e| format!("{}: {e}", file.display()))?,
             };
             let start = std::time::Instant::now();
             let (hdr, _) = render_timed(&graph, &scene, &options)

@@ -363,7 +363,7 @@ fn unknown_top_level_field() {
     check(
         "{\n  \"version\": 1,\n  \"name\": \"g\",\n  \"colour\": 1,\n  \"nodes\": []\n}",
         "g.json: unknown field `colour`, expected one of `version`, `name`, `doc`, `nodes`, \
-         `outputs`, `parameters` at line 4, column 10",
+         `outputs`, `parameters`, `scene` at line 4, column 10",
     );
 }
 

@@ -491,7 +491,6 @@ fn every_shipped_graph_matches_the_cpu_plan() {
     let Some(ctx) = context("every_shipped_graph_matches_the_cpu_plan") else {
         return;
     };
-    let batch = grid_batch();
     let mut failures = Vec::new();
     let files = graph_files();
     assert!(!files.is_empty(), "no graphs/*.json");
@@ -501,6 +500,19 @@ fn every_shipped_graph_matches_the_cpu_plan() {
             matgraph::io::load_graph(&path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"));
         let options = PlanOptions::default();
         let plan = Plan::compile(&graph, &options).unwrap();
+        // The graph's images, and a stand-in for each scene texture it samples.
+        let mut batch = grid_batch();
+        let mut textures = matgraph::image_io::load_graph_textures(&graph, &path).unwrap();
+        for key in plan.textures() {
+            if textures.index_of(key).is_none() {
+                let image = matgraph::texture::Image::from_fn(32, 16, |x, y| {
+                    [x as f32 / 31.0, y as f32 / 15.0, 0.5, 1.0]
+                });
+                let texture = matgraph::texture::Texture::new(image, true).unwrap();
+                textures.insert(key.clone(), texture).unwrap();
+            }
+        }
+        batch.set_textures(std::sync::Arc::new(textures));
         let gpu = match GpuPlan::compile(ctx, &graph, &options) {
             Ok(g) => g,
             Err(e) => {

@@ -310,3 +310,71 @@ fn render_command_writes_pngs_a_contact_sheet_and_exr() {
         "{stderr}"
     );
 }
+
+/// An image environment is loaded relative to the scene file and lights the sky: with a
+/// uniform equirectangular image of radiance c, the sky pixels of the water scene's linear
+/// EXR output are exactly c.
+#[test]
+fn image_environments_are_loaded_and_seen() {
+    use matgraph::texture::Image;
+    let dir = tempfile::tempdir().unwrap();
+    let c = [0.25f32, 0.5, 0.75];
+    let env = Image::filled(16, 8, [c[0], c[1], c[2], 1.0]);
+    matgraph::image_io::save_exr(&dir.path().join("sky.exr"), &env).unwrap();
+    std::fs::write(
+        dir.path().join("scene.json"),
+        r#"{ "kind": "water", "environment": { "image": { "path": "sky.exr" } } }"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out.png");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "render",
+            "graphs/fresnel_glass.json",
+            "--size",
+            "32x32",
+            "--exr",
+            "--scene",
+        ])
+        .arg(dir.path().join("scene.json"))
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let img = matgraph::image_io::load_image(&out.with_extension("exr")).unwrap();
+    let top_left = img.data[0];
+    for k in 0..3 {
+        assert!(
+            (top_left[k] - c[k]).abs() < 1e-5,
+            "sky pixel {top_left:?}, environment {c:?}"
+        );
+    }
+    // A missing image is an error that names it.
+    std::fs::write(
+        dir.path().join("bad.json"),
+        r#"{ "environment": { "image": { "path": "nope.exr" } } }"#,
+    )
+    .unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "render",
+            "graphs/fresnel_glass.json",
+            "--size",
+            "8x8",
+            "--scene",
+        ])
+        .arg(dir.path().join("bad.json"))
+        .arg("-o")
+        .arg(dir.path().join("bad.png"))
+        .output()
+        .unwrap();
+    assert!(!status.status.success());
+    assert!(String::from_utf8_lossy(&status.stderr).contains("nope.exr"));
+}

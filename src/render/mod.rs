@@ -81,6 +81,9 @@ pub struct RenderOptions {
     /// The graph's images (see [`crate::image_io::load_graph_textures`]); scene textures
     /// (`scene:refraction`, `scene:reflection`, `scene:background`) are rendered and added.
     pub textures: Option<Arc<TextureSet>>,
+    /// The equirectangular image of an image environment (see `scene::Environment::Image`);
+    /// without it such a scene falls back to the default sky.
+    pub environment: Option<Arc<Texture>>,
 }
 
 impl Default for RenderOptions {
@@ -93,6 +96,7 @@ impl Default for RenderOptions {
             backend: Backend::Cpu,
             parameters: Vec::new(),
             textures: None,
+            environment: None,
         }
     }
 }
@@ -210,7 +214,7 @@ fn roles(graph: &Graph) -> Result<Roles, RenderError> {
             .iter()
             .find(|o| o.name != outputs::ALPHA && o.name != outputs::DISPLACEMENT)
             .map(|o| (o.name.clone(), o.ty));
-        r.emission = colorish(first).or_else(|_| Ok::<_, RenderError>(None))?;
+        r.emission = colorish(first).unwrap_or(None);
     }
     Ok(r)
 }
@@ -251,6 +255,7 @@ fn textures(
     graph: &Graph,
     scene: &Scene,
     options: &RenderOptions,
+    environment: Option<&crate::scene::EnvLookup>,
 ) -> Result<TextureSet, RenderError> {
     let mut set = TextureSet::new();
     let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
@@ -267,7 +272,7 @@ fn textures(
     if wanted.is_empty() {
         return Ok(set);
     }
-    let maps = scene.scene_textures(options.width, options.height);
+    let maps = scene.scene_textures_with(options.width, options.height, environment);
     for name in ["background", "refraction", "reflection"] {
         if !wanted.contains(&name) {
             continue;
@@ -372,11 +377,30 @@ pub fn render_timed(
 
     // 2. G-buffer.
     let start = Instant::now();
-    let mut g: GBuffer =
-        scene.gbuffer(&mesh, options.width, options.height, options.samples.max(1));
+    let lookup = options.environment.clone().map(|tex| {
+        move |d: Vec3| {
+            let uv = crate::scene::equirect_uv(d);
+            tex.sample(
+                uv,
+                0.0,
+                crate::texture::Wrap::Repeat,
+                crate::texture::Filter::Bilinear,
+            )
+            .truncate()
+        }
+    });
+    let lookup: Option<&crate::scene::EnvLookup> =
+        lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
+    let mut g: GBuffer = scene.gbuffer_with(
+        &mesh,
+        options.width,
+        options.height,
+        options.samples.max(1),
+        lookup,
+    );
     g.batch.set_time(time);
     g.batch
-        .set_textures(Arc::new(textures(graph, scene, options)?));
+        .set_textures(Arc::new(textures(graph, scene, options, lookup)?));
     t.gbuffer = start.elapsed();
 
     // 3. Material.
