@@ -381,6 +381,12 @@ fn eval(args: &EvalArgs) -> CliResult {
     for (a, v) in attrs {
         batch.fill(a, v).map_err(|e| e.to_string())?;
     }
+    if let Some(path) = file {
+        // Images the graph samples, relative to it (scene textures need `render`).
+        let textures = matgraph::image_io::load_graph_textures(&graph, path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        batch.set_textures(std::sync::Arc::new(textures));
+    }
     let out = plan
         .execute(&batch, &values)
         .map_err(|e| format!("{}: {e}", source.display()))?;

@@ -920,3 +920,48 @@ fn wgsl_errors() {
     let out = run(&["wgsl", GLASS, "--target", "dxil"]);
     assert_eq!(out.status.code(), Some(2), "clap rejects an unknown target");
 }
+
+#[test]
+fn eval_samples_images_relative_to_the_graph() {
+    use matgraph::texture::Image;
+    let dir = tempfile::tempdir().unwrap();
+    // 2 × 2: red, green / blue, white (linear values 0 and 1 survive sRGB exactly).
+    let px = [
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, 0.0, 1.0],
+        [0.0, 0.0, 1.0, 1.0],
+        [1.0, 1.0, 1.0, 1.0],
+    ];
+    matgraph::image_io::save_png(
+        &dir.path().join("tex.png"),
+        &Image::new(2, 2, px.to_vec()).unwrap(),
+    )
+    .unwrap();
+    let graph = dir.path().join("g.json");
+    std::fs::write(
+        &graph,
+        r#"{ "version": 1, "name": "t", "nodes": [
+          { "id": "geo", "type": "geometry" },
+          { "id": "tex", "type": "image_texture", "texture": "tex.png", "inputs": { "uv": { "link": "geo.uv" }, "filter": "nearest" } } ],
+          "outputs": [{ "name": "c", "from": "tex.color" }] }"#,
+    )
+    .unwrap();
+    let g = graph.to_str().unwrap();
+    for (uv, want) in [
+        ("[0.25,0.25]", [1.0, 0.0, 0.0]),
+        ("[0.75,0.25]", [0.0, 1.0, 0.0]),
+        ("[0.25,0.75]", [0.0, 0.0, 1.0]),
+    ] {
+        let out = ok(&["eval", g, "--set", &format!("uv={uv}"), "--json"]);
+        let v: J = serde_json::from_str(&out).unwrap();
+        let got: Vec<f64> = v["c"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert_eq!(got, want.to_vec(), "uv {uv}");
+    }
+    std::fs::remove_file(dir.path().join("tex.png")).unwrap();
+    fails(&["eval", g], &["tex.png"]);
+}
