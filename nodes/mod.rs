@@ -5,6 +5,8 @@ pub mod image;
 pub mod input;
 pub mod math;
 pub mod optics;
+pub mod pbr;
+pub mod skin;
 pub mod texture;
 
 use crate::node::NodeType;
@@ -15,6 +17,8 @@ pub fn all() -> Vec<NodeType> {
     v.extend(input::all());
     v.extend(math::all());
     v.extend(optics::all());
+    v.extend(skin::all());
+    v.extend(pbr::all());
     v.extend(texture::all());
     v.extend(image::all());
     v
