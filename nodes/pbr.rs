@@ -106,8 +106,10 @@ fn fresnel(v_dot_h: f32, f0: f32, mode: i32) -> f32 {
 }
 
 /// The metallic–roughness BRDF times the cosine:
-/// `(base (1 − metallic)(1 − F)/π + F D V) · N·L`, with `D` = [`ggx_d`], `V` =
-/// [`smith_visibility`], `F` at V·H from F0 = [`f0`]. Returns (total, diffuse, specular),
+/// `(base (1 − metallic)(1 − F(N·L))(1 − F(N·V))/π + F D V) · N·L`, with `D` = [`ggx_d`],
+/// `V` = [`smith_visibility`], `F` at V·H from F0 = [`f0`] for the specular lobe; the diffuse
+/// lobe is weighted by the Fresnel transmittance into and out of the surface, which keeps it
+/// reciprocal and the total at most 1 (Shirley et al. 1997). Returns (total, diffuse, specular),
 /// each already multiplied by N·L: the factor to multiply the light's radiance by.
 ///
 /// The vectors are normalised here (a zero vector gives 0); N·L ≤ 0 gives 0; N·V is clamped
@@ -144,7 +146,16 @@ pub fn brdf(
     );
     let dv = ggx_d(nh, roughness) * smith_visibility(nv, nl, roughness);
     let m = metallic.clamp(0.0, 1.0);
-    let diffuse = base_color * ((1.0 - m) / PI) * (Vec3::ONE - f) * nl;
+    // The light that enters (1 − F at N·L) and leaves (1 − F at N·V) the surface feeds the
+    // diffuse lobe: reciprocal, and with the specular lobe never above 1 (Shirley et al. 1997).
+    let t = |c: f32| {
+        Vec3::new(
+            1.0 - fresnel(c, f0.x, fresnel_mode),
+            1.0 - fresnel(c, f0.y, fresnel_mode),
+            1.0 - fresnel(c, f0.z, fresnel_mode),
+        )
+    };
+    let diffuse = base_color * ((1.0 - m) / PI) * t(nl) * t(nv) * nl;
     let spec = f * (dv * nl);
     (diffuse + spec, diffuse, spec)
 }
@@ -229,7 +240,9 @@ fn $fn(normal: vec3<f32>, view: vec3<f32>, light: vec3<f32>, base_color: vec3<f3
     let f = vec3<f32>(mg_pbrh_fresnel(vh, f0.x, fresnel), mg_pbrh_fresnel(vh, f0.y, fresnel), mg_pbrh_fresnel(vh, f0.z, fresnel));
     let dv = mg_pbrh_ggx_d(nh, roughness) * mg_pbrh_smith_v(nv, nl, roughness);
     let m = min(max(metallic, 0.0), 1.0);
-    let diffuse = base_color * ((1.0 - m) / 3.14159265358979) * (vec3<f32>(1.0) - f) * nl;
+    let t_l = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel(nl, f0.x, fresnel), mg_pbrh_fresnel(nl, f0.y, fresnel), mg_pbrh_fresnel(nl, f0.z, fresnel));
+    let t_v = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel(nv, f0.x, fresnel), mg_pbrh_fresnel(nv, f0.y, fresnel), mg_pbrh_fresnel(nv, f0.z, fresnel));
+    let diffuse = base_color * ((1.0 - m) / 3.14159265358979) * t_l * t_v * nl;
     let spec = f * (dv * nl);
     return $out(diffuse + spec, diffuse, spec);
 }
