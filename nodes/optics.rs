@@ -189,9 +189,10 @@ fn $fn(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
 }
 "#;
 
-/// WGSL of [`hg_phase`].
-const HG_WGSL: &str = r#"
-fn $fn(cos_theta: f32, g: f32) -> f32 {
+/// WGSL of [`hg_phase`] as a helper, `mg_hg(cos_theta, g)`: the same steps. Nodes that need
+/// the phase function (`hg_phase`, the skin's single scattering) declare it with `wgsl_uses`.
+pub const HG_HELPER_WGSL: &str = r#"
+fn mg_hg(cos_theta: f32, g: f32) -> f32 {
     let h = min(abs(g), 0.9999);
     let c0 = min(max(cos_theta, -1.0), 1.0);
     let c = select(c0, -c0, g < 0.0);
@@ -330,7 +331,8 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine between the propagation directions."))
             .input(In::float("g", 0.8).range(-0.99, 0.99).hard(-1.0, 1.0).doc("Mean cosine; > 0 scatters forward."))
             .output(Out::float("phase").unit("1/sr").doc("Probability density per steradian."))
-            .wgsl(HG_WGSL)
+            .wgsl("fn $fn(cos_theta: f32, g: f32) -> f32 { return mg_hg(cos_theta, g); }")
+            .wgsl_uses(&[HG_HELPER_WGSL])
             .hard_case("strong forward peak", &[("cos_theta", f(1.0)), ("g", f(0.999))])
             .hard_case("strong backward peak", &[("cos_theta", f(-1.0)), ("g", f(-0.999))])
             .hard_case("g = 1", &[("cos_theta", f(1.0)), ("g", f(1.0))])

@@ -205,22 +205,10 @@ fn skin_one_minus_exp_neg(x: f32) -> f32 {
 }
 "#;
 
-/// WGSL of the normalised HG phase (same steps as `optics::hg_phase`).
-const HG_HELPER_WGSL: &str = r#"
-fn skin_hg(cos_theta: f32, g: f32) -> f32 {
-    let h = min(abs(g), 0.9999);
-    let c0 = min(max(cos_theta, -1.0), 1.0);
-    let c = select(c0, -c0, g < 0.0);
-    let one_minus_h = 1.0 - h;
-    let base = one_minus_h * one_minus_h + 2.0 * h * (1.0 - c);
-    return one_minus_h * (1.0 + h) / (4.0 * 3.14159265358979 * base * sqrt(base));
-}
-"#;
-
 /// WGSL of [`hk_lobe`].
 const HK_LOBE_WGSL: &str = r#"
 fn skin_hk_lobe(cos_theta: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool) -> f32 {
-    let p = skin_hg(cos_theta, g) * select(1.0, 4.0 * 3.14159265358979, pharr);
+    let p = mg_hg(cos_theta, g) * select(1.0, 4.0 * 3.14159265358979, pharr);
     return p / (mu_i + mu_o) * skin_one_minus_exp_neg(d * (1.0 / mu_i + 1.0 / mu_o));
 }
 "#;
@@ -385,7 +373,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("brdf").unit("1/sr").doc("Single-scattering BRDF f (reciprocal)."))
             .output(Out::color("cos_weighted").unit("1/sr").doc("f · mu_i: bounded by albedo · p at grazing."))
             .wgsl(SINGLE_WGSL)
-            .wgsl_uses(&[ONE_MINUS_EXP_WGSL, HG_HELPER_WGSL, HK_LOBE_WGSL])
+            .wgsl_uses(&[ONE_MINUS_EXP_WGSL, super::optics::HG_HELPER_WGSL, HK_LOBE_WGSL])
             .hard_case("grazing", &[("t_light", v3([1.0, 0.0, -1e-5])), ("t_view", v3([-1.0, 0.0, -1e-5]))])
             .hard_case("thickness → 0", &[("thickness", f(1e-8))])
             .hard_case("very thick", &[("thickness", f(1e6))])
