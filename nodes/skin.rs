@@ -42,6 +42,7 @@ pub fn hg_phase_printed(cos_theta: f32, g: f32) -> f32 {
 /// (always 1) and `Kr = (rPar² − rPerp²)/2` takes the difference. `eta = n_i / n_t`.
 /// At normal incidence from air into eta 1.4 it gives ≈ 0.486 instead of 0.0278.
 /// Kept for the erratum test only; use [`skin_efresnel`].
+#[allow(clippy::eq_op)] // the printed form's equal numerator and denominator is the erratum
 pub fn fresnel_printed(cos_i: f32, eta_i_over_t: f32) -> f32 {
     let e = 1.0 / eta_i_over_t; // n_t / n_i
     let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (e * e)).max(0.0).sqrt();
