@@ -157,7 +157,17 @@ fn hard_cases_are_finite_and_bounded() {
     let bound = 1.0 / (PI * a * a) / (2.0 * a);
     let mut worst = 0.0f32;
     let angles = [
-        0.0, 0.3, 1.0, 1.4, 1.5607, 1.5706, 1.5707963, 1.571, 1.6, 2.5, PI,
+        0.0,
+        0.3,
+        1.0,
+        1.4,
+        1.5607,
+        1.5706,
+        std::f32::consts::FRAC_PI_2,
+        1.571,
+        1.6,
+        2.5,
+        PI,
     ];
     for &rough in &[0.0, 1e-6, MIN_ROUGHNESS, 0.5, 0.999, 1.0] {
         for &mode in &[FRESNEL_SCHLICK, FRESNEL_EXACT] {
