@@ -13,11 +13,9 @@ use std::sync::Arc;
 const SIZE: u32 = 1024;
 
 fn scene_of(graph: &Graph) -> Scene {
-    match &graph.scene {
-        Some(serde_json::Value::String(name)) => Scene::preset(name).unwrap(),
-        Some(v) => Scene::from_json(&v.to_string()).unwrap(),
-        None => Scene::preset("ball").unwrap(),
-    }
+    matgraph::render::graph_scene(graph)
+        .unwrap()
+        .unwrap_or_else(|| Scene::preset("ball").unwrap())
 }
 
 fn bench(c: &mut Criterion) {

@@ -611,22 +611,18 @@ fn render(args: &RenderArgs) -> CliResult {
             };
             let scene = match (&forced, &graph.scene) {
                 (Some(s), _) => s.clone(),
-                (None, Some(serde_json::Value::String(name))) => {
-                    // A preset, or a scene file relative to the graph file.
-                    let spec = if matgraph::scene::Scene::preset(name).is_some() {
-                        name.clone()
-                    } else {
-                        matgraph::image_io::resolve_relative(file, Path::new(name))
-                            .display()
-                            .to_string()
-                    };
-                    load_scene(&spec).map_err(|e| format!("{}: scene: {e}", file.display()))?
+                (None, Some(serde_json::Value::String(name)))
+                    if matgraph::scene::Scene::preset(name).is_none() =>
+                {
+                    // A scene file, relative to the graph file.
+                    load_scene(&scene_base.display().to_string())
+                        .map_err(|e| format!("{}: scene: {e}", file.display()))?
                 }
-                (None, Some(value)) => matgraph::scene::Scene::from_json(&value.to_string())
-                    .map_err(|e| format!("{}: scene: {e}", file.display()))?,
-                (None, None) => {
-                    matgraph::scene::Scene::preset("ball").expect("the ball preset exists")
-                }
+                (None, _) => matgraph::render::graph_scene(&graph)
+                    .map_err(|e| format!("{}: scene: {e}", file.display()))?
+                    .unwrap_or_else(|| {
+                        matgraph::scene::Scene::preset("ball").expect("the ball preset exists")
+                    }),
             };
             let options = RenderOptions {
                 width: args.size.0,

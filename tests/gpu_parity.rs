@@ -10,6 +10,9 @@
 //! the other and infinities must match exactly. Looser bounds are listed in [`LOOSE`], each
 //! with its reason. Run with `-- --nocapture` to see the measured errors.
 
+mod common;
+use common::bundled_graphs;
+
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
 use matgraph::node::{Evaluation, NodeType};
 use matgraph::wgsl::{ShaderError, node_harness};
@@ -20,7 +23,6 @@ use matgraph::{
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write as _;
-use std::path::PathBuf;
 
 /// Absolute part of the default bound.
 const ABS: f64 = 1e-5;
@@ -475,24 +477,13 @@ fn compare_batches(cpu: &OutputBatch, gpu: &OutputBatch) -> (Vec<(String, Errors
     (per_output, bad)
 }
 
-fn graph_files() -> Vec<PathBuf> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/graphs"));
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
-}
-
 #[test]
 fn every_shipped_graph_matches_the_cpu_plan() {
     let Some(ctx) = context("every_shipped_graph_matches_the_cpu_plan") else {
         return;
     };
     let mut failures = Vec::new();
-    let files = graph_files();
+    let files = bundled_graphs();
     assert!(!files.is_empty(), "no graphs/*.json");
     for path in files {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();

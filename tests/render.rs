@@ -2,31 +2,21 @@
 //! alpha composites over the background, displacement moves the surface, renders are
 //! deterministic, and the `render` command writes what it says.
 
+mod common;
+use common::bundled_graphs;
+
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, render};
 use matgraph::scene::Scene;
 use matgraph::{Attribute, Graph, Registry};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
-
-fn bundled_graphs() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> =
-        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    v.sort();
-    v
-}
 
 /// The scene a graph names (ball by default), as `matgraph render` picks it.
 fn scene_of(graph: &Graph) -> Scene {
-    match &graph.scene {
-        Some(serde_json::Value::String(name)) => Scene::preset(name).unwrap(),
-        Some(v) => Scene::from_json(&v.to_string()).unwrap(),
-        None => Scene::preset("ball").unwrap(),
-    }
+    matgraph::render::graph_scene(graph)
+        .unwrap()
+        .unwrap_or_else(|| Scene::preset("ball").unwrap())
 }
 
 fn options(size: u32, backend: Backend, graph: &Graph, path: &Path) -> RenderOptions {

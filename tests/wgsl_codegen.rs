@@ -2,22 +2,13 @@
 //! generates valid modules for both entry points and translates to every naga backend,
 //! output is deterministic, errors name their node, and the uniform layout comes from naga.
 
+mod common;
+use common::bundled_graphs;
+
 use matgraph::node::Evaluation;
 use matgraph::wgsl::{Binding, Entry, ShaderError, Target, WgslOptions, generate, node_harness};
 use matgraph::{Graph, PlanOptions, Registry, SocketType};
-use std::path::{Path, PathBuf};
-
-fn bundled_graphs() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> =
-        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    v.sort();
-    assert!(!v.is_empty());
-    v
-}
+use std::path::Path;
 
 fn load(path: &Path) -> Graph {
     matgraph::io::load_graph(path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"))

@@ -3,21 +3,13 @@
 //! of the generated WGSL. With `MATGRAPH_REQUIRE_TOOLS` set (CI sets it) a missing validator
 //! fails; elsewhere the test says loudly that it skipped.
 
+mod common;
+use common::bundled_graphs;
+
 use matgraph::Registry;
 use matgraph::wgsl::{Entry, Target, WgslOptions, generate};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-
-fn bundled_graphs() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> =
-        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "json"))
-            .collect();
-    v.sort();
-    v
-}
 
 /// Whether `tool` runs; fails the test when it must be present.
 fn have(tool: &str) -> bool {

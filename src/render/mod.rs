@@ -295,6 +295,18 @@ fn textures(
     Ok(set)
 }
 
+/// The scene a graph names in its file, when it names one inline: a preset name
+/// (`"ball"`, `"water"`) or a scene object. `Ok(None)` when the graph names none or names a
+/// scene file (a string that is not a preset), which the caller resolves relative to the
+/// graph file.
+pub fn graph_scene(graph: &Graph) -> Result<Option<Scene>, crate::scene::SceneError> {
+    match &graph.scene {
+        None => Ok(None),
+        Some(serde_json::Value::String(name)) => Ok(Scene::preset(name)),
+        Some(value) => Scene::from_json(&value.to_string()).map(Some),
+    }
+}
+
 /// Renders `graph` in `scene`.
 pub fn render(
     graph: &Graph,
