@@ -1,5 +1,5 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
-//! compute and hard cases together; [`all`] lists them for the registry.
+//! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
 pub mod image;
 pub mod input;
