@@ -7,7 +7,50 @@ use glam::{Vec2, Vec3};
 
 /// The image-family node types.
 pub fn all() -> Vec<NodeType> {
-    vec![image_texture()]
+    vec![image_texture(), equirect_uv()]
+}
+
+/// Texture coordinates of direction `d` in an equirectangular image (top-left origin), the
+/// convention of `scene::equirect_uv`: `u = 0.5 + atan2(x, −z)/2π`, `v = atan2(√(x² + z²), y)/π`
+/// (the zenith on the top row). `v` is written with `atan2` rather than `acos(y)` so it stays
+/// well conditioned at the poles. Straight up or down u is 0.5; a zero direction gives (0.5, 0.5).
+#[inline]
+pub fn equirect_uv_of(d: Vec3) -> Vec2 {
+    // atan2(0, 0) is undefined on GPUs: straight up or down (and the zero vector) get u = 0.5.
+    let horizontal = d.x * d.x + d.z * d.z;
+    let u = if horizontal == 0.0 {
+        0.5
+    } else {
+        0.5 + d.x.atan2(-d.z) / std::f32::consts::TAU
+    };
+    let v = if d == Vec3::ZERO {
+        0.5
+    } else {
+        horizontal.sqrt().atan2(d.y) / std::f32::consts::PI
+    };
+    Vec2::new(u, v)
+}
+
+fn equirect_uv() -> NodeType {
+    NodeType::new("equirect_uv", Category::Texture, "Where a direction lands in an equirectangular image.")
+        .source(
+            "u = 0.5 + atan2(x, −z)/2π, v = atan2(√(x² + z²), y)/π: the convention of \
+             scene::equirect_uv (−z at the image centre, the zenith on the top row). Sample \
+             scene:environment with it to read the sky in a direction (for example a reflection).",
+        )
+        .input(In::vec3("direction", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Direction (need not be unit length)."))
+        .output(Out::vec2("uv").doc("Texture coordinates in the equirectangular image."))
+        .hard_case("zenith", &[("direction", crate::value::Value::vec3([0.0, 1.0, 0.0]))])
+        .hard_case("nadir", &[("direction", crate::value::Value::vec3([0.0, -1.0, 0.0]))])
+        .hard_case("zero", &[("direction", crate::value::Value::vec3([0.0, 0.0, 0.0]))])
+        .wgsl(
+            "fn $fn(d: vec3<f32>) -> vec2<f32> { \
+             let horizontal = d.x * d.x + d.z * d.z; \
+             let u = select(0.5 + atan2(d.x, -d.z) / 6.2831855, 0.5, horizontal == 0.0); \
+             let v = select(atan2(sqrt(horizontal), d.y) / 3.1415927, 0.5, all(d == vec3<f32>(0.0))); \
+             return vec2<f32>(u, v); }",
+        )
+        .compute(equirect_uv_of)
 }
 
 /// WGSL of `image_texture`: the code generator passes the texture's slot as `tex`.

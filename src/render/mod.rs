@@ -272,6 +272,15 @@ fn textures(
     if wanted.is_empty() {
         return Ok(set);
     }
+    if wanted.contains(&"environment") {
+        let key = format!("{}environment", crate::document::TextureSource::SCENE);
+        let texture =
+            Texture::new(environment_map(scene, environment), true).map_err(texture_error)?;
+        set.insert(key, texture).map_err(texture_error)?;
+        if wanted.iter().all(|w| *w == "environment") {
+            return Ok(set);
+        }
+    }
     let maps = scene.scene_textures_with(options.width, options.height, environment);
     for name in ["background", "refraction", "reflection"] {
         if !wanted.contains(&name) {
@@ -305,6 +314,26 @@ pub fn graph_scene(graph: &Graph) -> Result<Option<Scene>, crate::scene::SceneEr
         Some(serde_json::Value::String(name)) => Ok(Scene::preset(name)),
         Some(value) => Scene::from_json(&value.to_string()).map(Some),
     }
+}
+
+/// Width of the `scene:environment` map (its height is half).
+pub const ENVIRONMENT_MAP_WIDTH: u32 = 512;
+
+/// The scene's environment (sky and sun, or its image) as an equirectangular map, texel
+/// centres mapped to directions by the inverse of `scene::equirect_uv`.
+fn environment_map(scene: &Scene, image: Option<&crate::scene::EnvLookup>) -> Image {
+    let (w, h) = (ENVIRONMENT_MAP_WIDTH, ENVIRONMENT_MAP_WIDTH / 2);
+    Image::from_fn(w, h, |x, y| {
+        let phi = ((x as f32 + 0.5) / w as f32 - 0.5) * std::f32::consts::TAU;
+        let theta = (y as f32 + 0.5) / h as f32 * std::f32::consts::PI;
+        let d = Vec3::new(
+            theta.sin() * phi.sin(),
+            theta.cos(),
+            -theta.sin() * phi.cos(),
+        );
+        let c = scene.environment_radiance(d, image);
+        [c.x, c.y, c.z, 1.0]
+    })
 }
 
 /// Renders `graph` in `scene`.
