@@ -217,9 +217,9 @@ impl GraphDocument {
 
 /// Serialises an editor position with the shortest decimals that read back to the same f32s.
 fn shortest_pair<S: serde::Serializer>(p: &Option<[f32; 2]>, s: S) -> Result<S::Ok, S::Error> {
-    let shortest = |x: f32| format!("{x:?}").parse::<f64>().unwrap_or(x as f64);
+    use crate::value::shortest_f64;
     match p {
-        Some([x, y]) => [shortest(*x), shortest(*y)].serialize(s),
+        Some([x, y]) => [shortest_f64(*x), shortest_f64(*y)].serialize(s),
         None => s.serialize_none(),
     }
 }

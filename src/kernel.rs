@@ -321,16 +321,6 @@ impl_sample_fn!(A0 0, A1 1, A2 2, A3 3, A4 4, A5 5, A6 6, A7 7, A8 8, A9 9, A10 
 impl_sample_fn!(A0 0, A1 1, A2 2, A3 3, A4 4, A5 5, A6 6, A7 7, A8 8, A9 9, A10 10, A11 11, A12 12, A13 13, A14 14);
 impl_sample_fn!(A0 0, A1 1, A2 2, A3 3, A4 4, A5 5, A6 6, A7 7, A8 8, A9 9, A10 10, A11 11, A12 12, A13 13, A14 14, A15 15);
 
-/// The width in columns of a shape.
-pub const fn shape_width(s: Shape) -> usize {
-    match s {
-        Shape::Scalar | Shape::Int | Shape::Bool => 1,
-        Shape::Vec2 => 2,
-        Shape::Vec3 => 3,
-        Shape::Vec4 => 4,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -569,7 +569,7 @@ fn render(args: &RenderArgs) -> CliResult {
         parameters.push((name.to_owned(), v));
     }
     let (out_dir, sheet_path) = match (&args.out, &args.out_dir) {
-        (Some(o), _) if args.files.len() == 1 => (None, Some(o.clone())),
+        // One graph: its image; several: their contact sheet.
         (Some(o), _) => (None, Some(o.clone())),
         (None, Some(d)) => (
             Some(d.clone()),

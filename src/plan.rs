@@ -245,7 +245,7 @@ pub struct Plan {
 impl Plan {
     /// Compiles `graph` for the outputs in `options`.
     pub fn compile(graph: &Graph, options: &PlanOptions) -> Result<Plan, EvalError> {
-        Compiler::new(graph, options).compile(options)
+        Compiler::new(graph).compile(options)
     }
     /// The outputs, in request order.
     pub fn outputs(&self) -> &[PlanOutput] {
@@ -392,7 +392,7 @@ struct Compiler<'g> {
 }
 
 impl<'g> Compiler<'g> {
-    fn new(graph: &'g Graph, _options: &PlanOptions) -> Compiler<'g> {
+    fn new(graph: &'g Graph) -> Compiler<'g> {
         Compiler {
             graph,
             operands: HashMap::new(),

@@ -513,7 +513,8 @@ fn sample_chain(
 /// of [`TextureSet::sample`] and of `mg_sample_texture`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TextureSet {
-    entries: Vec<(String, Texture)>,
+    /// Textures are shared, so sets built from other sets copy no texels.
+    entries: Vec<(String, std::sync::Arc<Texture>)>,
 }
 
 impl TextureSet {
@@ -528,12 +529,29 @@ impl TextureSet {
         name: impl Into<String>,
         texture: Texture,
     ) -> Result<u32, TextureError> {
+        self.insert_shared(name, std::sync::Arc::new(texture))
+    }
+
+    /// Appends a shared `texture` as `name`; returns its index. Names are unique.
+    pub fn insert_shared(
+        &mut self,
+        name: impl Into<String>,
+        texture: std::sync::Arc<Texture>,
+    ) -> Result<u32, TextureError> {
         let name = name.into();
         if self.index_of(&name).is_some() {
             return Err(TextureError::DuplicateName(name));
         }
         self.entries.push((name, texture));
         Ok(self.entries.len() as u32 - 1)
+    }
+
+    /// Appends every texture of `other`, shared, not copied.
+    pub fn extend_shared(&mut self, other: &TextureSet) -> Result<(), TextureError> {
+        for (name, texture) in &other.entries {
+            self.insert_shared(name.clone(), texture.clone())?;
+        }
+        Ok(())
     }
 
     /// The index of the texture called `name`.
@@ -546,7 +564,7 @@ impl TextureSet {
 
     /// The texture at `index`.
     pub fn get(&self, index: u32) -> Option<&Texture> {
-        self.entries.get(index as usize).map(|(_, t)| t)
+        self.entries.get(index as usize).map(|(_, t)| t.as_ref())
     }
 
     /// The name of the texture at `index`.
@@ -566,7 +584,7 @@ impl TextureSet {
 
     /// The (name, texture) pairs in index order.
     pub fn iter(&self) -> impl Iterator<Item = (&str, &Texture)> {
-        self.entries.iter().map(|(n, t)| (n.as_str(), t))
+        self.entries.iter().map(|(n, t)| (n.as_str(), t.as_ref()))
     }
 
     /// Samples texture `tex` ([`Texture::sample`]); transparent black (0, 0, 0, 0) when there
@@ -582,7 +600,7 @@ impl TextureSet {
     ///
     /// Fails when the texels cannot be indexed with u32 floats (more than 2³⁰ − 1 texels).
     pub fn pack(&self) -> Result<TexturePack, TextureError> {
-        pack_textures(self.entries.iter().map(|(_, t)| t))
+        pack_textures(self.entries.iter().map(|(_, t)| t.as_ref()))
     }
 
     /// Packs the textures named `keys`, in that order (slot `k` is `keys[k]`), for a module

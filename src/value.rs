@@ -171,15 +171,18 @@ impl Value {
     }
 }
 
+/// The `f64` whose shortest decimal is the shortest decimal that reads back to `x` as an
+/// `f32` (0.1f32 → 0.1, not 0.10000000149011612), so serde_json prints it that way.
+pub fn shortest_f64(x: f32) -> f64 {
+    format!("{x:?}").parse().unwrap_or(x as f64)
+}
+
 /// Serialises an `f32` as the shortest decimal that reads back to the same `f32`.
 pub fn json_f32(x: f32) -> serde_json::Value {
     if !x.is_finite() {
         return serde_json::Value::Null;
     }
-    // Shortest round-trip text of the f32, then parsed as f64 so serde_json prints it verbatim.
-    let text = format!("{x:?}");
-    let as_f64: f64 = text.parse().unwrap_or(x as f64);
-    serde_json::Number::from_f64(as_f64)
+    serde_json::Number::from_f64(shortest_f64(x))
         .map(serde_json::Value::Number)
         .unwrap_or(serde_json::Value::Null)
 }

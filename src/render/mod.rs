@@ -260,9 +260,7 @@ fn textures(
     let mut set = TextureSet::new();
     let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
     if let Some(given) = &options.textures {
-        for (name, t) in given.iter() {
-            set.insert(name, t.clone()).map_err(texture_error)?;
-        }
+        set.extend_shared(given).map_err(texture_error)?;
     }
     let wanted: Vec<&str> = graph
         .nodes()
