@@ -11,7 +11,7 @@
 //! with its reason. Run with `-- --nocapture` to see the measured errors.
 
 mod common;
-use common::bundled_graphs;
+use common::{bundled_graphs, gpu_context as context};
 
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
 use matgraph::node::{Evaluation, NodeType};
@@ -22,7 +22,6 @@ use matgraph::{
 };
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::io::Write as _;
 
 /// Absolute part of the default bound.
 const ABS: f64 = 1e-5;
@@ -34,27 +33,6 @@ const LOOSE: &[(&str, f64, f64, &str)] = &[];
 
 /// Random samples per node type and generic type.
 const RANDOM_SAMPLES: usize = 10_000;
-
-/// The GPU context, or `None` after printing why the test is skipped; panics instead when
-/// `MATGRAPH_REQUIRE_GPU` is set.
-fn context(test: &str) -> Option<&'static GpuContext> {
-    match GpuContext::shared() {
-        Ok(ctx) => Some(ctx),
-        Err(e) => {
-            let why = match &e {
-                EvalError::Gpu(m) => m.clone(),
-                e => e.to_string(),
-            };
-            if std::env::var_os("MATGRAPH_REQUIRE_GPU").is_some() {
-                panic!("{test}: MATGRAPH_REQUIRE_GPU is set and the GPU is unavailable: {why}");
-            }
-            // Written to the stream itself: the test harness captures `eprintln!` of passing
-            // tests, and a skip must show without `--nocapture`.
-            let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
-            None
-        }
-    }
-}
 
 /// The bound for a node type: the default or its [`LOOSE`] entry.
 fn bound_for(node: &str) -> (f64, f64) {

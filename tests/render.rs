@@ -31,27 +31,12 @@ fn options(size: u32, backend: Backend, graph: &Graph, path: &Path) -> RenderOpt
     }
 }
 
-/// Whether the GPU tests can run; fails when `MATGRAPH_REQUIRE_GPU` is set and they cannot.
-fn gpu_available(test: &str) -> bool {
-    match matgraph::gpu::GpuContext::shared() {
-        Ok(_) => true,
-        Err(e) => {
-            assert!(
-                std::env::var_os("MATGRAPH_REQUIRE_GPU").is_none(),
-                "{test}: GPU required: {e}"
-            );
-            eprintln!("SKIPPED {test}: {e}");
-            false
-        }
-    }
-}
-
 /// CPU and GPU renders of every bundled graph agree on the 8-bit output: per-pixel max |Δ| ≤
 /// 2/255 and RMSE ≤ 0.5/255 over every pixel. The mask of excluded pixels is empty: both
 /// backends shade the same CPU G-buffer, so silhouettes are identical by construction.
 #[test]
 fn cpu_and_gpu_renders_agree() {
-    if !gpu_available("cpu_and_gpu_renders_agree") {
+    if common::gpu_context("cpu_and_gpu_renders_agree").is_none() {
         return;
     }
     for path in bundled_graphs() {

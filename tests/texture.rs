@@ -6,6 +6,9 @@
 //! adapter the test prints `SKIPPED ...` to stderr, and fails instead when
 //! `MATGRAPH_REQUIRE_GPU` is set. Run with `-- --nocapture` to see the measured errors.
 
+mod common;
+use common::gpu_context as context;
+
 use glam::{Vec2, Vec4};
 use matgraph::gpu::{GpuContext, GpuPlan};
 use matgraph::texture::{
@@ -13,7 +16,6 @@ use matgraph::texture::{
 };
 use matgraph::wgsl::{WgslOptions, generate};
 use matgraph::{Attribute, EvalError, Graph, Plan, PlanOptions, Registry, SampleBatch};
-use std::io::Write as _;
 use wgpu::util::DeviceExt as _;
 
 /// Absolute part of the bound.
@@ -22,25 +24,6 @@ const ABS: f64 = 1e-5;
 const REL: f64 = 1e-4;
 /// Random samples compared.
 const RANDOM_SAMPLES: usize = 20_000;
-
-/// The GPU context, or `None` after printing why the test is skipped; panics instead when
-/// `MATGRAPH_REQUIRE_GPU` is set.
-fn context(test: &str) -> Option<&'static GpuContext> {
-    match GpuContext::shared() {
-        Ok(ctx) => Some(ctx),
-        Err(e) => {
-            let why = match &e {
-                EvalError::Gpu(m) => m.clone(),
-                e => e.to_string(),
-            };
-            if std::env::var_os("MATGRAPH_REQUIRE_GPU").is_some() {
-                panic!("{test}: MATGRAPH_REQUIRE_GPU is set and the GPU is unavailable: {why}");
-            }
-            let _ = writeln!(std::io::stderr(), "SKIPPED {test}: {why}");
-            None
-        }
-    }
-}
 
 /// A seeded SplitMix64 generator.
 struct Rng(u64);
