@@ -56,7 +56,7 @@ fn geometry() -> NodeType {
         "Per-sample geometry supplied by the caller.",
     )
     .source(
-        "Conventions of ../shared/MODELS.md: N points out of the surface, V from the surface \
+        "Conventions (docs/models/README.md): N points out of the surface, V from the surface \
              to the eye, L from the surface to the light; all unit length. I = -V. When a scene \
              has several lights the renderer evaluates the graph once per light (light and \
              light_color change) and sums the `color` outputs.",

@@ -2,9 +2,16 @@
 //! colour (`T`); a float input linked to a vector port is broadcast.
 //!
 //! Division, powers, normalisation and the edges of smoothstep and remap are made safe the
-//! way Blender's math nodes are, so every node gives finite outputs for finite inputs where
-//! the mathematical result is finite: `x / 0 = 0`, `pow(negative, non-integer) = 0`,
+//! way Blender's math nodes are: `x / 0 = 0`, `pow(negative, non-integer) = 0`,
 //! `normalize(0) = 0`, and a zero-width smoothstep or remap is a step.
+//!
+//! Finiteness: for finite inputs every node gives a finite output wherever the exact result
+//! is within f32's range (|x| ≤ 3.4·10³⁸). A result beyond it (`div 10 / 2e-38`,
+//! `pow 1e-20^-2`, a remap through a 1e-40 wide range) overflows to ±inf, as IEEE arithmetic
+//! does: the nodes do not clamp. Where only an intermediate would overflow or underflow —
+//! `dot`, `cross`, `length` and `normalize` of vectors with components beyond 10¹⁸ or below
+//! 10⁻¹⁸, `mix` of values of opposite sign near the limit — the node rescales first, so the
+//! representable result comes out.
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::types::SocketType::{self, *};
@@ -164,7 +171,15 @@ fn exp<T: Components>(x: T) -> T {
     x.map(f32::exp)
 }
 fn mix<T: Components>(a: T, b: T, t: f32) -> T {
-    a + (b - a) * T::splat(t)
+    a.zip(b, |a, b| {
+        let d = b - a;
+        if d.abs() <= f32::MAX {
+            a + d * t
+        } else {
+            // b − a overflows (opposite signs near the limit): the two-product form.
+            a * (1.0 - t) + b * t
+        }
+    })
 }
 fn clamp<T: Components>(x: T, lo: T, hi: T) -> T {
     x.zip(lo, f32::max).zip(hi, f32::min)
@@ -189,18 +204,64 @@ fn remap<T: Components>(x: T, from_min: T, from_max: T, to_min: T, to_max: T, cl
     let t = if clamp { saturate(t) } else { t };
     to_min + (to_max - to_min) * t
 }
+/// Components beyond this (or below [`SCALE_BELOW`]) are rescaled before squaring.
+const SCALE_ABOVE: f32 = 1e18;
+/// See [`SCALE_ABOVE`].
+const SCALE_BELOW: f32 = 1e-18;
+
+/// A scale of `v`: a quarter of the sum of its components' magnitudes, between
+/// max|vᵢ|/4 and max|vᵢ| (no overflow); the same formula as the WGSL.
+#[inline(always)]
+fn magnitude<T: Vector>(v: T) -> f32 {
+    v.map(f32::abs).dot_(T::splat(0.25))
+}
+
+/// Whether a vector of magnitude `s` must be rescaled before its squares are taken.
+#[inline(always)]
+fn needs_rescale(s: f32) -> bool {
+    s > SCALE_ABOVE || (s < SCALE_BELOW && s > 0.0)
+}
+
 fn dot<T: Vector>(a: T, b: T) -> f32 {
-    a.dot_(b)
+    let (sa, sb) = (magnitude(a), magnitude(b));
+    if sa > SCALE_ABOVE || sb > SCALE_ABOVE {
+        (a.map(|x| x / sa).dot_(b.map(|x| x / sb)) * sa) * sb
+    } else {
+        a.dot_(b)
+    }
 }
 fn length<T: Vector>(v: T) -> f32 {
-    v.dot_(v).sqrt()
+    let s = magnitude(v);
+    if needs_rescale(s) {
+        let u = v.map(|x| x / s);
+        u.dot_(u).sqrt() * s
+    } else {
+        v.dot_(v).sqrt()
+    }
 }
 fn normalize<T: Vector>(v: T) -> T {
+    let s = magnitude(v);
+    let v = if needs_rescale(s) {
+        v.map(|x| x / s)
+    } else {
+        v
+    };
     let l = v.dot_(v).sqrt();
-    if l > 0.0 && l.is_finite() {
+    if l > 0.0 && l <= f32::MAX {
         v * T::splat(1.0 / l)
     } else {
         T::splat(0.0)
+    }
+}
+
+/// `a × b`, rescaled when a component is beyond 10¹⁸ so that the products cannot overflow
+/// where the result is representable (parallel vectors give 0).
+fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    let (sa, sb) = (magnitude(a), magnitude(b));
+    if sa > SCALE_ABOVE || sb > SCALE_ABOVE {
+        ((a / sa).cross(b / sb) * sa) * sb
+    } else {
+        a.cross(b)
     }
 }
 fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
@@ -251,14 +312,64 @@ fn $fn(x: $T, from_min: $T, from_max: $T, to_min: $T, to_max: $T, clamp_t: bool)
 }
 "#;
 
-/// WGSL of [`normalize`]: zero for a zero, tiny or non-finite length.
+/// WGSL of [`normalize`]: rescaled like the Rust; zero for a zero or non-finite length. The
+/// largest f32 is written in hex: the decimal 3.4028235e38 exceeds it as an abstract float.
 const NORMALIZE_WGSL: &str = r#"
-fn $fn(v: $T) -> $T {
+fn $fn(v0: $T) -> $T {
+    let s = dot(abs(v0), $T(0.25));
+    var v = v0;
+    if (s > 1e18 || (s < 1e-18 && s > 0.0)) {
+        v = v0 / s;
+    }
     let l = sqrt(dot(v, v));
-    if (l > 0.0 && l <= 3.4028235e38) {
+    if (l > 0.0 && l <= 0x1.fffffep+127f) {
         return v * (1.0 / l);
     }
     return $T(0.0);
+}
+"#;
+
+/// WGSL of [`length`], rescaled like the Rust.
+const LENGTH_WGSL: &str = r#"
+fn $fn(v: $T) -> f32 {
+    let s = dot(abs(v), $T(0.25));
+    if (s > 1e18 || (s < 1e-18 && s > 0.0)) {
+        let u = v / s;
+        return sqrt(dot(u, u)) * s;
+    }
+    return sqrt(dot(v, v));
+}
+"#;
+
+/// WGSL of [`dot`], rescaled like the Rust.
+const DOT_WGSL: &str = r#"
+fn $fn(a: $T, b: $T) -> f32 {
+    let sa = dot(abs(a), $T(0.25));
+    let sb = dot(abs(b), $T(0.25));
+    if (sa > 1e18 || sb > 1e18) {
+        return (dot(a / sa, b / sb) * sa) * sb;
+    }
+    return dot(a, b);
+}
+"#;
+
+/// WGSL of [`cross`], rescaled like the Rust.
+const CROSS_WGSL: &str = r#"
+fn $fn(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let sa = dot(abs(a), vec3<f32>(0.25));
+    let sb = dot(abs(b), vec3<f32>(0.25));
+    if (sa > 1e18 || sb > 1e18) {
+        return (cross(a / sa, b / sb) * sa) * sb;
+    }
+    return cross(a, b);
+}
+"#;
+
+/// WGSL of [`mix`], component-wise: the two-product form where `b − a` overflows.
+const MIX_WGSL: &str = r#"
+fn $fn(a: $T, b: $T, t: f32) -> $T {
+    let d = b - a;
+    return select(a + d * t, a * (1.0 - t) + b * t, abs(d) > $T(0x1.fffffep+127f));
 }
 "#;
 
@@ -317,7 +428,10 @@ pub fn all() -> Vec<NodeType> {
         all_types!(binary("mul", "a · b, component-wise.", 1.0, 1.0, "fn $fn(a: $T, b: $T) -> $T { return a * b; }").source(CLOSED_FORM), mul),
         all_types!(
             binary("div", "a / b, component-wise; 0 where b is 0.", 1.0, 1.0, DIV_WGSL)
-                .source("Closed form with Blender's safe divide: x / 0 = 0, so outputs stay finite.")
+                .source(
+                    "Closed form with Blender's safe divide: x / 0 = 0. A quotient beyond f32's range \
+                     (|x| > 3.4e38) overflows to ±inf, as in IEEE arithmetic.",
+                )
                 .hard_case("divide by zero", &[("a", v(1.0)), ("b", v(0.0))])
                 .hard_case("tiny divisor", &[("a", v(1.0)), ("b", v(1e-30))]),
             div
@@ -327,7 +441,8 @@ pub fn all() -> Vec<NodeType> {
                 .source(
                     "Total power: a^b for a > 0; a negative base with an integer exponent keeps its \
                      sign, with a fractional one gives 0 (Blender's safe power); 0^0 = 1 and \
-                     0^b = 0 for b < 0 (1/0 through the safe divide).",
+                     0^b = 0 for b < 0 (1/0 through the safe divide). A power beyond f32's range \
+                     overflows to ±inf.",
                 )
                 .input(In::generic("a", 1.0).range(-4.0, 4.0).doc("Base."))
                 .input(In::generic("b", 1.0).range(-4.0, 8.0).doc("Exponent."))
@@ -350,12 +465,13 @@ pub fn all() -> Vec<NodeType> {
         ),
         all_types!(
             NodeType::new("mix", Category::Math, "Linear interpolation a + (b − a)·t.")
-                .source("GLSL/WGSL mix; t is not clamped.")
+                .source("GLSL/WGSL mix, a + (b − a)·t; t is not clamped. Where b − a overflows, a(1 − t) + b·t.")
                 .input(In::generic("a", 0.0).range(-10.0, 10.0).doc("Value at t = 0."))
                 .input(In::generic("b", 1.0).range(-10.0, 10.0).doc("Value at t = 1."))
                 .input(In::float("t", 0.5).range(0.0, 1.0).doc("Blend factor."))
                 .output(Out::generic("result").doc("The blend."))
-                .wgsl("fn $fn(a: $T, b: $T, t: f32) -> $T { return a + (b - a) * t; }"),
+                .wgsl(MIX_WGSL)
+                .hard_case("opposite signs near the limit", &[("a", v(-3e38)), ("b", v(3e38))]),
             mix
         ),
         all_types!(
@@ -398,7 +514,10 @@ pub fn all() -> Vec<NodeType> {
         ),
         all_types!(
             NodeType::new("remap", Category::Math, "Maps x from [from_min, from_max] to [to_min, to_max].")
-                .source("Blender's Map Range (linear): t = (x − a)/(b − a), to_min + (to_max − to_min)·t; a step when a = b.")
+                .source(
+                    "Blender's Map Range (linear): t = (x − a)/(b − a), to_min + (to_max − to_min)·t; a \
+                     step when a = b. A result beyond f32's range (a tiny source range) overflows to ±inf.",
+                )
                 .input(In::generic("x", 0.5).range(-2.0, 2.0).doc("Value."))
                 .input(In::generic("from_min", 0.0).range(-2.0, 2.0).doc("Start of the source range."))
                 .input(In::generic("from_max", 1.0).range(-2.0, 2.0).doc("End of the source range."))
@@ -416,7 +535,8 @@ pub fn all() -> Vec<NodeType> {
                 .input(In::generic("a", 0.0).range(-2.0, 2.0).doc("First vector."))
                 .input(In::generic("b", 0.0).range(-2.0, 2.0).doc("Second vector."))
                 .output(Out::float("result").doc("Σ aᵢbᵢ."))
-                .wgsl("fn $fn(a: $T, b: $T) -> f32 { return dot(a, b); }"),
+                .wgsl(DOT_WGSL)
+                .hard_case("huge components", &[("a", v(1e30)), ("b", v(-1e-20))]),
             dot
         ),
         NodeType::new("cross", Category::Vector, "Cross product a × b.")
@@ -424,16 +544,18 @@ pub fn all() -> Vec<NodeType> {
             .input(In::vec3("a", [1.0, 0.0, 0.0]).range(-2.0, 2.0).doc("First vector."))
             .input(In::vec3("b", [0.0, 1.0, 0.0]).range(-2.0, 2.0).doc("Second vector."))
             .output(Out::vec3("result").doc("a × b."))
-            .wgsl("fn $fn(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> { return cross(a, b); }")
-            .compute(|a: Vec3, b: Vec3| a.cross(b)),
+            .wgsl(CROSS_WGSL)
+            .hard_case("huge parallel vectors", &[("a", Value::vec3([1e30, 1e30, 1e30])), ("b", Value::vec3([1e30, 1e30, 1e30]))])
+            .compute(cross),
         vector_types!(
             NodeType::new("normalize", Category::Vector, "v scaled to unit length; 0 for a zero vector.")
-                .source("v / |v|, with normalize(0) = 0 instead of NaN.")
+                .source("v / |v|, with normalize(0) = 0 instead of NaN; vectors beyond 1e18 or below 1e-18 are rescaled first.")
                 .input(In::generic("v", 1.0).range(-2.0, 2.0).doc("Vector."))
                 .output(Out::generic("result").doc("Unit vector along v."))
                 .wgsl(NORMALIZE_WGSL)
                 .hard_case("zero vector", &[("v", v(0.0))])
-                .hard_case("tiny vector", &[("v", v(1e-30))]),
+                .hard_case("tiny vector", &[("v", v(1e-30))])
+                .hard_case("huge vector", &[("v", v(1e30))]),
             normalize
         ),
         vector_types!(
@@ -441,7 +563,9 @@ pub fn all() -> Vec<NodeType> {
                 .source(CLOSED_FORM)
                 .input(In::generic("v", 0.0).range(-2.0, 2.0).doc("Vector."))
                 .output(Out::float("result").doc("|v|."))
-                .wgsl("fn $fn(v: $T) -> f32 { return sqrt(dot(v, v)); }"),
+                .wgsl(LENGTH_WGSL)
+                .hard_case("huge vector", &[("v", v(1e30))])
+                .hard_case("tiny vector", &[("v", v(1e-30))]),
             length
         ),
         vector_types!(

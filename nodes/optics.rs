@@ -1,8 +1,13 @@
-//! Shared optics (../shared/MODELS.md, "Shared optics"): reflection, refraction, Fresnel
-//! (exact, Schlick, empirical), IOR ↔ F0 ↔ Unreal specular, and the Henyey–Greenstein phase.
+//! Shared optics (docs/models/optics.md): reflection, refraction, Fresnel (exact, Schlick,
+//! empirical), IOR ↔ F0 ↔ Unreal specular, and the Henyey–Greenstein phase.
 //!
 //! Conventions: `i` is the incident direction pointing *towards* the surface, `n` the unit
 //! normal; `eta = n_incident / n_transmitted` (GLSL/RenderMan convention).
+//!
+//! Numerics (docs/models/optics.md "Numerics"): the transmitted cosine is computed as
+//! `cos²θt = (1 − η²) + η² cos²θi`, which keeps `cos²θi` when it is tiny (grazing at an index
+//! match), and the Fresnel transmittance is computed directly rather than as `1 − R`, which
+//! cancels where `R → 1`.
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::types::SocketType::*;
@@ -12,21 +17,42 @@ use std::f32::consts::PI;
 
 /// Mirror reflection `R = I − 2 (N·I) N`.
 ///
-/// Source: MODELS.md "Reflect"; GLSL `reflect`.
+/// Source: Hecht, *Optics* §4.3 (law of reflection) in vector form; GLSL `reflect`.
 #[inline]
 pub fn reflect(i: Vec3, n: Vec3) -> Vec3 {
     i - 2.0 * n.dot(i) * n
 }
 
+/// `cos²θt` of Snell's law with `eta = n_i / n_t`: `1 − η² sin²θi` written as
+/// `(1 − η)(1 + η) + η² cos²θi`, exact in `cos²θi` at an index match (no `1 − cos²`).
+/// Negative under total internal reflection.
+///
+/// Evaluated in f64 and rounded once: near the critical angle `cos²θt` is the difference of
+/// two terms near `|1 − η²|`, and f32 arithmetic there would lose ~2e-7 absolute (4e-6 in R
+/// at 48.7° inside water, ~3e-4 within 0.01° of the critical angle). The GPU evaluates the same
+/// expression in f32 (WGSL has no f64); docs/models/optics.md gives its error.
+#[inline]
+pub fn cos2_transmitted(cos_i: f32, eta: f32) -> f32 {
+    cos2_transmitted_f64(cos_i, eta as f64) as f32
+}
+
+/// [`cos2_transmitted`] with the index ratio in f64 (`n1 / n2` unrounded).
+#[inline]
+fn cos2_transmitted_f64(cos_i: f32, eta: f64) -> f64 {
+    let ec = eta * cos_i as f64;
+    (1.0 - eta) * (1.0 + eta) + ec * ec
+}
+
 /// Vector Snell refraction with `eta = n1 / n2`:
-/// `k = 1 − η²(1 − (N·I)²)`; TIR when `k < 0`; else `T = η I − (η (N·I) + √k) N`.
+/// `k = cos²θt = (1 − η²) + η²(N·I)²`; TIR when `k < 0`; else `T = η I − (η (N·I) + √k) N`.
 ///
 /// Under total internal reflection the result is the reflected direction and `tir` is true,
-/// so a graph never receives a silent zero vector. Source: MODELS.md "Refract"; GLSL `refract`.
+/// so a graph never receives a silent zero vector. Source: Hecht §4.4 (Snell's law) in the
+/// vector form of GLSL `refract`, with `k` rearranged ([`cos2_transmitted`]).
 #[inline]
 pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
     let cos = n.dot(i);
-    let k = 1.0 - eta * eta * (1.0 - cos * cos);
+    let k = cos2_transmitted(cos, eta);
     if k < 0.0 {
         (reflect(i, n), true)
     } else {
@@ -34,12 +60,15 @@ pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
     }
 }
 
-/// Exact unpolarised Fresnel reflectance of a smooth dielectric boundary.
+/// Exact unpolarised Fresnel reflectance and transmittance of a smooth dielectric boundary.
 ///
-/// `rs = (n1 cosθi − n2 cosθt)/(n1 cosθi + n2 cosθt)`, `rp = (n2 cosθi − n1 cosθt)/(n2 cosθi + n1 cosθt)`,
-/// `R = (rs² + rp²)/2`; `R = 1` under total internal reflection. `cos_theta > 0`: light
-/// arrives from the outside medium (`n1 = ior_outside`); `cos_theta < 0`: from the inside,
-/// and the indices swap (pbrt-v4 `FrDielectric`). Source: MODELS.md "Exact dielectric Fresnel".
+/// With `a = n1 cosθi`, `b = n2 cosθt` (s) and `a' = n2 cosθi`, `b' = n1 cosθt` (p):
+/// `rs = (a − b)/(a + b)`, `rp = (a' − b')/(a' + b')`, `R = (rs² + rp²)/2`, and the
+/// transmittance `T = (1 − rs² + 1 − rp²)/2 = 2ab/(a + b)² + 2a'b'/(a' + b')²`, computed
+/// directly so it keeps its precision where `R → 1` (grazing). `R = 1`, `T = 0` under total
+/// internal reflection; `R = 0`, `T = 1` at an index match. `cos_theta > 0`: light arrives from the outside medium
+/// (`n1 = ior_outside`); `cos_theta < 0`: from the inside, and the indices swap (pbrt-v4
+/// `FrDielectric`). Source: Fresnel's equations, Hecht §4.6 eqs. 4.34 and 4.40.
 #[inline]
 pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> (f32, f32) {
     let (n1, n2, cos_i) = if cos_theta >= 0.0 {
@@ -47,23 +76,33 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
     } else {
         (ior_inside, ior_outside, (-cos_theta).min(1.0))
     };
-    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
-    let ratio = n1 / n2;
-    let sin2_t = ratio * ratio * sin2_i;
-    if sin2_t >= 1.0 {
+    if n1 == n2 {
+        // No interface: nothing is reflected, at every angle (grazing included, where the
+        // quotients below would be 0/0).
+        return (0.0, 1.0);
+    }
+    let cos2_t = cos2_transmitted_f64(cos_i, n1 as f64 / n2 as f64);
+    if cos2_t < 0.0 {
         return (1.0, 0.0);
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
-    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
-    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
+    let cos_t = cos2_t.sqrt() as f32;
+    let (a, b) = (n1 * cos_i, n2 * cos_t);
+    let (ap, bp) = (n2 * cos_i, n1 * cos_t);
+    let rs = (a - b) / (a + b);
+    let rp = (ap - bp) / (ap + bp);
     let r = 0.5 * (rs * rs + rp * rp);
-    (r, 1.0 - r)
+    // Quotients first: no overflow for indices up to f32::MAX (f0_to_ior of a mirror).
+    let ts = 2.0 * (a / (a + b)) * (b / (a + b));
+    let tp = 2.0 * (ap / (ap + bp)) * (bp / (ap + bp));
+    (r, ts + tp)
 }
 
-/// Schlick's approximation `F = F0 + (1 − F0)(1 − cosθ)⁵`, cosθ clamped to [0, 1].
+/// Schlick's approximation `F = F0 + (1 − F0)(1 − cosθ)⁵`.
 ///
-/// Valid when light arrives from the less dense side; from the denser side feed it cosθt
-/// (MODELS.md "Schlick"). Source: Schlick 1994, eq. 24.
+/// Valid when light arrives from the less dense side; from the denser side feed it cosθt.
+/// cosθ is clamped to [0, 1]: a direction below the surface (cosθ < 0) is shaded as grazing
+/// (F = 1), where the unclamped polynomial would exceed 1 (up to 32 − 31 F0 at cosθ = −1).
+/// Source: Schlick 1994, eq. 24.
 #[inline]
 pub fn fresnel_schlick<
     T: Copy
@@ -112,21 +151,27 @@ pub fn fresnel_empirical(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32
     (bias + scale * p).clamp(0.0, 1.0)
 }
 
-/// Normal-incidence reflectance `R0 = ((n1 − n2)/(n1 + n2))²`. Source: MODELS.md "R0".
+/// Normal-incidence reflectance `R0 = ((n1 − n2)/(n1 + n2))²`. Source: Hecht §4.6 eq. 4.47
+/// (Fresnel's equations at θi = 0).
 #[inline]
 pub fn ior_to_f0(ior_outside: f32, ior_inside: f32) -> f32 {
     let r = (ior_outside - ior_inside) / (ior_outside + ior_inside);
     r * r
 }
 
-/// Inverse of [`ior_to_f0`] from air: `n = (1 + √R0)/(1 − √R0)`. Source: seed 003.
+/// Inverse of [`ior_to_f0`] from air: `n = (1 + √R0)/(1 − √R0)`, written
+/// `(1 + √R0)²/(1 − R0)`, which keeps its precision as `R0 → 1` (`1 − R0` is exact, `1 − √R0`
+/// is not). R0 is taken in [0, 1]; R0 = 1 (a perfect mirror, n = ∞) gives `f32::MAX`.
+/// Source: seed 003 (inverting Hecht eq. 4.47).
 #[inline]
 pub fn f0_to_ior(f0: f32) -> f32 {
-    let s = f0.clamp(0.0, 0.99).sqrt();
-    (1.0 + s) / (1.0 - s)
+    let f0 = f0.clamp(0.0, 1.0);
+    let one_plus_s = 1.0 + f0.sqrt();
+    (one_plus_s * one_plus_s / (1.0 - f0)).min(f32::MAX)
 }
 
-/// Unreal's non-metal Specular input: `specular = R0 / 0.08`. Source: seed 003.
+/// Unreal's non-metal Specular input: `specular = R0 / 0.08`. Source: seed 003 (Unreal
+/// Engine 4 material docs: Specular 0.5 ↔ 4%).
 #[inline]
 pub fn f0_to_specular(f0: f32) -> f32 {
     f0 / 0.08
@@ -138,16 +183,19 @@ pub fn specular_to_f0(specular: f32) -> f32 {
     0.08 * specular
 }
 
-/// The largest |g| used: HG at |g| = 1 is a delta distribution.
-pub const HG_G_MAX: f32 = 0.9999;
+/// The largest |g| used: the largest f32 below 1. HG at |g| = 1 is a delta distribution;
+/// `g = ±1` is evaluated as `±HG_G_MAX`, a lobe about 6e-8 rad wide whose peak is
+/// 4.5e13 / sr: every |g| < 1 is evaluated as given.
+pub const HG_G_MAX: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Henyey–Greenstein phase function normalised over the sphere:
 /// `p(cosθ) = (1 − g²) / (4π (1 + g² − 2g cosθ)^1.5)`.
 ///
 /// Evaluated through the symmetry `p(cosθ, g) = p(−cosθ, −g)` with `h = |g|`, `c = sign(g) cosθ`,
-/// as `(1 − h)(1 + h) / (4π ((1 − h)² + 2h(1 − c))^1.5)`: no cancellation as `g → ±1`
-/// (MODELS.md "Henyey–Greenstein"); `g` is clamped to ±0.9999. Source: Henyey & Greenstein
-/// 1941, eq. 6.
+/// as `(1 − h)(1 + h) / (4π ((1 − h)² + 2h(1 − c))^1.5)`: every term is non-negative, so
+/// there is no cancellation as `g → ±1`; `1 − h` and `1 − c` are exact in f32. `|g| = 1`
+/// (a delta) is evaluated at `|g| = `[`HG_G_MAX`]. Source: Henyey & Greenstein 1941, eq. 6
+/// (docs/models/optics.md).
 #[inline]
 pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
     let h = g.abs().min(HG_G_MAX);
@@ -162,11 +210,24 @@ pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
 const REFRACT_WGSL: &str = r#"
 fn $fn(i: vec3<f32>, n: vec3<f32>, eta: f32) -> $out {
     let c = dot(n, i);
-    let k = 1.0 - eta * eta * (1.0 - c * c);
+    let k = (1.0 - eta) * (1.0 + eta) + eta * eta * (c * c);
     if (k < 0.0) {
         return $out(i - 2.0 * c * n, true);
     }
     return $out(eta * i - (eta * c + sqrt(k)) * n, false);
+}
+"#;
+
+/// WGSL of [`f0_to_ior`]; the largest f32 is written in hex, which every WGSL compiler reads
+/// exactly.
+const F0_TO_IOR_WGSL: &str = r#"
+fn $fn(f0_in: f32) -> f32 {
+    let f0 = min(max(f0_in, 0.0), 1.0);
+    let one_plus_s = 1.0 + sqrt(f0);
+    if (f0 >= 1.0) {
+        return 0x1.fffffep+127f;
+    }
+    return min(one_plus_s * one_plus_s / (1.0 - f0), 0x1.fffffep+127f);
 }
 "#;
 
@@ -193,7 +254,7 @@ fn $fn(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32 {
 /// the phase function (`hg_phase`, the skin's single scattering) declare it with `wgsl_uses`.
 pub const HG_HELPER_WGSL: &str = r#"
 fn mg_hg(cos_theta: f32, g: f32) -> f32 {
-    let h = min(abs(g), 0.9999);
+    let h = min(abs(g), 0.99999994);
     let c0 = min(max(cos_theta, -1.0), 1.0);
     let c = select(c0, -c0, g < 0.0);
     let one_minus_h = 1.0 - h;
@@ -213,17 +274,24 @@ fn $fn(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> $out {
         n2 = ior_outside;
         cos_i = min(-cos_theta, 1.0);
     }
-    let sin2_i = max(1.0 - cos_i * cos_i, 0.0);
-    let ratio = n1 / n2;
-    let sin2_t = ratio * ratio * sin2_i;
-    if (sin2_t >= 1.0) {
+    if (n1 == n2) {
+        return $out(0.0, 1.0);
+    }
+    let eta = n1 / n2;
+    let cos2_t = (1.0 - eta) * (1.0 + eta) + eta * eta * (cos_i * cos_i);
+    if (cos2_t < 0.0) {
         return $out(1.0, 0.0);
     }
-    let cos_t = sqrt(1.0 - sin2_t);
-    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
-    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
-    let r = 0.5 * (rs * rs + rp * rp);
-    return $out(r, 1.0 - r);
+    let cos_t = sqrt(cos2_t);
+    let a = n1 * cos_i;
+    let b = n2 * cos_t;
+    let ap = n2 * cos_i;
+    let bp = n1 * cos_t;
+    let rs = (a - b) / (a + b);
+    let rp = (ap - bp) / (ap + bp);
+    let ts = 2.0 * (a / (a + b)) * (b / (a + b));
+    let tp = 2.0 * (ap / (ap + bp)) * (bp / (ap + bp));
+    return $out(0.5 * (rs * rs + rp * rp), ts + tp);
 }
 "#;
 
@@ -234,21 +302,23 @@ pub fn all() -> Vec<NodeType> {
     let grazing = |name: &'static str| [(name, f(1e-4))];
     vec![
         NodeType::new("reflect", Category::Optics, "Mirror reflection of an incident direction.")
-            .source("R = I − 2 (N·I) N (MODELS.md \"Reflect\"; GLSL reflect). I points towards the surface.")
-            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Incident direction, towards the surface."))
-            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Unit surface normal."))
+            .source("R = I − 2 (N·I) N (Hecht, Optics §4.3; GLSL reflect; docs/models/optics.md). I points towards the surface.")
+            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Incident direction, towards the surface."))
+            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit surface normal."))
             .output(Out::vec3("r").doc("Reflected direction, away from the surface."))
             .wgsl("fn $fn(i: vec3<f32>, n: vec3<f32>) -> vec3<f32> { return i - 2.0 * dot(n, i) * n; }")
             .hard_case("grazing", &[("i", v3([1.0, 0.0, -1e-4]))])
             .compute(reflect),
         NodeType::new("refract", Category::Optics, "Snell refraction of an incident direction, with TIR flagged.")
             .source(
-                "k = 1 − η²(1 − (N·I)²); T = η I − (η N·I + √k) N (MODELS.md \"Refract\", GLSL refract), \
+                "k = cos²θt = (1 − η)(1 + η) + η²(N·I)²; T = η I − (η N·I + √k) N (Hecht, Optics §4.4; \
+                 GLSL refract with k rearranged so grazing rays at an index match pass straight; \
+                 docs/models/optics.md), \
                  eta = n_incident / n_transmitted. Under total internal reflection (k < 0) t is the \
                  reflected direction and tir is true.",
             )
-            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).doc("Incident direction, towards the surface."))
-            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Unit normal on the incident side."))
+            .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit incident direction, towards the surface."))
+            .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit normal on the incident side."))
             .input(In::float("eta", 1.0 / 1.5).range(0.2, 3.0).hard(0.0, 100.0).doc("n_incident / n_transmitted."))
             .output(Out::vec3("t").doc("Refracted direction (reflected under TIR)."))
             .output(Out::boolean("tir").doc("True under total internal reflection."))
@@ -259,23 +329,32 @@ pub fn all() -> Vec<NodeType> {
             .compute(refract),
         NodeType::new("fresnel_dielectric", Category::Optics, "Exact unpolarised Fresnel reflectance of a dielectric.")
             .source(
-                "R = (rs² + rp²)/2 with rs, rp from Snell (MODELS.md \"Exact dielectric Fresnel\"; \
-                 pbrt-v4 FrDielectric). cos_theta > 0: light arrives from the outside medium; < 0: \
-                 from the inside, where TIR gives R = 1.",
+                "R = (rs² + rp²)/2 and T = (ts² + tp²)/2 computed directly (not 1 − R), cos²θt = \
+                 (1 − η²) + η²cos²θi (Fresnel's equations, Hecht, Optics §4.6 eqs. 4.34, 4.40; \
+                 docs/models/optics.md; pbrt-v4 FrDielectric). cos_theta > 0: light arrives from the \
+                 outside medium; < 0: from the inside, where TIR gives R = 1. R = 0 at an index match. \
+                 Within 0.01° of the critical angle the f32 error of R reaches a few 1e-4 (cosθt is \
+                 not resolved there; see docs/models/optics.md).",
             )
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine of the angle of incidence; sign gives the side."))
             .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction on the normal's side."))
             .input(In::float("ior_inside", 1.5).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction behind the surface."))
             .output(Out::float("reflectance").doc("Fraction of power reflected."))
-            .output(Out::float("transmittance").doc("Fraction of power transmitted, 1 − R."))
+            .output(Out::float("transmittance").doc("Fraction of power transmitted, 1 − R (computed directly)."))
             .hard_case("grazing", &grazing("cos_theta"))
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
             .hard_case("inside at the critical angle", &[("cos_theta", f(-0.6593)), ("ior_outside", f(1.0)), ("ior_inside", f(1.33))])
             .hard_case("index match", &[("ior_inside", f(1.0))])
+            .hard_case("grazing at an index match", &[("cos_theta", f(1e-4)), ("ior_inside", f(1.0))])
+            .hard_case("very grazing", &[("cos_theta", f(1e-7))])
             .compute(fresnel_dielectric)
             .wgsl(FRESNEL_DIELECTRIC_WGSL),
         NodeType::new("fresnel_schlick", Category::Optics, "Schlick's Fresnel approximation.")
-            .source("F = F0 + (1 − F0)(1 − cosθ)⁵ (Schlick 1994, eq. 24; MODELS.md \"Schlick\"). f0 may be a colour (metals).")
+            .source(
+                "F = F0 + (1 − F0)(1 − cosθ)⁵ (Schlick 1994, eq. 24; docs/models/optics.md). f0 may be a \
+                 colour (metals). cosθ is clamped to [0, 1]: below the surface (cosθ < 0) is shaded as \
+                 grazing, F = 1, where the polynomial would exceed 1.",
+            )
             .input(In::float("cos_theta", 1.0).range(0.0, 1.0).doc("Cosine of the angle of incidence (use cosθt from the dense side)."))
             .input(In::generic("f0", 0.04).range(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::generic("reflectance").doc("Approximate reflectance."))
@@ -297,18 +376,22 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("grazing", &[("i_dot_n", f(-1e-4))])
             .compute(fresnel_empirical),
         NodeType::new("ior_to_f0", Category::Optics, "Normal-incidence reflectance from two indices.")
-            .source("R0 = ((n1 − n2)/(n1 + n2))² (MODELS.md \"R0\"; seed 003).")
+            .source("R0 = ((n1 − n2)/(n1 + n2))² (Hecht, Optics §4.6 eq. 4.47; seed 003).")
             .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction outside."))
             .input(In::float("ior_inside", 1.5).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction inside."))
             .output(Out::float("f0").doc("Reflectance at normal incidence."))
             .wgsl("fn $fn(ior_outside: f32, ior_inside: f32) -> f32 { let r = (ior_outside - ior_inside) / (ior_outside + ior_inside); return r * r; }")
             .compute(ior_to_f0),
         NodeType::new("f0_to_ior", Category::Optics, "Index of refraction (from air) giving a normal-incidence reflectance.")
-            .source("n = (1 + √R0)/(1 − √R0) (seed 003); R0 is clamped to [0, 0.99].")
+            .source(
+                "n = (1 + √R0)/(1 − √R0) (seed 003), evaluated as (1 + √R0)²/(1 − R0), exact as R0 → 1; \
+                 R0 = 1 (a perfect mirror, n = ∞) gives the largest f32, 3.4e38.",
+            )
             .input(In::float("f0", 0.04).range(0.0, 0.9).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::float("ior").doc("Index of refraction relative to air."))
-            .wgsl("fn $fn(f0: f32) -> f32 { let s = sqrt(min(max(f0, 0.0), 0.99)); return (1.0 + s) / (1.0 - s); }")
+            .wgsl(F0_TO_IOR_WGSL)
             .hard_case("mirror", &[("f0", f(1.0))])
+            .hard_case("nearly a mirror", &[("f0", f(0.99999))])
             .compute(f0_to_ior),
         NodeType::new("f0_to_specular", Category::Optics, "Unreal's Specular input from a normal-incidence reflectance.")
             .source("specular = R0 / 0.08, so 0.5 ↔ 4% ↔ n = 1.5 (seed 003).")
@@ -324,9 +407,10 @@ pub fn all() -> Vec<NodeType> {
             .compute(specular_to_f0),
         NodeType::new("hg_phase", Category::Optics, "Henyey–Greenstein phase function, normalised over the sphere.")
             .source(
-                "p = (1 − g²)/(4π (1 + g² − 2g cosθ)^1.5) (Henyey & Greenstein 1941; MODELS.md), \
+                "p = (1 − g²)/(4π (1 + g² − 2g cosθ)^1.5) (Henyey & Greenstein 1941, eq. 6; docs/models/optics.md), \
                  evaluated with h = |g|, c = sign(g) cosθ as (1 − h)(1 + h)/(4π ((1 − h)² + \
-                 2h(1 − c))^1.5), exact in f32 as g → ±1; g is clamped to ±0.9999.",
+                 2h(1 − c))^1.5), free of cancellation as g → ±1: accurate for every f32 |g| < 1. \
+                 |g| = 1 (a delta) is evaluated at |g| = 1 − 2⁻²⁴, a 6e-8 rad lobe with a 4.5e13/sr peak.",
             )
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine between the propagation directions."))
             .input(In::float("g", 0.8).range(-0.99, 0.99).hard(-1.0, 1.0).doc("Mean cosine; > 0 scatters forward."))
@@ -338,6 +422,8 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("g = 1", &[("cos_theta", f(1.0)), ("g", f(1.0))])
             .hard_case("g = -1", &[("cos_theta", f(-1.0)), ("g", f(-1.0))])
             .hard_case("isotropic", &[("g", f(0.0))])
+            .hard_case("g = 1 − 2⁻¹⁷ at the peak", &[("cos_theta", f(1.0)), ("g", f(1.0 - 2f32.powi(-17)))])
+            .hard_case("g = −(1 − 2⁻²⁰) off the peak", &[("cos_theta", f(-0.2655)), ("g", f(-(1.0 - 2f32.powi(-20))))])
             .compute(hg_phase),
     ]
 }

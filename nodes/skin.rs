@@ -1,4 +1,4 @@
-//! Skin (seed 001, ../shared/MODELS.md "Seed 001 — skin"): the paper's three-layer shader
+//! Skin (seed 001, docs/models/skin.md): the paper's three-layer shader
 //! (Phong sebum, faked multiple scattering of the epidermis, Hanrahan–Krueger single
 //! scattering of the dermis behind Pharr's `efresnel`), and Jensen et al. 2001's dipole
 //! diffusion as the physically based reference.
@@ -18,8 +18,10 @@ use std::f32::consts::PI;
 
 use super::optics::{fresnel_dielectric, hg_phase, refract};
 
-/// Smallest cosine used inside the layer: grazing directions are clamped to it.
-pub const MU_MIN: f32 = 1e-4;
+/// Smallest cosine used inside the layer: directions within 1e-20 of the horizon are taken
+/// at it. It keeps `1/μ` finite; the BRDF there is at most `albedo · p · 5e19` and `f · μ_i`
+/// stays ≤ `albedo · p`. Only cosines below 1e-20 move (by less than 1e-20 absolute).
+pub const MU_MIN: f32 = 1e-20;
 
 /// Pharr's three lobes `(g, albedo)` of his skin shader (Pharr 2001, "Layered media for
 /// surface shaders", skin example).
@@ -58,7 +60,7 @@ pub fn fresnel_printed(cos_i: f32, eta_i_over_t: f32) -> f32 {
 /// light arriving from behind is treated as arriving on the incident side. Under total
 /// internal reflection `kr = 1`, `kt = 0` and `t` is the reflected direction.
 /// Source: Pharr 2001, "Layered media for surface shaders" (SIGGRAPH course 48), `efresnel`;
-/// Fresnel as MODELS.md "Exact dielectric Fresnel".
+/// Fresnel as [`fresnel_dielectric`] (Hecht §4.6).
 pub fn skin_efresnel(i: Vec3, n: Vec3, eta_i_over_t: f32) -> (f32, f32, Vec3) {
     let nf = if n.dot(i) > 0.0 { -n } else { n };
     let cos = (-nf.dot(i)).clamp(0.0, 1.0);
@@ -82,7 +84,7 @@ fn hk_lobe(cos: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool) -> f32 {
 ///
 /// `t_light` is the refracted light's propagation direction (into the layer), `t_view` the
 /// refracted view ray (from the eye, into the layer); the phase angle is between the
-/// propagation directions `t_light` and `−t_view`. `mu = max(|t·n|, 1e-4)`. `phase_form` 0 is
+/// propagation directions `t_light` and `−t_view`. `mu = max(|t·n|, `[`MU_MIN`]`)`. `phase_form` 0 is
 /// the normalised HG, 1 Pharr's form without `1/(4π)` (erratum 3). `three_lobe` sums Pharr's
 /// lobes (g, a) = (0.8, 0.8), (0.3, 0.5), (0, 0.4), each scaled by `albedo`, instead of `g`.
 /// Returns the BRDF `f` (symmetric in the two directions) and `f · mu_i`, the factor that
@@ -118,10 +120,15 @@ pub fn skin_single_scattering(
 }
 
 /// The paper's faked multiple scattering of the epidermis: `C_d · I_ms / (|I·N| + l_c)`
-/// (denominator kept ≥ 1e-4). Source: the paper (seed 001), epidermis layer.
+/// (denominator kept ≥ 1e-4, which changes the result only where `|I·N| + l_c < 1e-4`, i.e.
+/// with a clamp coefficient l_c below 1e-4 at grazing). Source: the paper (seed 001), epidermis
+/// layer; docs/models/skin.md.
 pub fn skin_multiple_scattering(diffusion_color: Vec3, i_ms: f32, l_c: f32, i_dot_n: f32) -> Vec3 {
-    diffusion_color * (i_ms / (i_dot_n.abs() + l_c).max(MU_MIN))
+    diffusion_color * (i_ms / (i_dot_n.abs() + l_c).max(MS_DENOMINATOR_MIN))
 }
+
+/// The smallest denominator `|I·N| + l_c` of [`skin_multiple_scattering`].
+pub const MS_DENOMINATOR_MIN: f32 = 1e-4;
 
 /// Phong sebum: `specularity · max(R_L·V, 0)^power`, `0^power` spelled out.
 /// Source: the paper (seed 001), sebum layer; Phong 1975.
@@ -143,17 +150,30 @@ pub fn fdr(ior: f32) -> f32 {
     -1.440 / (ior * ior) + 0.710 / ior + 0.668 + 0.0636 * ior
 }
 
+/// The reduced albedo `α' = σs'/σt'` and `1 − α' = σa/σt'` (written so, not as `1 − α'`,
+/// which loses σa when it is tiny), with `σt' = σs' + σa`; `(0, 1)` for an empty medium.
+#[inline]
+fn reduced_albedo(s_s: f32, s_a: f32) -> (f32, f32) {
+    let (s_s, s_a) = (s_s.max(0.0), s_a.max(0.0));
+    let s_t = s_s + s_a;
+    if s_t > 0.0 {
+        (s_s / s_t, s_a / s_t)
+    } else {
+        (0.0, 1.0)
+    }
+}
+
 #[inline]
 fn dipole_total_1(s_s: f32, s_a: f32, a_coef: f32) -> f32 {
-    let s_t = (s_s.max(0.0) + s_a.max(0.0)).max(1e-6);
-    let alpha = s_s.max(0.0) / s_t;
-    let s = (3.0 * (1.0 - alpha)).max(0.0).sqrt();
+    let (alpha, one_minus_alpha) = reduced_albedo(s_s, s_a);
+    let s = (3.0 * one_minus_alpha).sqrt();
     0.5 * alpha * (1.0 + (-(4.0 / 3.0) * a_coef * s).exp()) * (-s).exp()
 }
 
 /// Jensen et al. 2001 total diffuse reflectance of the dipole (eq. 5 integrated, as in §4.3):
 /// `Rd = (α'/2)(1 + exp(−(4/3) A √(3(1 − α')))) exp(−√(3(1 − α')))`, `α' = σs'/(σs' + σa)`,
-/// `A = (1 + Fdr)/(1 − Fdr)`. Per colour channel.
+/// `A = (1 + Fdr)/(1 − Fdr)`. Per colour channel. Rd depends on α' alone; `1 − α'` is
+/// computed as `σa/σt'`, so low absorption keeps its effect; an empty medium (σt' = 0) gives 0.
 pub fn dipole_rd_total(sigma_s_prime: Vec3, sigma_a: Vec3, ior: f32) -> Vec3 {
     let f = fdr(ior);
     let a = (1.0 + f) / (1.0 - f);
@@ -164,25 +184,40 @@ pub fn dipole_rd_total(sigma_s_prime: Vec3, sigma_a: Vec3, ior: f32) -> Vec3 {
     )
 }
 
+/// One source of the dipole: `z (σtr d + 1) e^{−σtr d} / d³`, written `(z/d)(σtr d + 1)
+/// e^{−σtr d}/d²` so that it does not overflow for the depths of a thin medium (z ~ 1/σt').
+#[inline]
+fn dipole_source(z: f32, r: f32, s_tr: f32) -> f32 {
+    // d = √(r² + z²) scaled by the larger term, so that z² cannot overflow.
+    let (big, small) = (r.max(z), r.min(z));
+    let q = small / big;
+    let d = big * (1.0 + q * q).sqrt();
+    (z / d) * (s_tr * d + 1.0) * (-s_tr * d).exp() / (d * d)
+}
+
+/// Below this σt' the dipole profile is 0: its true value, at most σt'²/(2π) ≈ 1.6e-61 per
+/// mm², is below the smallest f32.
+const DIPOLE_MIN_SIGMA_T: f32 = 1e-30;
+
 #[inline]
 fn dipole_profile_1(r: f32, s_s: f32, s_a: f32, a_coef: f32) -> f32 {
-    let s_s = s_s.max(0.0);
-    let s_a = s_a.max(0.0);
-    let s_t = (s_s + s_a).max(1e-6);
+    let (s_s, s_a) = (s_s.max(0.0), s_a.max(0.0));
+    let s_t = s_s + s_a;
+    if s_t < DIPOLE_MIN_SIGMA_T {
+        return 0.0;
+    }
     let alpha = s_s / s_t;
     let s_tr = (3.0 * s_a * s_t).sqrt();
     let z_r = 1.0 / s_t;
     let z_v = z_r * (1.0 + 4.0 / 3.0 * a_coef);
-    let d_r = (r * r + z_r * z_r).sqrt();
-    let d_v = (r * r + z_v * z_v).sqrt();
-    let term = |z: f32, d: f32| z * (s_tr * d + 1.0) * (-s_tr * d).exp() / (d * d * d);
-    alpha / (4.0 * PI) * (term(z_r, d_r) + term(z_v, d_v))
+    alpha / (4.0 * PI) * (dipole_source(z_r, r, s_tr) + dipole_source(z_v, r, s_tr))
 }
 
 /// Jensen et al. 2001 dipole diffuse reflectance profile (eq. 4):
 /// `Rd(r) = α'/(4π) [z_r (σtr d_r + 1) e^{−σtr d_r}/d_r³ + z_v (σtr d_v + 1) e^{−σtr d_v}/d_v³]`,
 /// `σtr = √(3 σa σt')`, `z_r = 1/σt'`, `z_v = z_r (1 + 4A/3)`, `d = √(r² + z²)`. r in mm, σ in
-/// 1/mm, result in 1/mm². Its integral `∫ 2πr Rd(r) dr` is [`dipole_rd_total`].
+/// 1/mm, result in 1/mm². Its integral `∫ 2πr Rd(r) dr` is [`dipole_rd_total`]. No clamp on
+/// σt': an empty medium gives 0.
 pub fn dipole_rd_profile(r: f32, sigma_s_prime: Vec3, sigma_a: Vec3, ior: f32) -> Vec3 {
     let f = fdr(ior);
     let a = (1.0 + f) / (1.0 - f);
@@ -217,8 +252,8 @@ fn skin_hk_lobe(cos_theta: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: boo
 /// WGSL of [`skin_single_scattering`].
 const SINGLE_WGSL: &str = r#"
 fn $fn(t_light: vec3<f32>, t_view: vec3<f32>, n: vec3<f32>, g: f32, albedo: vec3<f32>, thickness: f32, phase_form: i32, three_lobe: bool) -> $out {
-    let mu_i = max(abs(dot(t_light, n)), 1e-4);
-    let mu_o = max(abs(dot(t_view, n)), 1e-4);
+    let mu_i = max(abs(dot(t_light, n)), 1e-20);
+    let mu_o = max(abs(dot(t_view, n)), 1e-20);
     let c = -dot(t_light, t_view);
     let d = max(thickness, 0.0);
     let pharr = phase_form == 1;
@@ -240,17 +275,19 @@ const EFRESNEL_WGSL: &str = r#"
 fn $fn(i: vec3<f32>, n: vec3<f32>, eta_i_over_t: f32) -> $out {
     let nf = select(n, -n, dot(n, i) > 0.0);
     let c = min(max(-dot(nf, i), 0.0), 1.0);
-    let sin2_i = max(1.0 - c * c, 0.0);
-    let sin2_t = eta_i_over_t * eta_i_over_t * sin2_i;
+    let eta = eta_i_over_t;
+    let cos2_t = (1.0 - eta) * (1.0 + eta) + eta * eta * (c * c);
     var r = 1.0;
-    if (sin2_t < 1.0) {
-        let cos_t = sqrt(1.0 - sin2_t);
-        let rs = (eta_i_over_t * c - cos_t) / (eta_i_over_t * c + cos_t);
-        let rp = (c - eta_i_over_t * cos_t) / (c + eta_i_over_t * cos_t);
+    if (eta == 1.0) {
+        r = 0.0;
+    } else if (cos2_t >= 0.0) {
+        let cos_t = sqrt(cos2_t);
+        let rs = (eta * c - cos_t) / (eta * c + cos_t);
+        let rp = (c - eta * cos_t) / (c + eta * cos_t);
         r = 0.5 * (rs * rs + rp * rp);
     }
     let cn = dot(nf, i);
-    let k = 1.0 - eta_i_over_t * eta_i_over_t * (1.0 - cn * cn);
+    let k = (1.0 - eta) * (1.0 + eta) + eta * eta * (cn * cn);
     let x = min(max(r / 0.5, 0.0), 1.0);
     if (k < 0.0) {
         return $out(1.0, 0.0, i - 2.0 * cn * nf);
@@ -263,42 +300,63 @@ fn $fn(i: vec3<f32>, n: vec3<f32>, eta_i_over_t: f32) -> $out {
 /// WGSL of [`skin_multiple_scattering`].
 const MULTIPLE_WGSL: &str = "fn $fn(diffusion_color: vec3<f32>, i_ms: f32, l_c: f32, i_dot_n: f32) -> vec3<f32> { return diffusion_color * (i_ms / max(abs(i_dot_n) + l_c, 1e-4)); }";
 
-/// WGSL of [`skin_sebum`].
+/// WGSL of [`skin_sebum`]. `b^power` is `exp(power · ln b)` with `ln b` from the series
+/// `2 atanh((b − 1)/(b + 1))` for b ≥ 0.5 (truncation < 3e-10 relative): a GPU's `pow` takes
+/// `log2` with an absolute error of up to 2⁻²¹ near 1, which a Phong exponent of 10⁴
+/// multiplies into a 1e-2 relative error.
 const SEBUM_WGSL: &str = r#"
+fn skin_pow_unit(b: f32, p: f32) -> f32 {
+    if (b < 0.5) {
+        return pow(b, p);
+    }
+    let z = (b - 1.0) / (b + 1.0);
+    let z2 = z * z;
+    let series = 1.0 + z2 * (0.33333334 + z2 * (0.2 + z2 * (0.14285715 + z2 * (0.11111111 + z2 * (0.09090909 + z2 * (0.07692308 + z2 * (0.06666667 + z2 * (0.05882353 + z2 * 0.05263158))))))));
+    return exp(p * (2.0 * z * series));
+}
 fn $fn(specularity: f32, power: f32, r_dot_v: f32) -> f32 {
     let b = min(max(r_dot_v, 0.0), 1.0);
-    let p = select(pow(select(b, 1.0, b == 0.0), power), select(0.0, 1.0, power == 0.0), b == 0.0);
+    let p = select(skin_pow_unit(select(b, 1.0, b == 0.0), power), select(0.0, 1.0, power == 0.0), b == 0.0);
     return specularity * p;
 }
 "#;
 
-/// WGSL helpers of the dipole.
+/// WGSL helpers of the dipole: the same steps as the Rust above.
 const DIPOLE_HELPERS_WGSL: &str = r#"
 fn skin_dipole_a(ior0: f32) -> f32 {
     let ior = min(max(ior0, 1.0), 3.0);
     let f = -1.440 / (ior * ior) + 0.710 / ior + 0.668 + 0.0636 * ior;
     return (1.0 + f) / (1.0 - f);
 }
-fn skin_dipole_total_1(s_s: f32, s_a: f32, a_coef: f32) -> f32 {
-    let s_t = max(max(s_s, 0.0) + max(s_a, 0.0), 1e-6);
-    let alpha = max(s_s, 0.0) / s_t;
-    let s = sqrt(max(3.0 * (1.0 - alpha), 0.0));
+fn skin_dipole_total_1(s_s0: f32, s_a0: f32, a_coef: f32) -> f32 {
+    let s_s = max(s_s0, 0.0);
+    let s_a = max(s_a0, 0.0);
+    let s_t = s_s + s_a;
+    if (s_t <= 0.0) {
+        return 0.0;
+    }
+    let alpha = s_s / s_t;
+    let s = sqrt(3.0 * (s_a / s_t));
     return 0.5 * alpha * (1.0 + exp(-(4.0 / 3.0) * a_coef * s)) * exp(-s);
 }
-fn skin_dipole_term(z: f32, d: f32, s_tr: f32) -> f32 {
-    return z * (s_tr * d + 1.0) * exp(-s_tr * d) / (d * d * d);
+fn skin_dipole_source(z: f32, r: f32, s_tr: f32) -> f32 {
+    let big = max(r, z);
+    let q = min(r, z) / big;
+    let d = big * sqrt(1.0 + q * q);
+    return (z / d) * (s_tr * d + 1.0) * exp(-s_tr * d) / (d * d);
 }
 fn skin_dipole_profile_1(r: f32, s_s0: f32, s_a0: f32, a_coef: f32) -> f32 {
     let s_s = max(s_s0, 0.0);
     let s_a = max(s_a0, 0.0);
-    let s_t = max(s_s + s_a, 1e-6);
+    let s_t = s_s + s_a;
+    if (s_t < 1e-30) {
+        return 0.0;
+    }
     let alpha = s_s / s_t;
     let s_tr = sqrt(3.0 * s_a * s_t);
     let z_r = 1.0 / s_t;
     let z_v = z_r * (1.0 + 4.0 / 3.0 * a_coef);
-    let d_r = sqrt(r * r + z_r * z_r);
-    let d_v = sqrt(r * r + z_v * z_v);
-    return alpha / (4.0 * 3.14159265358979) * (skin_dipole_term(z_r, d_r, s_tr) + skin_dipole_term(z_v, d_v, s_tr));
+    return alpha / (4.0 * 3.14159265358979) * (skin_dipole_source(z_r, r, s_tr) + skin_dipole_source(z_v, r, s_tr));
 }
 "#;
 
@@ -328,7 +386,7 @@ pub fn all() -> Vec<NodeType> {
         NodeType::new("skin_efresnel", Category::Skin, "Pharr's efresnel: Fresnel with the smoothstep(0, 0.5) tweak and the refracted direction.")
             .source(
                 "Kr = smoothstep(0, 0.5, R_exact), Kt = 1 − Kr (Pharr 2001, \"Layered media for surface \
-                 shaders\", efresnel; MODELS.md seed 001). eta_i_over_t = n_incident / n_transmitted \
+                 shaders\", efresnel; docs/models/skin.md). eta_i_over_t = n_incident / n_transmitted \
                  (1/1.4 for light entering skin; erratum 4). The normal is turned to face i; under \
                  TIR kr = 1, kt = 0 and t is the reflected direction. The paper's printed Fresnel \
                  (erratum 2) is corrected.",
@@ -384,7 +442,7 @@ pub fn all() -> Vec<NodeType> {
             .compute(skin_single_scattering),
         NodeType::new("skin_multiple_scattering", Category::Skin, "The paper's faked multiple scattering of the epidermis.")
             .source(
-                "C_ms = C_d I_ms / (|I·N| + l_c) (seed 001, epidermis; MODELS.md). Brightens towards \
+                "C_ms = C_d I_ms / (|I·N| + l_c) (seed 001, the 2004 Maya skin shader paper, epidermis; docs/models/skin.md). Brightens towards \
                  the silhouette; the denominator is kept ≥ 1e-4.",
             )
             .input(In::color("diffusion_color", [0.9, 0.6, 0.5]).range(0.0, 1.0).hard(0.0, 100.0).doc("Diffusion colour C_d."))
@@ -404,6 +462,7 @@ pub fn all() -> Vec<NodeType> {
             .wgsl(SEBUM_WGSL)
             .hard_case("away from the highlight", &[("r_dot_v", f(-0.5))])
             .hard_case("power 0 at the edge", &[("r_dot_v", f(0.0)), ("power", f(0.0))])
+            .hard_case("very sharp highlight", &[("specularity", f(100.0)), ("power", f(9000.0)), ("r_dot_v", f(0.99995))])
             .compute(skin_sebum),
         NodeType::new("dipole_rd_total", Category::Skin, "Jensen 2001 dipole: total diffuse reflectance.")
             .source(

@@ -366,7 +366,7 @@ pub const MAX_STEPS: i32 = 256;
 ///
 /// Source: Lake, Marshall, Harris & Blackstein 2000, "Stylized rendering techniques for
 /// scalable real-time 3D animation" (NPAR; hard shading from a 1D texture indexed by N·L);
-/// seed 004's toon ramp (MODELS.md "Seed 004": `ramp(dot(n, l))`, a 1D texture of discrete steps).
+/// seed 004's toon ramp (seed 004, Environment-adaptive real-time cartoon water, 2012: `ramp(dot(n, l))`, a 1D texture of discrete steps).
 pub fn ramp(x: f32, steps: i32, color_dark: Vec3, color_light: Vec3, softness: f32) -> (Vec3, f32) {
     let n = steps.clamp(1, MAX_STEPS);
     if n == 1 {
@@ -555,7 +555,7 @@ pub fn all() -> Vec<NodeType> {
             .source(
                 "Hard shading from a 1D texture indexed by N·L (Lake, Marshall, Harris & Blackstein \
                  2000, \"Stylized rendering techniques for scalable real-time 3D animation\", NPAR; \
-                 seed 004's ramp(dot(n, l)), MODELS.md \"Seed 004\"). x ∈ [0, 1] in `steps` equal \
+                 seed 004's ramp(dot(n, l)), the 2012 cartoon-water paper; docs/models/README.md). x ∈ [0, 1] in `steps` equal \
                  bands, band k at level k/(steps − 1); softness smoothsteps each edge over that \
                  fraction of a band; one band is colour_light.",
             )

@@ -29,7 +29,22 @@ const ABS: f64 = 1e-5;
 const REL: f64 = 1e-4;
 
 /// Node types allowed a looser bound: (type name, absolute, relative, why).
-const LOOSE: &[(&str, f64, f64, &str)] = &[];
+const LOOSE: &[(&str, f64, f64, &str)] = &[
+    (
+        "fresnel_dielectric",
+        3e-4,
+        1e-3,
+        "near the critical angle (cos²θt → 0) the CPU forms cos²θt in f64 and the GPU in f32 \
+         (WGSL has no f64): up to 3e-4 apart within 0.01° of it (docs/models/optics.md)",
+    ),
+    (
+        "skin_efresnel",
+        3e-4,
+        1e-3,
+        "its Fresnel term is fresnel_dielectric's: the same f32 cos²θt on the GPU near the \
+         critical angle",
+    ),
+];
 
 /// Random samples per node type and generic type.
 const RANDOM_SAMPLES: usize = 10_000;
@@ -92,6 +107,22 @@ impl Rng {
         let u = (self.next() >> 40) as f64 / (1u64 << 24) as f64;
         (lo as f64 + (hi as f64 - lo as f64) * u) as f32
     }
+    /// Over a hard range: uniform half the time; otherwise, where the range spans more than
+    /// three decades, a log-uniform magnitude (signed where the range allows it), so that
+    /// 1e-6 and 1e4 are both drawn from [0, 1e6].
+    fn hard(&mut self, lo: f32, hi: f32) -> f32 {
+        let span = hi.abs().max(lo.abs());
+        if self.next() & 1 == 0 || span < 1e3 {
+            return self.range(lo, hi);
+        }
+        let mag = (self.range((span * 1e-9).ln(), span.ln())).exp();
+        let x = if lo < 0.0 && self.next() & 1 == 1 {
+            -mag
+        } else {
+            mag
+        };
+        x.clamp(lo, hi)
+    }
 }
 
 // ------------------------------------------------------------------------------------------
@@ -113,8 +144,17 @@ fn input_range(t: &NodeType, k: usize) -> (f32, f32) {
         .unwrap_or((-10.0, 10.0))
 }
 
-/// Seeded random samples over the declared ranges, then the defaults, each input at both
-/// ends of its range (others at defaults) and every hard case.
+/// Random samples per node type over the hard ranges.
+const HARD_SAMPLES: usize = 5_000;
+
+/// The hard range of an input, if it declares one.
+fn hard_range(t: &NodeType, k: usize) -> Option<(f32, f32)> {
+    t.inputs()[k].hard.map(|r| (r.min, r.max))
+}
+
+/// Seeded random samples over the declared soft ranges, then over the hard ranges (inputs
+/// without one keep their soft range), then the defaults, each input at both ends of its
+/// range (others at defaults) and every hard case.
 fn node_samples(t: &NodeType, generic: SocketType, seed: u64) -> NodeSamples {
     let inputs = t.inputs();
     let types: Vec<SocketType> = inputs.iter().map(|d| d.ty.resolve(generic)).collect();
@@ -123,7 +163,8 @@ fn node_samples(t: &NodeType, generic: SocketType, seed: u64) -> NodeSamples {
         .collect();
     let mut rows: Vec<Vec<Value>> = Vec::new();
     let mut rng = Rng(seed);
-    for i in 0..RANDOM_SAMPLES {
+    for i in 0..RANDOM_SAMPLES + HARD_SAMPLES {
+        let hard = i >= RANDOM_SAMPLES;
         let row = (0..inputs.len())
             .map(|k| {
                 let ty = types[k];
@@ -144,8 +185,15 @@ fn node_samples(t: &NodeType, generic: SocketType, seed: u64) -> NodeSamples {
                         Value::int(rng.range(lo, hi).round() as i32)
                     }
                     _ => {
-                        let (lo, hi) = input_range(t, k);
-                        let lanes: Vec<f32> = (0..ty.width()).map(|_| rng.range(lo, hi)).collect();
+                        let lanes: Vec<f32> = match hard_range(t, k) {
+                            Some((lo, hi)) if hard => {
+                                (0..ty.width()).map(|_| rng.hard(lo, hi)).collect()
+                            }
+                            _ => {
+                                let (lo, hi) = input_range(t, k);
+                                (0..ty.width()).map(|_| rng.range(lo, hi)).collect()
+                            }
+                        };
                         Value::from_lanes(ty, &lanes)
                     }
                 }
@@ -429,6 +477,25 @@ fn grid_batch() -> SampleBatch {
 /// Compares two output batches with the default bound; returns the errors per output and
 /// up to three mismatches.
 fn compare_batches(cpu: &OutputBatch, gpu: &OutputBatch) -> (Vec<(String, Errors)>, Vec<String>) {
+    compare_batches_within(cpu, gpu, (ABS, REL))
+}
+
+/// The bound for a graph's outputs: the loosest [`LOOSE`] entry among its node types (their
+/// reasons hold for whatever they feed), else the default.
+fn graph_bound(graph: &Graph) -> (f64, f64) {
+    graph
+        .nodes()
+        .iter()
+        .map(|n| bound_for(n.node_type.name()))
+        .fold((ABS, REL), |a, b| (a.0.max(b.0), a.1.max(b.1)))
+}
+
+/// [`compare_batches`] under `bound`.
+fn compare_batches_within(
+    cpu: &OutputBatch,
+    gpu: &OutputBatch,
+    bound: (f64, f64),
+) -> (Vec<(String, Errors)>, Vec<String>) {
     assert_eq!(cpu.names(), gpu.names());
     assert_eq!(cpu.len(), gpu.len());
     let mut per_output = Vec::new();
@@ -443,7 +510,7 @@ fn compare_batches(cpu: &OutputBatch, gpu: &OutputBatch) -> (Vec<(String, Errors
                     cpu.planar(k)[c * cpu.len() + i],
                     gpu.planar(k)[c * cpu.len() + i],
                 );
-                if !e.check(a, b, (ABS, REL)) && bad.len() < 3 {
+                if !e.check(a, b, bound) && bad.len() < 3 {
                     bad.push(format!(
                         "output {name}[{c}] sample {i}: cpu {a:e} gpu {b:e}"
                     ));
@@ -584,8 +651,8 @@ fn sweep(n: usize) -> SampleBatch {
     batch
 }
 
-fn assert_parity(cpu: &OutputBatch, gpu: &OutputBatch, what: &str) {
-    let (_, bad) = compare_batches(cpu, gpu);
+fn assert_parity(graph: &Graph, cpu: &OutputBatch, gpu: &OutputBatch, what: &str) {
+    let (_, bad) = compare_batches_within(cpu, gpu, graph_bound(graph));
     assert!(bad.is_empty(), "{what}:\n{}", bad.join("\n"));
 }
 
@@ -605,12 +672,22 @@ fn changing_a_parameter_reuses_the_pipeline() {
     let mut params = plan.default_parameters();
     assert_eq!(params, cpu.default_parameters());
     let glass = plan.execute(&batch, &params).unwrap();
-    assert_parity(&cpu.execute(&batch, &params).unwrap(), &glass, "ior 1.52");
+    assert_parity(
+        &graph,
+        &cpu.execute(&batch, &params).unwrap(),
+        &glass,
+        "ior 1.52",
+    );
 
     params.set("ior", Value::float(2.42)).unwrap();
     params.set("tint", Value::color([0.9, 0.5, 0.1])).unwrap();
     let diamond = plan.execute(&batch, &params).unwrap();
-    assert_parity(&cpu.execute(&batch, &params).unwrap(), &diamond, "ior 2.42");
+    assert_parity(
+        &graph,
+        &cpu.execute(&batch, &params).unwrap(),
+        &diamond,
+        "ior 2.42",
+    );
     let r = glass.index("reflectance").unwrap();
     // At normal incidence R = ((n − 1)/(n + 1))²: 0.04258 for glass, 0.17239 for diamond.
     assert!(
@@ -659,7 +736,7 @@ fn the_backend_switch_gives_the_same_results() {
         gpu.evaluate(&batch, &params).unwrap(),
     );
     assert_eq!(a.names(), ["reflectance", "tint"]);
-    assert_parity(&a, &b, "Backend::Cpu vs Backend::Gpu");
+    assert_parity(&graph, &a, &b, "Backend::Cpu vs Backend::Gpu");
 }
 
 #[test]
@@ -680,6 +757,7 @@ fn batch_sizes_around_the_workgroup_size() {
             assert_eq!(got.planar(k).len(), got.ty(k).width() * n);
         }
         assert_parity(
+            &graph,
             &cpu.execute(&batch, &params).unwrap(),
             &got,
             &format!("n = {n}"),
@@ -691,6 +769,7 @@ fn batch_sizes_around_the_workgroup_size() {
         .with_max_workgroups_per_row(7);
     let batch = sweep(100_000);
     assert_parity(
+        &graph,
         &cpu.execute(&batch, &params).unwrap(),
         &rows.execute(&batch, &params).unwrap(),
         "2-D dispatch",
@@ -699,6 +778,7 @@ fn batch_sizes_around_the_workgroup_size() {
     let bare = SampleBatch::new(5);
     let got = plan.execute(&bare, &params).unwrap();
     assert_parity(
+        &graph,
         &cpu.execute(&bare, &params).unwrap(),
         &got,
         "default attributes",
@@ -937,6 +1017,7 @@ fn a_node_type_used_at_vec3_and_at_color() {
     let batch = grid_batch();
     let params = cpu.default_parameters();
     assert_parity(
+        &graph,
         &cpu.execute(&batch, &params).unwrap(),
         &gpu.execute(&batch, &params).unwrap(),
         "vec3 and color",
@@ -984,7 +1065,7 @@ fn non_finite_constants_and_attribute_free_materials() {
         params.set("gain", Value::float(gain)).unwrap();
         let want = cpu.execute(&batch, &params).unwrap();
         let got = gpu.execute(&batch, &params).unwrap();
-        assert_parity(&want, &got, &format!("gain {gain}"));
+        assert_parity(&graph, &want, &got, &format!("gain {gain}"));
         assert_eq!(
             got.value(got.index("inf").unwrap(), 69).as_f32(),
             f32::INFINITY
@@ -1039,7 +1120,7 @@ fn awkward_parameter_and_output_names() {
     let want = cpu.execute(&batch, &params).unwrap();
     let got = gpu.execute(&batch, &params).unwrap();
     assert_eq!(got.value(got.index("fn").unwrap(), 0).as_f32(), 10.5);
-    assert_parity(&want, &got, "awkward names");
+    assert_parity(&graph, &want, &got, "awkward names");
 }
 
 /// A parameter node the graph does not expose: it keeps the file's value, next to `time`.
@@ -1076,6 +1157,7 @@ fn an_unexposed_parameter_keeps_its_value() {
     let want = cpu.execute(&batch, &params).unwrap();
     assert_eq!(want.value(want.index("hidden").unwrap(), 0).as_f32(), 0.75);
     assert_parity(
+        &graph,
         &want,
         &gpu.execute(&batch, &params).unwrap(),
         "unexposed parameter",

@@ -808,7 +808,9 @@ fn fresnel_dielectric_node_matches_reference() {
                 ABS_TOL,
                 case,
             );
-            ch.abs("fresnel_dielectric R + T", r + t, 1.0, 1.2e-7, case);
+            // R and T are computed separately (T directly, not as 1 − R, so that it keeps its
+            // precision at grazing): their sum is 1 within their two roundings, 2 ulp of 1.
+            ch.abs("fresnel_dielectric R + T", r + t, 1.0, 2.4e-7, case);
             if tir {
                 ch.truth(
                     "TIR gives exactly R = 1, T = 0",

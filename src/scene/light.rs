@@ -1,6 +1,5 @@
 //! Lights: directional (a sun or moon) and point lights, and the four time-of-day presets of
-//! seed 004 (Environment-adaptive cartoon water, 2012; colours restated in
-//! `shared/MODELS.md`).
+//! seed 004 (Environment-adaptive real-time cartoon water, 2012; docs/models/README.md).
 //!
 //! Units and conventions: a light's `color × intensity` is the radiance scale that a white
 //! Lambert surface facing the light reflects (no `1/π`), the convention of the toon and
