@@ -161,7 +161,9 @@ const N: Vec3 = Vec3::Z;
 
 #[test]
 fn hard_cases_are_finite_and_bounded() {
-    // D_max · max(V·N·L) at the clamped roughness: 1/(π α²) · 1/(2α), α = 0.02².
+    // D_max · max(V·N·L) at the clamped roughness: 1/(π α²) · 1/(2α), α = 0.02². A bound on
+    // the whole domain, for finiteness; the values themselves are checked pointwise against
+    // an f64 reference in tests/physics_pointwise.rs.
     let a = (MIN_ROUGHNESS * MIN_ROUGHNESS) as f64;
     let bound = 1.0 / (PI * a * a) / (2.0 * a);
     let mut worst = 0.0f32;
@@ -254,10 +256,14 @@ fn albedo(
                 let l = 2.0 * v.dot(h) * h - v;
                 if l.z > 0.0 {
                     let (_, _, s) = pbr::brdf(N, v, l, base, metallic, rough, specular, mode);
-                    // The pdf at the half vector the node itself computes, so D cancels.
-                    let h2 = pbr::safe_normalize(l + v);
-                    let d = pbr::ggx_d(h2.z, rough) as f64;
-                    let pdf = d * h2.z as f64 / (4.0 * v.dot(h2) as f64);
+                    // The sampling pdf D(h) N·H / (4 V·H) at the half vector of the f32 l and
+                    // v, with D written here in f64 (Walter et al. 2007 eq. 33), not the
+                    // node's: an error in the node's D does not cancel.
+                    let (l64, v64) = (l.as_dvec3(), v.as_dvec3());
+                    let h2 = (l64 + v64).normalize();
+                    let c = h2.z;
+                    let d = a2 / (PI * (c * c * (a2 - 1.0) + 1.0).powi(2));
+                    let pdf = d * c / (4.0 * v64.dot(h2));
                     spec += s.x as f64 / pdf;
                 }
             }
