@@ -255,7 +255,7 @@ fn $fn(x: $T, from_min: $T, from_max: $T, to_min: $T, to_max: $T, clamp_t: bool)
 const NORMALIZE_WGSL: &str = r#"
 fn $fn(v: $T) -> $T {
     let l = sqrt(dot(v, v));
-    if (l > 0.0 && l <= 3.4028235e38) {
+    if (l > 0.0 && l <= 0x1.fffffep+127f) {
         return v * (1.0 / l);
     }
     return $T(0.0);
