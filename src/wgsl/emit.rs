@@ -100,26 +100,19 @@ pub(super) fn ident(name: &str) -> String {
     s
 }
 
-/// A WGSL float literal of `x` that reads back as exactly `x`; a non-finite `x` is refused.
+/// A WGSL float literal of `x` that reads back as exactly `x` and stays in f32's range.
 ///
 /// WGSL reads an unsuffixed literal as an abstract float (an f64) and converts it to f32 where
 /// it is used, and Tint rejects a value outside f32's finite range. Rust's shortest f32
 /// decimal is used when that reading gives back `x`'s bits; it does not for ±f32::MAX
 /// (`3.4028235e38` exceeds f32::MAX as an f64), and then the shortest f64 decimal of `x`,
-/// which converts to f32 exactly, is printed instead. WGSL has no literal for infinity or
-/// NaN and both naga's and Tint's constant evaluation refuse to make one (`bitcast` of the
-/// bits included), so a non-finite `x` becomes an undeclared identifier that names the value:
-/// naga then rejects the module with an error pointing at the node that used it.
+/// which converts to f32 exactly, is printed instead. WGSL has no literal for infinity or NaN:
+/// a non-finite `x` is `bitcast<f32>(bits)`, which naga accepts but Tint's constant evaluator
+/// rejects ("value inf cannot be represented as 'f32'"); only a runtime bitcast (of a
+/// `var<private>`, say) passes both, and that needs a module-scope declaration.
 pub(super) fn float_literal(x: f32) -> String {
     if !x.is_finite() {
-        let what = if x.is_nan() {
-            "nan"
-        } else if x > 0.0 {
-            "inf"
-        } else {
-            "neg_inf"
-        };
-        return format!("mg_error_non_finite_constant_{what}");
+        return format!("bitcast<f32>({:#010x}u)", x.to_bits());
     }
     let short = format!("{x:?}");
     match short.parse::<f64>() {
