@@ -1,5 +1,6 @@
 //! Tint, the WGSL compiler of Chrome, Edge and every Dawn-based app (an implementation
-//! independent of naga), on every bundled graph's module for both entry points, through
+//! independent of naga), on every bundled graph's module for both entry points (parameters as
+//! uniforms and baked), through
 //! `tests/tint/check.mjs` (Dawn's node bindings, `npm ci --prefix tests/tint`). Without node or
 //! the package each test prints `SKIPPED ...`; with `MATGRAPH_REQUIRE_TOOLS` set (CI sets it)
 //! it fails instead.
@@ -8,8 +9,8 @@ mod common;
 use common::tint::{Diagnostic, Tint};
 use common::{bundled_graphs, print_warning, tool_or_skip};
 
-use matgraph::Registry;
 use matgraph::wgsl::{Entry, WgslOptions, generate};
+use matgraph::{PlanOptions, Registry};
 use std::path::PathBuf;
 
 /// The errors among `diagnostics`, after printing the warnings so that they show.
@@ -32,19 +33,24 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
     let mut files = Vec::new();
     for path in bundled_graphs() {
         let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
-        for entry in [Entry::Compute, Entry::Fragment] {
-            let m = generate(
-                &graph,
-                &WgslOptions {
-                    entry,
+        // Parameters as uniforms, and baked into literals (`matgraph wgsl --bake`).
+        for (entry, bake) in [Entry::Compute, Entry::Fragment]
+            .into_iter()
+            .flat_map(|e| [(e, false), (e, true)])
+        {
+            let options = WgslOptions {
+                entry,
+                plan: PlanOptions {
+                    bake_parameters: bake,
                     ..Default::default()
                 },
-            )
-            .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
-            // Named `graph.entry.wgsl`, so every message names the graph and the entry point.
-            let file = dir
-                .path()
-                .join(format!("{}.{}.wgsl", graph.name, entry.function()));
+            };
+            let m = generate(&graph, &options)
+                .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
+            // Named `graph.entry[.baked].wgsl`: every message names the graph and the entry.
+            let baked = if bake { ".baked" } else { "" };
+            let name = format!("{}.{}{baked}.wgsl", graph.name, entry.function());
+            let file = dir.path().join(name);
             std::fs::write(&file, &m.source).unwrap();
             files.push(file);
         }
