@@ -100,12 +100,24 @@ pub(super) fn ident(name: &str) -> String {
     s
 }
 
-/// A WGSL float literal: always a decimal point or exponent; non-finite values by bit pattern.
+/// A WGSL float literal of `x` that reads back as exactly `x` and stays in f32's range.
+///
+/// WGSL reads an unsuffixed literal as an abstract float (an f64) and converts it to f32 where
+/// it is used, and Tint rejects a value outside f32's finite range. Rust's shortest f32
+/// decimal is used when that reading gives back `x`'s bits; it does not for ±f32::MAX
+/// (`3.4028235e38` exceeds f32::MAX as an f64), and then the shortest f64 decimal of `x`,
+/// which converts to f32 exactly, is printed instead. WGSL has no literal for infinity or NaN:
+/// a non-finite `x` is `bitcast<f32>(bits)`, which naga accepts but Tint's constant evaluator
+/// rejects ("value inf cannot be represented as 'f32'"); only a runtime bitcast (of a
+/// `var<private>`, say) passes both, and that needs a module-scope declaration.
 pub(super) fn float_literal(x: f32) -> String {
-    if x.is_finite() {
-        format!("{x:?}")
-    } else {
-        format!("bitcast<f32>({:#010x}u)", x.to_bits())
+    if !x.is_finite() {
+        return format!("bitcast<f32>({:#010x}u)", x.to_bits());
+    }
+    let short = format!("{x:?}");
+    match short.parse::<f64>() {
+        Ok(d) if d.abs() <= f64::from(f32::MAX) && (d as f32).to_bits() == x.to_bits() => short,
+        _ => format!("{:?}", f64::from(x)),
     }
 }
 
@@ -121,6 +133,9 @@ pub(super) fn literal(v: &Value) -> String {
         }
     }
 }
+
+#[cfg(test)]
+mod literal_tests;
 
 /// `e` of type `from` converted to `to` along a link (the table of [`crate::types`]).
 pub(super) fn convert(e: &str, from: SocketType, to: SocketType) -> String {

@@ -1,0 +1,103 @@
+// Compiles WGSL files with Tint, the WGSL compiler of Chrome and Dawn, through Dawn's node
+// bindings (npm package `webgpu`) on Dawn's null backend: no GPU or driver is needed, and
+// `createShaderModule` runs Tint's parser, resolver, validator and constant evaluator, which
+// is where Chrome reports a module's errors. Each module's `@compute` or `@fragment` entry is
+// then made into a pipeline with an `auto` layout (a fragment entry gets a vertex stage
+// written from its input struct), so Dawn's entry-point and binding checks run too. The null
+// device has WebGPU's default limits (8 storage buffers a stage, ...); matgraph's runtime asks
+// for the adapter's limits, so going past a default per-stage binding count is a warning.
+//
+// Usage: node tests/tint/check.mjs FILE.wgsl...
+// Prints `FILE:LINE:COL: error: MESSAGE` per diagnostic (warnings too), then one line
+// `tint: N files, E errors, W warnings`. Exit 0 without errors, 1 with, 2 when Dawn is
+// missing or gives no device.
+import { readFileSync } from 'node:fs';
+
+let dawn;
+try {
+  dawn = await import('webgpu');
+} catch (e) {
+  console.log(`tint: cannot load the npm package webgpu (npm ci --prefix tests/tint): ${e.message}`);
+  process.exit(2);
+}
+const { create, globals } = dawn;
+Object.assign(globalThis, globals);
+
+const gpu = create(['backend=null']);
+const adapter = await gpu.requestAdapter();
+const device = adapter && (await adapter.requestDevice());
+if (!device) {
+  console.log('tint: Dawn gave no null-backend device');
+  process.exit(2);
+}
+device.onuncapturederror = () => {};
+
+/** A vertex shader whose outputs are the members of the fragment entry's input struct. */
+function vertexFor(code) {
+  const entry = /@fragment\s*fn\s+\w+\s*\(\s*\w+\s*:\s*(\w+)\s*\)/.exec(code);
+  const members = [];
+  if (entry) {
+    const struct = new RegExp(`struct\\s+${entry[1]}\\s*\\{([^}]*)\\}`).exec(code);
+    for (const m of (struct ? struct[1] : '').split(',')) {
+      const t = m.trim();
+      if (t && !/@builtin/.test(t)) members.push(t);
+    }
+  }
+  members.unshift('@builtin(position) mg_position: vec4<f32>');
+  return `struct MgVertexOut {\n${members.map((m) => `    ${m},`).join('\n')}\n}\n` +
+    '@vertex\nfn main() -> MgVertexOut {\n    var o: MgVertexOut;\n    return o;\n}\n';
+}
+
+/** The validation error of `make()`, or null. */
+async function scoped(make) {
+  device.pushErrorScope('validation');
+  make();
+  return device.popErrorScope();
+}
+
+let errors = 0;
+let warnings = 0;
+const files = process.argv.slice(2);
+for (const file of files) {
+  const code = readFileSync(file, 'utf8');
+  const module = device.createShaderModule({ code });
+  const info = await module.getCompilationInfo();
+  let failed = false;
+  for (const m of info.messages) {
+    if (m.type === 'info') continue;
+    if (m.type === 'error') {
+      errors += 1;
+      failed = true;
+    } else {
+      warnings += 1;
+    }
+    console.log(`${file}:${m.lineNum}:${m.linePos}: ${m.type}: ${m.message}`);
+  }
+  if (failed) continue;
+  let err = null;
+  if (/@compute/.test(code)) {
+    err = await scoped(() => device.createComputePipeline({ layout: 'auto', compute: { module } }));
+  } else if (/@fragment/.test(code)) {
+    const vertex = device.createShaderModule({ code: vertexFor(code) });
+    err = await scoped(() =>
+      device.createRenderPipeline({
+        layout: 'auto',
+        vertex: { module: vertex },
+        fragment: { module, targets: [{ format: 'rgba16float' }] },
+      }),
+    );
+  }
+  if (err) {
+    const message = err.message.replace(/\s+/g, ' ').trim();
+    if (/exceeds the maximum per-stage limit.*While validating binding counts/.test(message)) {
+      warnings += 1;
+      console.log(`${file}:0:0: warning: pipeline at WebGPU's default limits: ${message}`);
+    } else {
+      errors += 1;
+      console.log(`${file}:0:0: error: pipeline: ${message}`);
+    }
+  }
+}
+console.log(`tint: ${files.length} files, ${errors} errors, ${warnings} warnings`);
+device.destroy();
+process.exit(errors ? 1 : 0);

@@ -1,0 +1,155 @@
+//! Tint, the WGSL compiler of Chrome, Edge and every Dawn-based app (an implementation
+//! independent of naga), on every bundled graph's module for both entry points (parameters as
+//! uniforms and baked), through
+//! `tests/tint/check.mjs` (Dawn's node bindings, `npm ci --prefix tests/tint`). Without node or
+//! the package each test prints `SKIPPED ...`; with `MATGRAPH_REQUIRE_TOOLS` set (CI sets it)
+//! it fails instead.
+
+mod common;
+use common::tint::{Diagnostic, Tint};
+use common::{bundled_graphs, print_warning, tool_or_skip};
+
+use matgraph::wgsl::{Entry, WgslOptions, generate};
+use matgraph::{PlanOptions, Registry};
+use std::path::PathBuf;
+
+/// The errors among `diagnostics`, after printing the warnings so that they show.
+fn errors(test: &str, diagnostics: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let (errors, warnings): (Vec<_>, Vec<_>) =
+        diagnostics.into_iter().partition(|d| d.severity == "error");
+    for w in &warnings {
+        print_warning(test, &w.to_string());
+    }
+    errors
+}
+
+#[test]
+fn tint_accepts_every_bundled_graph_for_both_entry_points() {
+    const TEST: &str = "tint_accepts_every_bundled_graph_for_both_entry_points";
+    let Some(tint) = tool_or_skip(TEST, Tint::find()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        // Parameters as uniforms, and baked into literals (`matgraph wgsl --bake`).
+        for (entry, bake) in [Entry::Compute, Entry::Fragment]
+            .into_iter()
+            .flat_map(|e| [(e, false), (e, true)])
+        {
+            let options = WgslOptions {
+                entry,
+                plan: PlanOptions {
+                    bake_parameters: bake,
+                    ..Default::default()
+                },
+            };
+            let m = generate(&graph, &options)
+                .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
+            // Named `graph.entry[.baked].wgsl`: every message names the graph and the entry.
+            let baked = if bake { ".baked" } else { "" };
+            let name = format!("{}.{}{baked}.wgsl", graph.name, entry.function());
+            let file = dir.path().join(name);
+            std::fs::write(&file, &m.source).unwrap();
+            files.push(file);
+        }
+    }
+    let found = errors(TEST, tint.check(&files).unwrap_or_else(|e| panic!("{e}")));
+    let report: Vec<String> = found
+        .iter()
+        .map(|d| {
+            let name = d.file.file_name().unwrap().to_string_lossy();
+            let source = std::fs::read_to_string(&d.file).unwrap();
+            let text = source.lines().nth(d.line.saturating_sub(1) as usize);
+            format!(
+                "{d}\n    {name} line {}: {}",
+                d.line,
+                text.unwrap_or("").trim()
+            )
+        })
+        .collect();
+    assert!(
+        report.is_empty(),
+        "Tint rejects {} of {} modules:\n{}",
+        report.len(),
+        files.len(),
+        report.join("\n")
+    );
+}
+
+/// The checker, or `None` after the skip line.
+fn checker(test: &str) -> Option<Tint> {
+    tool_or_skip(test, Tint::find())
+}
+
+fn write(dir: &tempfile::TempDir, name: &str, source: &str) -> PathBuf {
+    let file = dir.path().join(name);
+    std::fs::write(&file, source).unwrap();
+    file
+}
+
+#[test]
+fn tint_checker_reports_an_unrepresentable_literal_where_it_is() {
+    let Some(tint) = checker("tint_checker_reports_an_unrepresentable_literal_where_it_is") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // The normalize template that toon_ball's module carried: 3.4028235e38 as an abstract
+    // float exceeds f32::MAX (3.40282347e38).
+    let bad = write(
+        &dir,
+        "old_normalize.wgsl",
+        "fn mg_normalize(v: vec3<f32>) -> vec3<f32> {\n    let l = sqrt(dot(v, v));\n    \
+         if (l > 0.0 && l <= 3.4028235e38) {\n        return v * (1.0 / l);\n    }\n    \
+         return vec3<f32>(0.0);\n}\n",
+    );
+    let fixed = write(
+        &dir,
+        "new_normalize.wgsl",
+        "fn mg_normalize(v: vec3<f32>) -> vec3<f32> {\n    let l = sqrt(dot(v, v));\n    \
+         if (l > 0.0 && l <= 0x1.fffffep+127f) {\n        return v * (1.0 / l);\n    }\n    \
+         return vec3<f32>(0.0);\n}\n",
+    );
+    let got = tint.check(&[bad.clone(), fixed]).unwrap();
+    assert_eq!(
+        got,
+        [Diagnostic {
+            file: bad,
+            line: 3,
+            column: 25,
+            severity: "error".into(),
+            message: "value 340282349999999991754788743781432688640.0 cannot be represented as \
+                      'f32'"
+                .into(),
+        }],
+    );
+}
+
+#[test]
+fn tint_checker_runs_the_entry_points_pipeline_checks() {
+    let Some(tint) = checker("tint_checker_runs_the_entry_points_pipeline_checks") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // Valid WGSL for Tint, but a workgroup of 1024 invocations exceeds WebGPU's limit (256).
+    let wide = write(
+        &dir,
+        "wide.wgsl",
+        "@group(0) @binding(0) var<storage, read_write> o: array<f32>;\n\
+         @compute @workgroup_size(1024)\nfn main(@builtin(global_invocation_id) g: vec3<u32>) {\n    \
+         o[g.x] = 1.0;\n}\n",
+    );
+    // A fragment entry whose inputs the checker's vertex stage must write.
+    let fragment = write(
+        &dir,
+        "fragment.wgsl",
+        "struct V {\n    @builtin(position) p: vec4<f32>,\n    @location(3) n: vec3<f32>,\n    \
+         @location(4) @interpolate(flat) k: u32,\n}\n@fragment\nfn main(v: V) -> @location(0) \
+         vec4<f32> {\n    return vec4<f32>(v.n, f32(v.k));\n}\n",
+    );
+    let got = tint.check(&[wide.clone(), fragment]).unwrap();
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert_eq!((&got[0].file, got[0].severity.as_str()), (&wide, "error"));
+    assert!(got[0].message.contains("1024"), "{}", got[0]);
+}
