@@ -36,6 +36,11 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Before any thread starts (see `cli::env::quiet_mesa`); dropped at the end of main.
+    let _runtime = match &cli.command {
+        Command::Render(args) if args.gpu => Some(cli::env::quiet_mesa()),
+        _ => None,
+    };
     let result = match cli.command {
         Command::Check(args) => cli::check::run(&args),
         Command::Nodes(args) => cli::nodes::run(&args),

@@ -247,7 +247,7 @@ fn check_a_bad_file_lists_every_error() {
         format!(
             "{path}: node 'fr': input 'cos_theta': cannot connect 'geo.uv' (vec2) to 'fr.cos_theta' (float): no implicit conversion"
         ),
-        "1 of 1 files failed".to_owned(),
+        "1 of 1 file failed".to_owned(),
     ];
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(lines, expected, "{stderr}");
@@ -308,7 +308,11 @@ fn check_a_missing_file() {
     let dir = tempfile::tempdir().unwrap();
     let missing = dir.path().join("missing.json");
     let path = missing.to_str().unwrap();
-    fails(&["check", path], &[&format!("{path}: cannot read")]);
+    let (stdout, _) = fails(
+        &["check", path],
+        &[&format!("cannot read {path}: no such file")],
+    );
+    assert_eq!(stdout, format!("{path}: 1 error\n"));
 }
 
 fn glass_path() -> PathBuf {
@@ -795,14 +799,18 @@ fn fmt_check_and_rewrite() {
     let copy = temp_copy(dir.path(), "copy.json", &reindented);
     let path = copy.to_str().unwrap();
 
-    let (stdout, _) = fails(&["fmt", "--check", path], &["1 files are not canonical"]);
+    let (stdout, _) = fails(&["fmt", "--check", path], &["1 file is not canonical"]);
     assert_eq!(stdout, format!("{path}: not canonical\n"));
     assert_eq!(std::fs::read_to_string(&copy).unwrap(), reindented);
 
     assert_eq!(ok(&["fmt", path]), format!("{path}: rewritten\n"));
     assert_eq!(std::fs::read_to_string(&copy).unwrap(), canonical);
     assert_eq!(ok(&["fmt", "--check", path]), "");
-    assert_eq!(ok(&["fmt", path]), "", "a canonical file is left alone");
+    assert_eq!(
+        ok(&["fmt", path]),
+        format!("{path}: already canonical\n"),
+        "a canonical file is left alone, and fmt says so"
+    );
     // No temporary files are left beside the graph.
     let names: Vec<String> = std::fs::read_dir(dir.path())
         .unwrap()

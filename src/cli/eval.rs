@@ -34,6 +34,53 @@ pub struct Args {
     /// Print the compiled plan (folded, hoisted and per-sample steps) before the outputs.
     #[arg(long)]
     pub explain: bool,
+    /// Read textures, scene files and environment images outside the graph's folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
+}
+
+/// Width and height of the frame whose scene textures `eval` binds (those of a default
+/// `matgraph render`).
+pub const SCENE_TEXTURE_FRAME: (u32, u32) = (512, 512);
+
+/// `--node TYPE` for an unknown type: the message names it and suggests the closest name
+/// (Jaro–Winkler similarity ≥ 0.8), else points at `matgraph nodes`.
+fn unknown_type(type_name: &str) -> String {
+    let best = registry()
+        .types()
+        .iter()
+        .map(|t| (strsim::jaro_winkler(type_name, t.name()), t.name()))
+        .filter(|(score, _)| *score >= 0.8)
+        .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(a.1)));
+    let hint = match best {
+        Some((_, name)) => format!("did you mean '{name}'?"),
+        None => "`matgraph nodes` lists them".to_owned(),
+    };
+    format!("--node {type_name}: unknown node type '{type_name}' ({hint})")
+}
+
+/// One float of `--json` output: a number, or the strings `"NaN"`, `"inf"` and `"-inf"`
+/// (JSON has no such numbers, and `null` would not tell them apart).
+fn json_float(x: f32) -> serde_json::Value {
+    if x.is_nan() {
+        "NaN".into()
+    } else if x == f32::INFINITY {
+        "inf".into()
+    } else if x == f32::NEG_INFINITY {
+        "-inf".into()
+    } else {
+        matgraph::value::json_f32(x)
+    }
+}
+
+/// A value as `--json` prints it: [`Value::to_json`] with non-finite floats as strings.
+pub fn json_value(v: &Value, ty: matgraph::SocketType) -> serde_json::Value {
+    use matgraph::SocketType as T;
+    match ty {
+        T::Int | T::Bool => v.to_json(),
+        T::Float => json_float(v.lanes()[0]),
+        _ => serde_json::Value::Array(v.lanes().iter().map(|&x| json_float(x)).collect()),
+    }
 }
 
 /// Evaluates the graph or node at one sample and prints its outputs.
@@ -48,6 +95,9 @@ pub fn run(args: &Args) -> CliResult {
     let mut attrs: Vec<(Attribute, Value)> = Vec::new();
     let mut params: Vec<(String, serde_json::Value)> = Vec::new();
     let (graph, source) = if let Some(type_name) = node {
+        if registry().get(type_name).is_none() {
+            return Err(unknown_type(type_name));
+        }
         let mut inputs = BTreeMap::new();
         for s in sets {
             let (name, value) = split_set(s)?;
@@ -63,8 +113,7 @@ pub fn run(args: &Args) -> CliResult {
         (g, PathBuf::from(type_name))
     } else {
         let path = file.ok_or("no graph file")?;
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = super::read_graph_text(path)?;
         let wrap = |errors| {
             GraphErrors {
                 source: path.to_owned(),
@@ -134,9 +183,19 @@ pub fn run(args: &Args) -> CliResult {
         batch.fill(a, v).map_err(|e| e.to_string())?;
     }
     if let Some(path) = file {
-        // Images the graph samples, relative to it (scene textures need `render`).
-        let textures = matgraph::image_io::load_graph_textures(&graph, path)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        // Images the graph samples, inside its folder; the scene textures of its scene as a
+        // default render binds them.
+        let policy = super::path_policy(args.allow_outside_paths);
+        let mut textures = super::graph_textures(&graph, path, policy)?;
+        if matgraph::render::uses_scene_textures(&graph) {
+            let (scene, environment) = super::scene::resolve(&graph, path, None, policy)?;
+            let (w, h) = SCENE_TEXTURE_FRAME;
+            let maps = matgraph::render::scene_texture_set(&graph, &scene, w, h, environment)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            textures
+                .extend_shared(&maps)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
         batch.set_textures(std::sync::Arc::new(textures));
     }
     let out = plan
@@ -150,7 +209,7 @@ fn print_outputs(out: &OutputBatch, json: bool) {
     if json {
         let mut map = serde_json::Map::new();
         for (k, name) in out.names().iter().enumerate() {
-            map.insert(name.clone(), out.value(k, 0).to_json());
+            map.insert(name.clone(), json_value(&out.value(k, 0), out.ty(k)));
         }
         println!("{}", serde_json::Value::Object(map));
     } else {

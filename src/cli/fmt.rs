@@ -1,6 +1,8 @@
 //! `matgraph fmt`: rewrite graph files in canonical form.
 
-use super::{CliResult, registry};
+use super::{CliResult, read_graph_text, registry};
+use matgraph::Graph;
+use matgraph::error::GraphErrors;
 use std::path::PathBuf;
 
 /// Options of `matgraph fmt`.
@@ -14,15 +16,27 @@ pub struct Args {
     pub check: bool,
 }
 
-/// Rewrites (or, with `--check`, reports) every file that is not canonical.
+/// Rewrites (or, with `--check`, reports) every file that is not canonical; without
+/// `--check` every file gets a line saying what was done. A symlinked graph is rewritten
+/// through the link (its target changes, the link stays).
 pub fn run(args: &Args) -> CliResult {
     let (files, check_only) = (&args.files, args.check);
     let mut differing = 0;
     for f in files {
-        let g = matgraph::io::load_graph(f, registry()).map_err(|e| e.to_string())?;
+        let current = read_graph_text(f)?;
+        let g = Graph::from_json(&current, registry()).map_err(|errors| {
+            GraphErrors {
+                source: f.clone(),
+                errors,
+            }
+            .to_string()
+        })?;
         let canonical = g.to_json();
-        let current = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
-        if canonical != current {
+        if canonical == current {
+            if !check_only {
+                println!("{}: already canonical", f.display());
+            }
+        } else {
             differing += 1;
             if check_only {
                 println!("{}: not canonical", f.display());
@@ -34,7 +48,14 @@ pub fn run(args: &Args) -> CliResult {
         }
     }
     if check_only && differing > 0 {
-        Err(format!("{differing} files are not canonical"))
+        Err(format!(
+            "{} not canonical",
+            if differing == 1 {
+                "1 file is".to_owned()
+            } else {
+                format!("{differing} files are")
+            }
+        ))
     } else {
         Ok(())
     }

@@ -1,8 +1,17 @@
 //! `matgraph render`: render graphs in a scene to PNG (and EXR).
 
-use super::{CliResult, registry, split_set};
+use super::{CliResult, count, graph_textures, load_graph, path_policy, split_set};
 use matgraph::Value;
-use std::path::{Path, PathBuf};
+use matgraph::image_io::SaveFormat;
+use matgraph::render::MEMORY_BUDGET;
+use std::path::PathBuf;
+
+/// Bytes per pixel the command holds besides the render itself: the 8-bit image (3) and
+/// its encoded file (3, an upper bound for PNG and JPEG of rendered images); with EXR, the
+/// RGBA f32 image (16) and its encoding (16).
+fn output_bytes_per_pixel(exr: bool) -> u64 {
+    6 + if exr { 32 } else { 0 }
+}
 
 /// Help text after the options of `matgraph render`.
 pub const AFTER_HELP: &str = "With several graphs, -o OUT.png writes one labelled contact sheet; --out-dir writes \
@@ -51,6 +60,9 @@ pub struct Args {
     /// Override a parameter: NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
+    /// Read textures, scene files and environment images outside the graph's folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -63,37 +75,6 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("{w}x{h}: each side must be 1 to 16384"));
     }
     Ok((w, h))
-}
-
-/// Loads the scene named by `--scene`: a preset name or a scene file.
-fn load_scene(spec: &str) -> Result<matgraph::scene::Scene, String> {
-    if let Some(scene) = matgraph::scene::Scene::preset(spec) {
-        return Ok(scene);
-    }
-    let path = Path::new(spec);
-    if !path.exists() {
-        return Err(format!(
-            "--scene {spec}: not a preset ({}) nor a file",
-            matgraph::scene::SCENE_PRESETS.join(", ")
-        ));
-    }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{spec}: cannot read: {e}"))?;
-    matgraph::scene::Scene::from_json(&text).map_err(|e| format!("{spec}: {e}"))
-}
-
-/// The image of an image environment, loaded relative to `base` (the file the scene was
-/// written in); `None` for a sky.
-fn environment_image(
-    scene: &matgraph::scene::Scene,
-    base: &Path,
-) -> Result<Option<std::sync::Arc<matgraph::texture::Texture>>, String> {
-    let matgraph::scene::Environment::Image(img) = &scene.environment else {
-        return Ok(None);
-    };
-    let path = matgraph::image_io::resolve_relative(base, Path::new(&img.path));
-    let texture = matgraph::image_io::load_texture(&[path], false)
-        .map_err(|e| format!("environment: {e}"))?;
-    Ok(Some(std::sync::Arc::new(texture)))
 }
 
 /// A progress spinner on stderr that appears only once the work has taken a second.
@@ -115,10 +96,39 @@ fn delayed_progress() -> indicatif::ProgressBar {
     bar
 }
 
+/// A render's memory refusal restated against the whole budget, the command's own
+/// `reserve` (its output images) included.
+fn with_reserve(e: matgraph::render::RenderError, reserve: u64) -> matgraph::render::RenderError {
+    use matgraph::render::RenderError;
+    match e {
+        RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed,
+            what,
+            ..
+        } => RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed: needed + reserve,
+            what: format!("{what}, {} MiB output images", reserve.div_ceil(1 << 20)),
+            budget: MEMORY_BUDGET,
+        },
+        e => e,
+    }
+}
+
 /// Renders every graph and writes the images.
 pub fn run(args: &Args) -> CliResult {
     use matgraph::render::{RenderOptions, render_timed, sheet};
-    let forced = args.scene.as_deref().map(load_scene).transpose()?;
+    let policy = path_policy(args.allow_outside_paths);
+    let forced = args
+        .scene
+        .as_deref()
+        .map(|spec| super::scene::forced_scene(spec).map(|s| (spec, s)))
+        .transpose()?;
     let mut parameters = Vec::new();
     for s in &args.sets {
         let (name, json) = split_set(s)?;
@@ -127,21 +137,53 @@ pub fn run(args: &Args) -> CliResult {
         })?;
         parameters.push((name.to_owned(), v));
     }
+    let several = args.files.len() > 1;
     let (out_dir, sheet_path) = match (&args.out, &args.out_dir) {
         // One graph: its image; several: their contact sheet.
         (Some(o), _) => (None, Some(o.clone())),
         (None, Some(d)) => (
             Some(d.clone()),
-            (args.files.len() > 1).then(|| d.join("contact_sheet.png")),
+            several.then(|| d.join("contact_sheet.png")),
         ),
         (None, None) => {
             let d = PathBuf::from("renders");
             (
                 Some(d.clone()),
-                (args.files.len() > 1).then(|| d.join("contact_sheet.png")),
+                several.then(|| d.join("contact_sheet.png")),
             )
         }
     };
+    // The format of -o, by its extension, before anything is rendered.
+    let out_format = match &args.out {
+        Some(o) => Some(SaveFormat::from_path(o).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    if several && out_format == Some(SaveFormat::Exr) {
+        return Err("a contact sheet is 8-bit: -o must end in .png, .jpg or .jpeg".to_owned());
+    }
+    // Memory: what this command holds besides each render, then the render's own plan.
+    let (w, h) = (args.size.0 as u64, args.size.1 as u64);
+    let exr = args.exr || out_format == Some(SaveFormat::Exr);
+    let mut reserve = w * h * output_bytes_per_pixel(exr);
+    if several && sheet_path.is_some() {
+        // The 8-bit renders kept for the contact sheet, then the sheet and its file.
+        reserve += w * h * 3 * args.files.len() as u64 + w * h * 6;
+    }
+    if reserve >= MEMORY_BUDGET {
+        return Err(format!(
+            "{}x{}: the output images alone need {} MiB, over the memory budget of {} MiB; \
+             render a smaller size{}",
+            args.size.0,
+            args.size.1,
+            reserve.div_ceil(1 << 20),
+            MEMORY_BUDGET >> 20,
+            if several {
+                " or fewer graphs at once"
+            } else {
+                ""
+            }
+        ));
+    }
     if let Some(d) = &out_dir {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
@@ -157,32 +199,10 @@ pub fn run(args: &Args) -> CliResult {
     for file in &args.files {
         progress.set_message(file.display().to_string());
         let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
-            let graph = matgraph::io::load_graph(file, registry()).map_err(|e| e.to_string())?;
-            let textures = matgraph::image_io::load_graph_textures(&graph, file)
-                .map_err(|e| format!("{}: {e}", file.display()))?;
-            // Paths inside a scene (an environment image) are relative to where it was written.
-            let scene_base = match (&args.scene, &graph.scene) {
-                (Some(spec), _) => PathBuf::from(spec),
-                (None, Some(serde_json::Value::String(name))) => {
-                    matgraph::image_io::resolve_relative(file, Path::new(name))
-                }
-                _ => file.clone(),
-            };
-            let scene = match (&forced, &graph.scene) {
-                (Some(s), _) => s.clone(),
-                (None, Some(serde_json::Value::String(name)))
-                    if matgraph::scene::Scene::preset(name).is_none() =>
-                {
-                    // A scene file, relative to the graph file.
-                    load_scene(&scene_base.display().to_string())
-                        .map_err(|e| format!("{}: scene: {e}", file.display()))?
-                }
-                (None, _) => matgraph::render::graph_scene(&graph)
-                    .map_err(|e| format!("{}: scene: {e}", file.display()))?
-                    .unwrap_or_else(|| {
-                        matgraph::scene::Scene::preset("ball").expect("the ball preset exists")
-                    }),
-            };
+            let graph = load_graph(file)?;
+            let textures = graph_textures(&graph, file, policy)?;
+            let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
+            let (scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
             let options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,
@@ -191,11 +211,13 @@ pub fn run(args: &Args) -> CliResult {
                 backend,
                 parameters: parameters.clone(),
                 textures: Some(std::sync::Arc::new(textures)),
-                environment: environment_image(&scene, &scene_base)
-                    .map_err(|e| format!("{}: {e}", file.display()))?,
+                environment,
+                memory_budget: MEMORY_BUDGET - reserve,
+                band_rows: None,
             };
             let start = std::time::Instant::now();
             let (hdr, _) = render_timed(&graph, &scene, &options)
+                .map_err(|e| with_reserve(e, reserve))
                 .map_err(|e| format!("{}: {e}", file.display()))?;
             let elapsed = start.elapsed();
             let image = hdr.to_srgb8(args.exposure);
@@ -204,27 +226,30 @@ pub fn run(args: &Args) -> CliResult {
                 .and_then(|s| s.to_str())
                 .unwrap_or("graph")
                 .to_owned();
-            let single = if args.files.len() == 1 {
-                sheet_path.clone()
-            } else {
-                None
-            };
+            let single = if several { None } else { sheet_path.clone() };
             let target = single.or_else(|| out_dir.as_ref().map(|d| d.join(format!("{stem}.png"))));
-            if let Some(png) = &target {
-                matgraph::image_io::save_png_rgb8(png, image.width, image.height, &image.pixels)
-                    .map_err(|e| e.to_string())?;
-                if args.exr {
-                    let exr = png.with_extension("exr");
+            if let Some(out) = &target {
+                let format = SaveFormat::from_path(out).map_err(|e| e.to_string())?;
+                let mut written = Vec::new();
+                if format != SaveFormat::Exr {
+                    matgraph::image_io::save_rgb8(out, image.width, image.height, &image.pixels)
+                        .map_err(|e| e.to_string())?;
+                    written.push(out.clone());
+                }
+                if args.exr || format == SaveFormat::Exr {
+                    let exr = out.with_extension("exr");
                     let data = hdr.pixels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
                     let img = matgraph::texture::Image::new(hdr.width, hdr.height, data)
                         .map_err(|e| e.to_string())?;
                     matgraph::image_io::save_exr(&exr, &img).map_err(|e| e.to_string())?;
+                    written.push(exr);
                 }
+                let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
                 progress.suspend(|| {
                     println!(
                         "{} -> {} ({}x{}, {} spp, {}, {:.2} s)",
                         file.display(),
-                        png.display(),
+                        names.join(" + "),
                         image.width,
                         image.height,
                         args.samples,
@@ -245,16 +270,16 @@ pub fn run(args: &Args) -> CliResult {
         progress.inc(1);
     }
     progress.finish_and_clear();
-    if args.files.len() > 1
+    if several
         && let Some(path) = &sheet_path
         && !tiles.is_empty()
     {
         let sheet = sheet::contact_sheet(&tiles);
-        matgraph::image_io::save_png_rgb8(path, sheet.width, sheet.height, &sheet.pixels)
+        matgraph::image_io::save_rgb8(path, sheet.width, sheet.height, &sheet.pixels)
             .map_err(|e| e.to_string())?;
         println!(
-            "contact sheet of {} graphs -> {}",
-            tiles.len(),
+            "contact sheet of {} -> {}",
+            count(tiles.len(), "graph"),
             path.display()
         );
     }
@@ -262,9 +287,9 @@ pub fn run(args: &Args) -> CliResult {
         Ok(())
     } else {
         Err(format!(
-            "{} of {} graphs failed",
+            "{} of {} failed",
             failures.len(),
-            args.files.len()
+            count(args.files.len(), "graph")
         ))
     }
 }

@@ -1,6 +1,6 @@
 //! `matgraph wgsl`: compile a graph to WGSL or, through naga, another shading language.
 
-use super::{CliResult, registry};
+use super::CliResult;
 use matgraph::PlanOptions;
 use std::path::PathBuf;
 
@@ -37,7 +37,7 @@ pub fn run(args: &Args) -> CliResult {
         args.out.as_deref(),
     );
     use matgraph::wgsl::{Entry, Target, WgslOptions, generate};
-    let graph = matgraph::io::load_graph(file, registry()).map_err(|e| e.to_string())?;
+    let graph = super::load_graph(file)?;
     let options = WgslOptions {
         plan: PlanOptions {
             outputs: outputs.to_vec(),
@@ -55,7 +55,9 @@ pub fn run(args: &Args) -> CliResult {
         .translate(target)
         .map_err(|e| format!("{}: {e}", file.display()))?;
     match out {
-        Some(p) => std::fs::write(p, &bytes).map_err(|e| format!("{}: {e}", p.display())),
+        Some(p) => {
+            matgraph::io::write_atomic(p, &bytes).map_err(|e| format!("{}: {e}", p.display()))
+        }
         None => {
             use std::io::Write;
             std::io::stdout()
