@@ -288,6 +288,37 @@ pub enum PathError {
     },
 }
 
+/// The canonical form of `path`, or, when it does not exist, the canonical form of its
+/// longest existing ancestor with the rest of it applied lexically: where it would be, so
+/// that a missing file outside the folder is reported as outside (not as missing, which
+/// would tell whether it exists).
+fn canonical_or_planned(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let parts: Vec<Component> = path.components().collect();
+    for keep in (0..=parts.len()).rev() {
+        let head: PathBuf = parts[..keep].iter().collect();
+        let head = if head.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            head
+        };
+        let Ok(mut out) = std::fs::canonicalize(&head) else {
+            continue;
+        };
+        for c in &parts[keep..] {
+            match c {
+                Component::ParentDir => {
+                    out.pop();
+                }
+                Component::CurDir => {}
+                c => out.push(c),
+            }
+        }
+        return out;
+    }
+    path.to_owned()
+}
+
 /// The path of the file `reference` (as written in `file`, by `by`) names: relative
 /// references are taken from `file`'s folder. Under [`PathPolicy::InsideGraphFolder`] the
 /// canonical path (symlinks followed) must lie inside that folder's canonical path; this
@@ -316,18 +347,7 @@ pub fn resolve_reference(
                 source: e,
             })
         })?;
-        let resolved = match std::fs::canonicalize(&joined) {
-            Ok(p) => p,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                return Err(unreadable(ReadError::Missing { path: joined }));
-            }
-            Err(e) => {
-                return Err(unreadable(ReadError::Io {
-                    path: joined,
-                    source: e,
-                }));
-            }
-        };
+        let resolved = canonical_or_planned(&joined);
         if !resolved.starts_with(&canon_folder) {
             return Err(PathError::Outside {
                 file: file.to_owned(),

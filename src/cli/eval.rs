@@ -28,7 +28,8 @@ pub struct Args {
     /// Outputs to print (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
-    /// Print one JSON object: output name → number or array.
+    /// Print one JSON object: output name → number, array or bool; NaN, +∞ and −∞ are
+    /// written as the strings "NaN", "inf" and "-inf" (JSON has no such numbers).
     #[arg(long)]
     pub json: bool,
     /// Print the compiled plan (folded, hoisted and per-sample steps) before the outputs.
@@ -217,5 +218,34 @@ fn print_outputs(out: &OutputBatch, json: bool) {
         for (k, name) in out.names().iter().enumerate() {
             println!("{name:<width$} = {}  ({})", out.value(k, 0), out.ty(k));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use matgraph::SocketType;
+    use serde_json::json;
+
+    #[test]
+    fn json_tells_nan_and_infinities_apart() {
+        let f = |x: f32| json_value(&Value::float(x), SocketType::Float);
+        assert_eq!(f(f32::NAN), json!("NaN"));
+        assert_eq!(f(-f32::NAN), json!("NaN"));
+        assert_eq!(f(f32::INFINITY), json!("inf"));
+        assert_eq!(f(f32::NEG_INFINITY), json!("-inf"));
+        assert_eq!(f(0.1), json!(0.1));
+        assert_eq!(f(-3.0e38), json!(-3.0e38));
+        assert_eq!(f(f32::MIN_POSITIVE), json!(1.1754944e-38));
+        let v = Value::vec3([f32::NAN, 1.5, f32::NEG_INFINITY]);
+        assert_eq!(
+            json_value(&v, SocketType::Vec3),
+            json!(["NaN", 1.5, "-inf"])
+        );
+        assert_eq!(
+            json_value(&Value::boolean(true), SocketType::Bool),
+            json!(true)
+        );
+        assert_eq!(json_value(&Value::int(-7), SocketType::Int), json!(-7));
     }
 }
