@@ -978,15 +978,6 @@ fn eval_samples_images_relative_to_the_graph() {
 // Reliability: bad files, confinement, safe writes, formats (issue 9)
 // ---------------------------------------------------------------------------------------
 
-/// Runs `args` in `dir`.
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_matgraph"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the matgraph binary runs")
-}
-
 /// Makes a FIFO at `path` with mkfifo(1).
 fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo").arg(path).status().unwrap();

@@ -264,15 +264,7 @@ impl<'a> GBufferFrame<'a> {
             false,
             range.start,
         );
-        let batch = self.scene.material_batch(
-            self.mesh,
-            &samples,
-            &front,
-            &self.geometry.casters,
-            cam,
-            offsets,
-            rows.start,
-        );
+        let batch = self.material_batch(&samples, &front, rows.start);
         GBuffer {
             width,
             height: self.height,
@@ -286,21 +278,14 @@ impl<'a> GBufferFrame<'a> {
     }
 }
 
-impl Scene {
-    /// The attribute columns of the material samples.
-    fn material_batch(
-        &self,
-        mesh: &Mesh,
-        samples: &[u32],
-        frags: &[Fragment],
-        casters: &[Shape],
-        cam: &CameraFrame,
-        offsets: &[[f32; 2]],
-        first_row: u32,
-    ) -> SampleBatch {
+impl GBufferFrame<'_> {
+    /// The attribute columns of the material samples of the band starting at `first_row`.
+    fn material_batch(&self, samples: &[u32], frags: &[Fragment], first_row: u32) -> SampleBatch {
+        let (scene, mesh, cam) = (self.scene, self.mesh, &self.cam);
+        let (casters, offsets): (&[Shape], &[[f32; 2]]) = (&self.geometry.casters, &self.offsets);
         let m = samples.len();
         let mut batch = SampleBatch::new(m);
-        batch.set_time(self.time);
+        batch.set_time(scene.time);
         if m == 0 {
             return batch;
         }
@@ -330,7 +315,7 @@ impl Scene {
         }
         let (spp, width) = (Divider::new(offsets.len() as u32), Divider::new(cam.width));
         let (w, h) = (cam.width as f32, cam.height as f32);
-        let light = self.lights.first().map(Prepared::new);
+        let light = scene.lights.first().map(Prepared::new);
         blocks
             .into_par_iter()
             .enumerate()
@@ -363,7 +348,7 @@ impl Scene {
                         uv.y,
                         su,
                         sv,
-                        self.water_depth(p),
+                        scene.water_depth(p),
                         l.x,
                         l.y,
                         l.z,
