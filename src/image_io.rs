@@ -9,8 +9,10 @@
 //! f32 RGBA exactly. Saves are atomic (temporary file in the same folder, synced, renamed)
 //! and deterministic (the same image gives the same bytes).
 //!
-//! Texture files are referenced from a graph by a path relative to the graph file
-//! ([`resolve_relative`]). Every error names the file at fault.
+//! Texture files are referenced from a graph by a path relative to the graph file, confined
+//! to its folder unless the caller allows any path ([`load_graph_textures_with`],
+//! [`crate::io::resolve_reference`]). Saved images are encoded by extension
+//! ([`SaveFormat`]). Every error names the file at fault.
 
 use crate::texture::{Image, Texture, TextureError};
 use image::{ImageEncoder, ImageFormat};

@@ -14,6 +14,10 @@
 //!    graph without a `color` output is shown unlit: its first output as is.
 //! 4. **Composite.** `alpha · (color + emission) + (1 − alpha) · background` per sample, the
 //!    samples of a pixel averaged (box filter), then tone mapped for display ([`tonemap`]).
+//!
+//! Stages 2–4 run band by band (rows of the image) so that a render fits
+//! [`RenderOptions::memory_budget`] ([`plan_memory`]); a banded render equals the one-band
+//! render bit for bit.
 
 pub mod sheet;
 pub mod tonemap;
@@ -98,7 +102,8 @@ pub struct RenderOptions {
     /// Parameter values that replace the graph file's.
     pub parameters: Vec<(String, crate::value::Value)>,
     /// The graph's images (see [`crate::image_io::load_graph_textures`]); scene textures
-    /// (`scene:refraction`, `scene:reflection`, `scene:background`) are rendered and added.
+    /// (`scene:refraction`, `scene:reflection`, `scene:background`, at
+    /// [`scene_texture_size`]; `scene:environment`) are rendered and added.
     pub textures: Option<Arc<TextureSet>>,
     /// The equirectangular image of an image environment (see `scene::Environment::Image`);
     /// without it such a scene falls back to the default sky.
