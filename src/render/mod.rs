@@ -525,6 +525,14 @@ pub fn render_timed(
     let Some(first) = roles.color.as_ref().or(roles.emission.as_ref()) else {
         return Err(EvalError::NoOutputs.into());
     };
+    // Refused before anything is compiled or allocated when it cannot fit.
+    let plan = plan_memory(
+        options.width,
+        options.height,
+        options.samples.max(1),
+        uses_scene_textures(graph),
+        options.memory_budget,
+    )?;
     // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
     let mut params = crate::gpu::default_parameters(
         graph,
@@ -585,13 +593,6 @@ pub fn render_timed(
     t.displace = start.elapsed();
 
     // 2.–4. Band by band: G-buffer, material, composite and resolve.
-    let plan = plan_memory(
-        options.width,
-        options.height,
-        options.samples.max(1),
-        uses_scene_textures(graph),
-        options.memory_budget,
-    )?;
     let band_rows = options.band_rows.unwrap_or(plan.band_rows).max(1);
     let start = Instant::now();
     let lookup = options.environment.clone().map(environment_lookup);
