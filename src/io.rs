@@ -187,6 +187,14 @@ fn remove_stale_temps(dir: &Path, name: &str) {
 /// process may set it, are kept. See the module doc for the temporary files.
 pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
     use std::io::Write;
+    write_atomic_with(path, |f| f.write_all(contents.as_ref()))
+}
+
+/// [`write_atomic`] with the contents written by `write` into the temporary file.
+fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     use std::os::unix::fs::{MetadataExt, PermissionsExt};
     let target = write_target(path)?;
     let existing = match std::fs::metadata(&target) {
@@ -224,7 +232,7 @@ pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<
         .permissions(std::fs::Permissions::from_mode(0o666))
         .tempfile_in(dir)?;
     // From here on, dropping `tmp` on an error removes it.
-    tmp.write_all(contents.as_ref())?;
+    write(tmp.as_file_mut())?;
     if let Some(m) = &existing {
         let file = tmp.as_file();
         file.set_permissions(std::fs::Permissions::from_mode(m.mode() & 0o7777))?;
@@ -360,4 +368,66 @@ pub fn resolve_reference(
     }
     check_regular(&joined).map_err(unreadable)?;
     Ok(joined)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Names in `dir`, sorted.
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_target_and_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("g.json");
+        std::fs::write(&target, "old").unwrap();
+        let e = write_atomic_with(&target, |f| {
+            use std::io::Write;
+            f.write_all(b"half")?;
+            Err(std::io::Error::other("disk full"))
+        })
+        .unwrap_err();
+        assert_eq!(e.to_string(), "disk full");
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
+        assert_eq!(names(dir.path()), ["g.json"]);
+        // A write that succeeds replaces it and leaves nothing else.
+        write_atomic(&target, "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(names(dir.path()), ["g.json"]);
+    }
+
+    #[test]
+    fn missing_references_resolve_where_they_would_be() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir(root.join("g")).unwrap();
+        assert_eq!(
+            canonical_or_planned(&root.join("g/../x/./y.png")),
+            root.join("x/y.png")
+        );
+        assert_eq!(
+            canonical_or_planned(&root.join("g/a/b")),
+            root.join("g/a/b")
+        );
+        let graph = root.join("g/graph.json");
+        let e = resolve_reference(
+            &graph,
+            "node 't'",
+            "../x.png",
+            PathPolicy::InsideGraphFolder,
+        )
+        .unwrap_err();
+        assert!(matches!(e, PathError::Outside { .. }), "{e}");
+        let e = resolve_reference(&graph, "node 't'", "in.png", PathPolicy::InsideGraphFolder)
+            .unwrap_err();
+        assert!(e.to_string().ends_with("in.png: no such file"), "{e}");
+    }
 }
