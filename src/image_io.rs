@@ -9,8 +9,10 @@
 //! f32 RGBA exactly. Saves are atomic (temporary file in the same folder, synced, renamed)
 //! and deterministic (the same image gives the same bytes).
 //!
-//! Texture files are referenced from a graph by a path relative to the graph file
-//! ([`resolve_relative`]). Every error names the file at fault.
+//! Texture files are referenced from a graph by a path relative to the graph file, confined
+//! to its folder unless the caller allows any path ([`load_graph_textures_with`],
+//! [`crate::io::resolve_reference`]). Saved images are encoded by extension
+//! ([`SaveFormat`]). Every error names the file at fault.
 
 use crate::texture::{Image, Texture, TextureError};
 use image::{ImageEncoder, ImageFormat};
@@ -239,13 +241,47 @@ pub fn save_exr(path: &Path, image: &Image) -> Result<(), TextureError> {
         .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
 }
 
-/// Loads every image the graph's texture nodes name (paths relative to `graph_file`; custom
-/// mip chains as listed), keyed as the plan expects ([`crate::document::TextureSource::key`]).
-/// Scene textures (`scene:…`) are left to the renderer.
+/// Loads every image the graph's texture nodes name, keyed as the plan expects
+/// ([`crate::document::TextureSource::key`]): [`load_graph_textures_with`] confined to the
+/// graph file's folder ([`crate::io::PathPolicy::InsideGraphFolder`]), errors as text.
 pub fn load_graph_textures(
     graph: &crate::Graph,
     graph_file: &Path,
 ) -> Result<crate::texture::TextureSet, TextureError> {
+    load_graph_textures_with(graph, graph_file, crate::io::PathPolicy::InsideGraphFolder).map_err(
+        |e| match e {
+            GraphTextureError::Texture { source, .. } => source,
+            e @ GraphTextureError::Path(_) => file_error(graph_file, e),
+        },
+    )
+}
+
+/// Why a graph's images could not be loaded, naming the graph file and the node.
+#[derive(Debug, thiserror::Error)]
+pub enum GraphTextureError {
+    /// A path is outside the graph's folder, missing or not a regular file.
+    #[error(transparent)]
+    Path(#[from] crate::io::PathError),
+    /// An image could not be read or decoded.
+    #[error("{}: node '{node}': {source}", file.display())]
+    Texture {
+        /// The graph file.
+        file: PathBuf,
+        /// The texture node.
+        node: String,
+        /// The error, naming the image file.
+        source: TextureError,
+    },
+}
+
+/// Loads every image the graph's texture nodes name (paths relative to `graph_file`, each
+/// checked against `policy` before it is opened; custom mip chains as listed), keyed as the
+/// plan expects. Scene textures (`scene:…`) are left to the renderer.
+pub fn load_graph_textures_with(
+    graph: &crate::Graph,
+    graph_file: &Path,
+    policy: crate::io::PathPolicy,
+) -> Result<crate::texture::TextureSet, GraphTextureError> {
     let mut set = crate::texture::TextureSet::new();
     for node in graph.nodes() {
         let Some(source) = &node.texture else {
@@ -255,14 +291,110 @@ pub fn load_graph_textures(
         if source.scene_name().is_some() || set.index_of(&key).is_some() {
             continue;
         }
-        let paths: Vec<PathBuf> = source
+        let by = format!("node '{}'", node.id);
+        let paths = source
             .files()
             .iter()
-            .map(|f| resolve_relative(graph_file, Path::new(f)))
-            .collect();
-        set.insert(key, load_texture(&paths, true)?)?;
+            .map(|f| crate::io::resolve_reference(graph_file, &by, f, policy))
+            .collect::<Result<Vec<PathBuf>, _>>()?;
+        let wrap = |source| GraphTextureError::Texture {
+            file: graph_file.to_owned(),
+            node: node.id.clone(),
+            source,
+        };
+        let texture = load_texture(&paths, true).map_err(wrap)?;
+        set.insert(key, texture).map_err(wrap)?;
     }
     Ok(set)
+}
+
+/// The image file formats [`save_rgb8`] and [`save_hdr`] write, chosen by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SaveFormat {
+    /// `.png`: 8-bit sRGB.
+    Png,
+    /// `.jpg`, `.jpeg`: 8-bit sRGB, quality [`JPEG_QUALITY`].
+    Jpeg,
+    /// `.exr`: linear f32 RGBA.
+    Exr,
+}
+
+/// The extensions [`SaveFormat::from_path`] accepts.
+pub const SAVE_EXTENSIONS: [&str; 4] = ["png", "jpg", "jpeg", "exr"];
+
+/// JPEG quality (1–100) of [`SaveFormat::Jpeg`] files.
+pub const JPEG_QUALITY: u8 = 95;
+
+impl SaveFormat {
+    /// The format of `path`'s extension (case-insensitive); an error listing the supported
+    /// extensions otherwise.
+    pub fn from_path(path: &Path) -> Result<SaveFormat, TextureError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(SaveFormat::Png),
+            Some("jpg" | "jpeg") => Ok(SaveFormat::Jpeg),
+            Some("exr") => Ok(SaveFormat::Exr),
+            other => Err(file_error(
+                path,
+                format_args!(
+                    "{}: cannot choose an image format; use one of .{}",
+                    match other {
+                        Some(e) => format!("unsupported extension '.{e}'"),
+                        None => "no extension".to_owned(),
+                    },
+                    SAVE_EXTENSIONS.join(", .")
+                ),
+            )),
+        }
+    }
+}
+
+/// Saves display-ready 8-bit sRGB pixels as PNG or JPEG by `path`'s extension
+/// ([`SaveFormat::from_path`]); `.exr` is refused here (it needs linear data: [`save_exr`]).
+pub fn save_rgb8(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[[u8; 3]],
+) -> Result<(), TextureError> {
+    match SaveFormat::from_path(path)? {
+        SaveFormat::Png => save_png_rgb8(path, width, height, pixels),
+        SaveFormat::Jpeg => save_jpeg_rgb8(path, width, height, pixels),
+        SaveFormat::Exr => Err(file_error(
+            path,
+            "an 8-bit image cannot be saved as EXR (linear data needed)",
+        )),
+    }
+}
+
+/// Saves display-ready 8-bit sRGB pixels (row-major, top row first) as a baseline JPEG of
+/// quality [`JPEG_QUALITY`], atomically.
+pub fn save_jpeg_rgb8(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[[u8; 3]],
+) -> Result<(), TextureError> {
+    if pixels.len() != (width as usize) * (height as usize) || width == 0 || height == 0 {
+        return Err(file_error(
+            path,
+            format_args!("{width}×{height} image with {} pixels", pixels.len()),
+        ));
+    }
+    let mut out = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, JPEG_QUALITY)
+        .write_image(
+            pixels.as_flattened(),
+            width,
+            height,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| file_error(path, format_args!("cannot encode: {e}")))?;
+    crate::io::write_atomic(path, out)
+        .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
 }
 
 #[cfg(test)]

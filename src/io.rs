@@ -1,9 +1,114 @@
-//! Reading and writing graph files. The only module of the library that touches the disk.
+//! Reading and writing graph files. The only module of the library that touches the disk
+//! for graphs (images: [`crate::image_io`]).
+//!
+//! - **Reading** ([`read_text`]) looks at the file's metadata first and refuses anything
+//!   that is not a regular file (a folder, a FIFO, a device) before opening it, so reading
+//!   a FIFO never blocks.
+//! - **Writing** ([`write_atomic`]) replaces the target atomically and keeps what it
+//!   replaces intact: through symlinks (the link's target is written, the link stays),
+//!   never over a non-regular file (a device, a FIFO, a folder: refused), keeping the
+//!   replaced file's mode and, where allowed, its owner. The temporary file lives in the
+//!   target's folder as `.NAME.XXXXXX.matgraph-tmp`; it is removed on every error path,
+//!   and one left behind by a killed process is removed by the next write to the same
+//!   target once it is [`STALE_TEMP_AGE`] old.
+//! - **Confinement** ([`resolve_reference`]): files a graph refers to (textures, a scene
+//!   file, an environment image) must lie inside the graph file's folder, after
+//!   canonicalisation (symlinks followed), unless the caller allows any path.
 
 use crate::error::{GraphError, GraphErrors};
 use crate::graph::Graph;
 use crate::registry::Registry;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// Why a file could not be read, naming it.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// Nothing at the path (or a dangling symlink).
+    #[error("cannot read {}: no such file", path.display())]
+    Missing {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The path is a folder.
+    #[error("cannot read {}: is a directory", path.display())]
+    Directory {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The path is a FIFO, a device or a socket: refused before opening it.
+    #[error("cannot read {}: not a regular file ({kind})", path.display())]
+    NotRegular {
+        /// The path.
+        path: PathBuf,
+        /// What it is instead.
+        kind: &'static str,
+    },
+    /// Another I/O error.
+    #[error("cannot read {}: {source}", path.display())]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// What kind of non-regular file `meta` describes.
+fn file_kind(meta: &std::fs::Metadata) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    let t = meta.file_type();
+    if t.is_dir() {
+        "a directory"
+    } else if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_socket() {
+        "a socket"
+    } else if t.is_symlink() {
+        "a symlink"
+    } else {
+        "a regular file"
+    }
+}
+
+/// Checks, from its metadata alone (nothing is opened), that `path` is a regular file
+/// (symlinks followed).
+pub fn check_regular(path: &Path) -> Result<(), ReadError> {
+    let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => ReadError::Missing {
+            path: path.to_owned(),
+        },
+        _ => ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        },
+    })?;
+    if meta.is_dir() {
+        return Err(ReadError::Directory {
+            path: path.to_owned(),
+        });
+    }
+    if !meta.is_file() {
+        return Err(ReadError::NotRegular {
+            path: path.to_owned(),
+            kind: file_kind(&meta),
+        });
+    }
+    Ok(())
+}
+
+/// Reads a regular UTF-8 text file; folders, FIFOs and devices are refused before opening.
+pub fn read_text(path: &Path) -> Result<String, ReadError> {
+    check_regular(path)?;
+    std::fs::read_to_string(path).map_err(|e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    })
+}
 
 /// Reads and validates a graph file; every error is attributed to `path`.
 pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors> {
@@ -11,40 +116,318 @@ pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors
         source: path.to_owned(),
         errors,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = read_text(path).map_err(|e| {
         wrap(vec![GraphError::Structure {
             node: None,
             line: 0,
             column: 0,
-            message: format!("cannot read: {e}"),
+            message: e.to_string(),
         }])
     })?;
     Graph::from_json(&text, registry).map_err(wrap)
 }
 
-/// Writes `contents` to `path` atomically: a temporary file in the same folder, synced, then
-/// renamed over the target, so a crash never leaves a half-written file.
+/// Age after which a temporary file left by a killed write is removed by the next write
+/// to the same target.
+pub const STALE_TEMP_AGE: Duration = Duration::from_secs(3600);
+
+/// Suffix of the temporary files of [`write_atomic`].
+const TEMP_SUFFIX: &str = ".matgraph-tmp";
+
+/// The file a write to `path` replaces: `path` itself, or the final target of a chain of
+/// symlinks (relative links taken from the link's folder; at most 40 links).
+fn write_target(path: &Path) -> std::io::Result<PathBuf> {
+    let mut p = path.to_owned();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&p)?;
+                p = match p.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
+/// Removes temporaries of `name` in `dir` older than [`STALE_TEMP_AGE`].
+fn remove_stale_temps(dir: &Path, name: &str) {
+    let prefix = format!(".{name}.");
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let Some(n) = file_name.to_str() else {
+            continue;
+        };
+        if !(n.starts_with(&prefix) && n.ends_with(TEMP_SUFFIX)) {
+            continue;
+        }
+        let old = entry
+            .metadata()
+            .ok()
+            .filter(|m| m.is_file())
+            .and_then(|m| m.modified().ok())
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age >= STALE_TEMP_AGE);
+        if old {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Writes `contents` to `path` atomically (a temporary file in the target's folder,
+/// synced, then renamed over it), so a crash never leaves a half-written file. A symlink
+/// is written through (its target is replaced, the link kept); a non-regular target (a
+/// device, a FIFO, a folder) is refused; the replaced file's mode, and its owner where the
+/// process may set it, are kept. See the module doc for the temporary files.
 pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
     use std::io::Write;
-    let dir = path
+    write_atomic_with(path, |f| f.write_all(contents.as_ref()))
+}
+
+/// [`write_atomic`] with the contents written by `write` into the temporary file.
+fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::fs::File) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let target = write_target(path)?;
+    let existing = match std::fs::metadata(&target) {
+        Ok(m) => Some(m),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+    };
+    if let Some(m) = &existing
+        && !m.is_file()
+    {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "{} is {}, not a regular file; refusing to replace it",
+                target.display(),
+                file_kind(m)
+            ),
+        ));
+    }
+    let dir = target
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("graph");
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents.as_ref())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    let name = target
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("file")
+        .to_owned();
+    remove_stale_temps(dir, &name);
+    // New files get 0666 less the umask, as `File::create` would.
+    let prefix = format!(".{name}.");
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(TEMP_SUFFIX)
+        .permissions(std::fs::Permissions::from_mode(0o666))
+        .tempfile_in(dir)?;
+    // From here on, dropping `tmp` on an error removes it.
+    write(tmp.as_file_mut())?;
+    if let Some(m) = &existing {
+        let file = tmp.as_file();
+        file.set_permissions(std::fs::Permissions::from_mode(m.mode() & 0o7777))?;
+        // Keeping the owner needs privileges; without them the file is the writer's.
+        let _ = std::os::unix::fs::fchown(file, Some(m.uid()), Some(m.gid()));
     }
-    result
+    tmp.as_file().sync_all()?;
+    tmp.persist(&target).map_err(|e| e.error)?;
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
 }
 
 /// Saves a graph as pretty, deterministic JSON, atomically.
 pub fn save_graph(path: &Path, graph: &Graph) -> std::io::Result<()> {
     write_atomic(path, graph.to_json())
+}
+
+/// Where the files a graph refers to may lie.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PathPolicy {
+    /// Inside the graph file's folder (after canonicalisation, symlinks followed).
+    #[default]
+    InsideGraphFolder,
+    /// Anywhere (the user trusts the graph).
+    Anywhere,
+}
+
+/// A file reference of a graph that may not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum PathError {
+    /// The reference resolves outside the graph's folder.
+    #[error(
+        "{}: {by}: path '{reference}' resolves to {}, outside the graph's folder {}",
+        file.display(), resolved.display(), folder.display()
+    )]
+    Outside {
+        /// The graph (or scene) file.
+        file: PathBuf,
+        /// What refers to it: `node 'ID'`, `scene`, `environment image`.
+        by: String,
+        /// The reference as written.
+        reference: String,
+        /// Where it leads.
+        resolved: PathBuf,
+        /// The folder it must stay in.
+        folder: PathBuf,
+    },
+    /// The reference cannot be resolved (missing file, unreadable folder).
+    #[error("{}: {by}: path '{reference}': {source}", file.display())]
+    Unreadable {
+        /// The graph (or scene) file.
+        file: PathBuf,
+        /// What refers to it.
+        by: String,
+        /// The reference as written.
+        reference: String,
+        /// Why.
+        source: ReadError,
+    },
+}
+
+/// The canonical form of `path`, or, when it does not exist, the canonical form of its
+/// longest existing ancestor with the rest of it applied lexically: where it would be, so
+/// that a missing file outside the folder is reported as outside (not as missing, which
+/// would tell whether it exists).
+fn canonical_or_planned(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let parts: Vec<Component> = path.components().collect();
+    for keep in (0..=parts.len()).rev() {
+        let head: PathBuf = parts[..keep].iter().collect();
+        let head = if head.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            head
+        };
+        let Ok(mut out) = std::fs::canonicalize(&head) else {
+            continue;
+        };
+        for c in &parts[keep..] {
+            match c {
+                Component::ParentDir => {
+                    out.pop();
+                }
+                Component::CurDir => {}
+                c => out.push(c),
+            }
+        }
+        return out;
+    }
+    path.to_owned()
+}
+
+/// The path of the file `reference` (as written in `file`, by `by`) names: relative
+/// references are taken from `file`'s folder. Under [`PathPolicy::InsideGraphFolder`] the
+/// canonical path (symlinks followed) must lie inside that folder's canonical path; this
+/// is checked, and the target checked to be a regular file, before anything is opened.
+pub fn resolve_reference(
+    file: &Path,
+    by: &str,
+    reference: &str,
+    policy: PathPolicy,
+) -> Result<PathBuf, PathError> {
+    let folder = match file.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let joined = folder.join(reference);
+    let unreadable = |source| PathError::Unreadable {
+        file: file.to_owned(),
+        by: by.to_owned(),
+        reference: reference.to_owned(),
+        source,
+    };
+    if policy == PathPolicy::InsideGraphFolder {
+        let canon_folder = std::fs::canonicalize(&folder).map_err(|e| {
+            unreadable(ReadError::Io {
+                path: folder.clone(),
+                source: e,
+            })
+        })?;
+        let resolved = canonical_or_planned(&joined);
+        if !resolved.starts_with(&canon_folder) {
+            return Err(PathError::Outside {
+                file: file.to_owned(),
+                by: by.to_owned(),
+                reference: reference.to_owned(),
+                resolved,
+                folder: canon_folder,
+            });
+        }
+    }
+    check_regular(&joined).map_err(unreadable)?;
+    Ok(joined)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Names in `dir`, sorted.
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_failed_write_leaves_the_target_and_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("g.json");
+        std::fs::write(&target, "old").unwrap();
+        let e = write_atomic_with(&target, |f| {
+            use std::io::Write;
+            f.write_all(b"half")?;
+            Err(std::io::Error::other("disk full"))
+        })
+        .unwrap_err();
+        assert_eq!(e.to_string(), "disk full");
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");
+        assert_eq!(names(dir.path()), ["g.json"]);
+        // A write that succeeds replaces it and leaves nothing else.
+        write_atomic(&target, "new").unwrap();
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        assert_eq!(names(dir.path()), ["g.json"]);
+    }
+
+    #[test]
+    fn missing_references_resolve_where_they_would_be() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir(root.join("g")).unwrap();
+        assert_eq!(
+            canonical_or_planned(&root.join("g/../x/./y.png")),
+            root.join("x/y.png")
+        );
+        assert_eq!(
+            canonical_or_planned(&root.join("g/a/b")),
+            root.join("g/a/b")
+        );
+        let graph = root.join("g/graph.json");
+        let e = resolve_reference(
+            &graph,
+            "node 't'",
+            "../x.png",
+            PathPolicy::InsideGraphFolder,
+        )
+        .unwrap_err();
+        assert!(matches!(e, PathError::Outside { .. }), "{e}");
+        let e = resolve_reference(&graph, "node 't'", "in.png", PathPolicy::InsideGraphFolder)
+            .unwrap_err();
+        assert!(e.to_string().ends_with("in.png: no such file"), "{e}");
+    }
 }

@@ -247,7 +247,7 @@ fn check_a_bad_file_lists_every_error() {
         format!(
             "{path}: node 'fr': input 'cos_theta': cannot connect 'geo.uv' (vec2) to 'fr.cos_theta' (float): no implicit conversion"
         ),
-        "1 of 1 files failed".to_owned(),
+        "1 of 1 file failed".to_owned(),
     ];
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(lines, expected, "{stderr}");
@@ -308,7 +308,11 @@ fn check_a_missing_file() {
     let dir = tempfile::tempdir().unwrap();
     let missing = dir.path().join("missing.json");
     let path = missing.to_str().unwrap();
-    fails(&["check", path], &[&format!("{path}: cannot read")]);
+    let (stdout, _) = fails(
+        &["check", path],
+        &[&format!("cannot read {path}: no such file")],
+    );
+    assert_eq!(stdout, format!("{path}: 1 error\n"));
 }
 
 fn glass_path() -> PathBuf {
@@ -795,14 +799,18 @@ fn fmt_check_and_rewrite() {
     let copy = temp_copy(dir.path(), "copy.json", &reindented);
     let path = copy.to_str().unwrap();
 
-    let (stdout, _) = fails(&["fmt", "--check", path], &["1 files are not canonical"]);
+    let (stdout, _) = fails(&["fmt", "--check", path], &["1 file is not canonical"]);
     assert_eq!(stdout, format!("{path}: not canonical\n"));
     assert_eq!(std::fs::read_to_string(&copy).unwrap(), reindented);
 
     assert_eq!(ok(&["fmt", path]), format!("{path}: rewritten\n"));
     assert_eq!(std::fs::read_to_string(&copy).unwrap(), canonical);
     assert_eq!(ok(&["fmt", "--check", path]), "");
-    assert_eq!(ok(&["fmt", path]), "", "a canonical file is left alone");
+    assert_eq!(
+        ok(&["fmt", path]),
+        format!("{path}: already canonical\n"),
+        "a canonical file is left alone, and fmt says so"
+    );
     // No temporary files are left beside the graph.
     let names: Vec<String> = std::fs::read_dir(dir.path())
         .unwrap()
@@ -964,4 +972,578 @@ fn eval_samples_images_relative_to_the_graph() {
     }
     std::fs::remove_file(dir.path().join("tex.png")).unwrap();
     fails(&["eval", g], &["tex.png"]);
+}
+
+// ---------------------------------------------------------------------------------------
+// Reliability: bad files, confinement, safe writes, formats (issue 9)
+// ---------------------------------------------------------------------------------------
+
+/// Makes a FIFO at `path` with mkfifo(1).
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(status.success(), "mkfifo {}", path.display());
+}
+
+/// Runs `args` and fails the test if it does not finish within 20 s (a blocked read).
+fn run_with_deadline(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(20) {
+            child.kill().unwrap();
+            panic!("matgraph {args:?} blocked");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn every_bundled_graph_evaluates() {
+    let mut graphs: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "json"))
+            .collect();
+    graphs.sort();
+    assert_eq!(graphs.len(), 11, "{graphs:?}");
+    for path in &graphs {
+        let p = path.to_str().unwrap();
+        let graph = matgraph::io::load_graph(path, Registry::builtin()).unwrap();
+        let stdout = ok(&["eval", p, "--json"]);
+        let v: J = serde_json::from_str(&stdout).unwrap();
+        let map = v.as_object().unwrap();
+        let names: Vec<&str> = graph.outputs().iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(
+            map.keys().map(String::as_str).collect::<Vec<_>>(),
+            names,
+            "{p}"
+        );
+        for (name, value) in map {
+            let finite = |x: &J| x.as_f64().is_some_and(f64::is_finite) || x.is_boolean();
+            let all = match value {
+                J::Array(items) => items.iter().all(finite),
+                x => finite(x),
+            };
+            assert!(all, "{p}: {name} = {value}");
+        }
+    }
+    // The pbr graphs reflect `scene:environment`: the ball's default sky at the default
+    // view (+z, the normal +z: the mirror direction is +z, the horizon) is not black.
+    let v: J = serde_json::from_str(&ok(&["eval", "graphs/pbr_gold.json", "--json"])).unwrap();
+    let e: Vec<f64> = v["emission"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(e.iter().all(|&x| x > 0.0), "{e:?}");
+}
+
+#[test]
+fn missing_files_folders_and_fifos_are_named_not_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.json");
+    let m = missing.to_str().unwrap();
+    let d = dir.path().to_str().unwrap();
+    for cmd in ["check", "eval", "wgsl", "fmt", "render"] {
+        let (_, stderr) = fails(&[cmd, m], &[&format!("cannot read {m}: no such file")]);
+        assert!(!stderr.contains("line 0"), "{cmd}: {stderr}");
+        let (_, stderr) = fails(&[cmd, d], &[&format!("cannot read {d}: is a directory")]);
+        assert!(!stderr.contains("line 0"), "{cmd}: {stderr}");
+    }
+    // A FIFO is refused from its metadata, without opening it (which would block).
+    let fifo = dir.path().join("pipe.json");
+    mkfifo(&fifo);
+    let f = fifo.to_str().unwrap();
+    for cmd in ["check", "eval", "fmt"] {
+        let out = run_with_deadline(&[cmd, f]);
+        assert_eq!(out.status.code(), Some(1));
+        let stderr = text(&out.stderr);
+        assert!(
+            stderr.contains(&format!("cannot read {f}: not a regular file (a FIFO)")),
+            "{cmd}: {stderr}"
+        );
+    }
+}
+
+#[test]
+fn eval_node_unknown_type_names_the_users_type() {
+    let (_, stderr) = fails(
+        &["eval", "--node", "nope"],
+        &["--node nope: unknown node type 'nope' (`matgraph nodes` lists them)"],
+    );
+    assert!(!stderr.contains("node 'node'"), "{stderr}");
+    fails(
+        &["eval", "--node", "hg_phse"],
+        &["--node hg_phse: unknown node type 'hg_phse' (did you mean 'hg_phase'?)"],
+    );
+}
+
+#[test]
+fn check_and_render_agree_on_a_graph_without_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = temp_copy(
+        dir.path(),
+        "empty.json",
+        r#"{"version": 1, "name": "empty", "nodes": [{"id": "geo", "type": "geometry"}]}"#,
+    );
+    let p = g.to_str().unwrap();
+    let (stdout, _) = fails(
+        &["check", p],
+        &[
+            &format!("{p}: the graph has no outputs"),
+            "1 of 1 file failed",
+        ],
+    );
+    assert_eq!(stdout, format!("{p}: 1 error\n"));
+    let out = dir.path().join("out.png");
+    fails(
+        &["render", p, "--size", "8x8", "-o", out.to_str().unwrap()],
+        &[p],
+    );
+    fails(&["eval", p], &[p]);
+    // One output: singular.
+    let one = temp_copy(
+        dir.path(),
+        "one.json",
+        r#"{"version": 1, "name": "one", "nodes": [{"id": "geo", "type": "geometry"}],
+            "outputs": [{"name": "n", "from": "geo.normal"}]}"#,
+    );
+    let p = one.to_str().unwrap();
+    assert_eq!(ok(&["check", p]), format!("{p}: ok (1 node, 1 output)\n"));
+}
+
+/// A folder `root/graph/` with the graph, an inside texture, and `root/outside/secret.png`.
+fn confinement_fixture(texture: &str) -> (tempfile::TempDir, PathBuf) {
+    use matgraph::texture::Image;
+    let root = tempfile::tempdir().unwrap();
+    let inside = root.path().join("graph");
+    let outside = root.path().join("outside");
+    std::fs::create_dir_all(inside.join("tex")).unwrap();
+    std::fs::create_dir_all(&outside).unwrap();
+    let img = Image::new(1, 1, vec![[1.0, 0.0, 0.0, 1.0]]).unwrap();
+    matgraph::image_io::save_png(&outside.join("secret.png"), &img).unwrap();
+    matgraph::image_io::save_png(&inside.join("tex/red.png"), &img).unwrap();
+    std::os::unix::fs::symlink(outside.join("secret.png"), inside.join("escape.png")).unwrap();
+    std::os::unix::fs::symlink("tex/red.png", inside.join("alias.png")).unwrap();
+    let graph = inside.join("g.json");
+    std::fs::write(
+        &graph,
+        format!(
+            r#"{{ "version": 1, "name": "t", "nodes": [
+              {{ "id": "geo", "type": "geometry" }},
+              {{ "id": "tex", "type": "image_texture", "texture": "{texture}", "inputs": {{ "uv": {{ "link": "geo.uv" }} }} }} ],
+              "outputs": [{{ "name": "c", "from": "tex.color" }}] }}"#
+        ),
+    )
+    .unwrap();
+    (root, graph)
+}
+
+#[test]
+fn texture_paths_stay_inside_the_graphs_folder() {
+    let secret = |root: &Path| root.join("outside/secret.png").to_str().unwrap().to_owned();
+    for case in [
+        "../outside/secret.png",
+        "ABSOLUTE",
+        "escape.png",
+        "../outside/none.png",
+    ] {
+        let (root, graph) = confinement_fixture(case);
+        let texture = if case == "ABSOLUTE" {
+            let t = secret(root.path());
+            let text = std::fs::read_to_string(&graph).unwrap().replace(case, &t);
+            std::fs::write(&graph, text).unwrap();
+            t
+        } else {
+            case.to_owned()
+        };
+        let g = graph.to_str().unwrap();
+        let out = root.path().join("graph/out.png");
+        for args in [
+            vec!["eval", g, "--json"],
+            vec!["render", g, "--size", "8x8", "-o", out.to_str().unwrap()],
+        ] {
+            let (_, stderr) = fails(
+                &args,
+                &[
+                    g,
+                    "node 'tex'",
+                    &format!("path '{texture}'"),
+                    "outside the graph's folder",
+                    "--allow-outside-paths",
+                ],
+            );
+            let mut allowed = args.clone();
+            allowed.push("--allow-outside-paths");
+            if case.contains("none") {
+                // Missing and outside: reported as outside, so existence is not revealed.
+                assert!(stderr.contains("outside/none.png"), "{stderr}");
+                fails(&allowed, &["none.png: no such file"]);
+                continue;
+            }
+            assert!(stderr.contains(&secret(root.path())), "{case}: {stderr}");
+            ok(&allowed);
+        }
+    }
+    // Inside, directly or through a symlink that stays inside: allowed without the flag.
+    for texture in ["tex/red.png", "alias.png", "./tex/../tex/red.png"] {
+        let (_root, graph) = confinement_fixture(texture);
+        let v: J = serde_json::from_str(&ok(&["eval", graph.to_str().unwrap(), "--json"])).unwrap();
+        assert_eq!(v["c"], serde_json::json!([1.0, 0.0, 0.0]), "{texture}");
+    }
+    // A non-regular file is refused before it is opened (a FIFO would block), even with
+    // the flag.
+    let (root, graph) = confinement_fixture("../outside/pipe.png");
+    mkfifo(&root.path().join("outside/pipe.png"));
+    let g = graph.to_str().unwrap();
+    let out = run_with_deadline(&["eval", g, "--allow-outside-paths"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("not a regular file (a FIFO)"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = run_with_deadline(&["eval", g]);
+    assert!(
+        text(&out.stderr).contains("outside the graph's folder"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn scene_files_and_environment_images_stay_inside_too() {
+    use matgraph::texture::Image;
+    let (root, graph) = confinement_fixture("tex/red.png");
+    let sky = Image::filled(4, 2, [0.5, 0.5, 0.5, 1.0]);
+    matgraph::image_io::save_exr(&root.path().join("outside/sky.exr"), &sky).unwrap();
+    std::fs::write(
+        root.path().join("graph/scene.json"),
+        r#"{ "kind": "ball", "environment": { "image": { "path": "../outside/sky.exr" } } }"#,
+    )
+    .unwrap();
+    std::fs::write(
+        root.path().join("outside/scene.json"),
+        r#"{ "kind": "ball" }"#,
+    )
+    .unwrap();
+    let text_of = std::fs::read_to_string(&graph).unwrap();
+    let with_scene = |scene: &str| {
+        let p = root
+            .path()
+            .join(format!("graph/{}.json", scene.replace(['/', '.'], "_")));
+        std::fs::write(
+            &p,
+            text_of.replacen(
+                "\"version\": 1,",
+                &format!("\"version\": 1, \"scene\": \"{scene}\","),
+                1,
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let out = root.path().join("graph/out.png");
+    let o = out.to_str().unwrap();
+    let g = with_scene("scene.json");
+    let g = g.to_str().unwrap();
+    fails(
+        &["render", g, "--size", "8x8", "-o", o],
+        &[
+            "environment image",
+            "path '../outside/sky.exr'",
+            "outside the graph's folder",
+        ],
+    );
+    ok(&[
+        "render",
+        g,
+        "--size",
+        "8x8",
+        "-o",
+        o,
+        "--allow-outside-paths",
+    ]);
+    let g = with_scene("../outside/scene.json");
+    let g = g.to_str().unwrap();
+    fails(
+        &["render", g, "--size", "8x8", "-o", o],
+        &[
+            "scene: path '../outside/scene.json'",
+            "outside the graph's folder",
+        ],
+    );
+    ok(&[
+        "render",
+        g,
+        "--size",
+        "8x8",
+        "-o",
+        o,
+        "--allow-outside-paths",
+    ]);
+}
+
+/// The first bytes of `path`.
+fn magic(path: &Path, n: usize) -> Vec<u8> {
+    std::fs::read(path).unwrap()[..n].to_vec()
+}
+
+#[test]
+fn render_chooses_the_encoder_by_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, want) in [
+        ("a.png", &b"\x89PNG\r\n\x1a\n"[..]),
+        ("b.jpg", &b"\xff\xd8\xff"[..]),
+        ("c.JPEG", &b"\xff\xd8\xff"[..]),
+        ("d.exr", &b"\x76\x2f\x31\x01"[..]),
+    ] {
+        let out = dir.path().join(name);
+        let stdout = ok(&[
+            "render",
+            GLASS,
+            "--size",
+            "8x8",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(stdout.contains(out.to_str().unwrap()), "{stdout}");
+        assert_eq!(magic(&out, want.len()), want, "{name}");
+    }
+    let back = image::open(dir.path().join("b.jpg")).unwrap();
+    assert_eq!((back.width(), back.height()), (8, 8));
+    for bad in ["e.bmp", "noext"] {
+        let out = dir.path().join(bad);
+        fails(
+            &[
+                "render",
+                GLASS,
+                "--size",
+                "8x8",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            &[bad, "use one of .png, .jpg, .jpeg, .exr"],
+        );
+        assert!(!out.exists());
+    }
+    // --exr names the file it wrote, next to the PNG.
+    let png = dir.path().join("f.png");
+    let stdout = ok(&[
+        "render",
+        GLASS,
+        "--size",
+        "8x8",
+        "--exr",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    let exr = dir.path().join("f.exr");
+    assert!(
+        stdout.contains(&format!("{} + {}", png.display(), exr.display())),
+        "{stdout}"
+    );
+    assert_eq!(magic(&exr, 4), b"\x76\x2f\x31\x01");
+}
+
+/// Names in `dir`, sorted.
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn writes_go_through_symlinks_and_keep_the_mode() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let dir = tempfile::tempdir().unwrap();
+    let real = dir.path().join("real.png");
+    std::fs::write(&real, b"old").unwrap();
+    std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o640)).unwrap();
+    let link = dir.path().join("link.png");
+    std::os::unix::fs::symlink("real.png", &link).unwrap();
+    ok(&[
+        "render",
+        GLASS,
+        "--size",
+        "8x8",
+        "-o",
+        link.to_str().unwrap(),
+    ]);
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(magic(&real, 4), b"\x89PNG");
+    assert_eq!(std::fs::metadata(&real).unwrap().mode() & 0o7777, 0o640);
+    // fmt on a symlinked graph formats the target and keeps the link, mode and owner.
+    let canonical = std::fs::read_to_string(glass_path()).unwrap();
+    let value: J = serde_json::from_str(&canonical).unwrap();
+    let target = dir.path().join("target.json");
+    std::fs::write(&target, serde_json::to_string_pretty(&value).unwrap()).unwrap();
+    std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o604)).unwrap();
+    let root = std::fs::metadata(&target).unwrap().uid() == 0;
+    if root {
+        std::os::unix::fs::chown(&target, Some(1234), Some(5678)).unwrap();
+    }
+    let glink = dir.path().join("g.json");
+    std::os::unix::fs::symlink(&target, &glink).unwrap();
+    let g = glink.to_str().unwrap();
+    assert_eq!(ok(&["fmt", g]), format!("{g}: rewritten\n"));
+    assert!(
+        std::fs::symlink_metadata(&glink)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), canonical);
+    let meta = std::fs::metadata(&target).unwrap();
+    assert_eq!(meta.mode() & 0o7777, 0o604);
+    if root {
+        assert_eq!((meta.uid(), meta.gid()), (1234, 5678));
+    }
+    // A new file gets 0666 less the umask (as the shell would create it), not 0600.
+    let fresh = dir.path().join("fresh.png");
+    ok(&[
+        "render",
+        GLASS,
+        "--size",
+        "8x8",
+        "-o",
+        fresh.to_str().unwrap(),
+    ]);
+    assert_ne!(
+        std::fs::metadata(&fresh).unwrap().mode() & 0o077,
+        0,
+        "not private"
+    );
+    assert_eq!(
+        names_in(dir.path()),
+        ["fresh.png", "g.json", "link.png", "real.png", "target.json"]
+    );
+}
+
+#[test]
+fn writes_refuse_fifos_and_devices_and_leave_no_temporaries() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.png");
+    mkfifo(&fifo);
+    let f = fifo.to_str().unwrap();
+    let out = run_with_deadline(&["render", GLASS, "--size", "8x8", "-o", f]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("is a FIFO, not a regular file; refusing to replace it"),
+        "{}",
+        text(&out.stderr)
+    );
+    // A device node like /dev/null (made here, so a failure cannot hurt the real one);
+    // only root may make one.
+    let dev = dir.path().join("null.png");
+    let made = Command::new("mknod")
+        .arg(&dev)
+        .args(["c", "1", "3"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        fails(
+            &[
+                "render",
+                GLASS,
+                "--size",
+                "8x8",
+                "-o",
+                dev.to_str().unwrap(),
+            ],
+            &["is a character device, not a regular file; refusing to replace it"],
+        );
+        use std::os::unix::fs::FileTypeExt;
+        assert!(
+            std::fs::symlink_metadata(&dev)
+                .unwrap()
+                .file_type()
+                .is_char_device()
+        );
+    }
+    let sym = dir.path().join("to_pipe.json");
+    std::os::unix::fs::symlink("pipe.png", &sym).unwrap();
+    fails(&["schema", "-o", sym.to_str().unwrap()], &["is a FIFO"]);
+    let mut expected = vec!["pipe.png", "to_pipe.json"];
+    if made {
+        expected.insert(0, "null.png");
+    }
+    assert_eq!(names_in(dir.path()), expected, "no temporary left behind");
+}
+
+#[test]
+fn a_killed_writes_temporary_is_cleaned_up_by_the_next_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("schema.json");
+    let stale = dir.path().join(".schema.json.Ab3dEf.matgraph-tmp");
+    let fresh = dir.path().join(".schema.json.Zz9yYx.matgraph-tmp");
+    let other = dir.path().join(".other.json.Ab3dEf.matgraph-tmp");
+    for p in [&stale, &fresh, &other] {
+        std::fs::write(p, b"half").unwrap();
+    }
+    let two_hours_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(7200);
+    for p in [&stale, &other] {
+        std::fs::File::options()
+            .write(true)
+            .open(p)
+            .unwrap()
+            .set_modified(two_hours_ago)
+            .unwrap();
+    }
+    ok(&["schema", "-o", out.to_str().unwrap()]);
+    // The stale one of this target is gone; a recent one (a write in progress) and another
+    // target's are kept.
+    assert_eq!(
+        names_in(dir.path()),
+        [
+            ".other.json.Ab3dEf.matgraph-tmp",
+            ".schema.json.Zz9yYx.matgraph-tmp",
+            "schema.json"
+        ]
+    );
+}
+
+/// Without `XDG_RUNTIME_DIR` (no desktop session), `render --gpu` keeps Mesa quiet: the
+/// binary points it at a private temporary folder, removed afterwards.
+#[test]
+fn render_gpu_without_a_runtime_dir_is_quiet() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_png = dir.path().join("gpu.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(["render", GLASS, "--gpu", "--size", "8x8", "-o"])
+        .arg(&out_png)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .env_remove("XDG_RUNTIME_DIR")
+        .env("TMPDIR", dir.path())
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+    if !out.status.success() {
+        println!("SKIPPED: render --gpu found no adapter: {stderr}");
+        return;
+    }
+    assert_eq!(stderr, "");
+    assert_eq!(magic(&out_png, 4), b"\x89PNG");
+    assert_eq!(
+        names_in(dir.path()),
+        ["gpu.png"],
+        "the private folder is removed"
+    );
 }

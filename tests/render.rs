@@ -394,3 +394,133 @@ fn scene_environment_matches_the_environment() {
     let mean = sum / n as f64;
     assert!(mean < 0.01, "mean relative error {mean}");
 }
+
+// ---------------------------------------------------------------------------------------
+// Memory: bands of rows, the budget planner, refusals.
+// ---------------------------------------------------------------------------------------
+
+/// Rendering band by band is bit-exact: every bundled graph (the water scene's scene
+/// textures and reflections, displacement, alpha, image textures included) rendered in
+/// bands of 1, 3 and 7 rows equals its one-band render, float for float, at 4 spp.
+#[test]
+fn banded_renders_equal_the_whole_frame_bit_for_bit() {
+    let bits = |img: &matgraph::render::HdrImage| -> Vec<[u32; 3]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        let scene = scene_of(&graph);
+        let mut o = options(0, Backend::Cpu, &graph, &path);
+        (o.width, o.height, o.samples) = (29, 23, 4);
+        o.band_rows = Some(23);
+        let whole = render(&graph, &scene, &o).unwrap();
+        assert_eq!(whole.pixels.len(), 29 * 23);
+        for rows in [1, 3, 7] {
+            o.band_rows = Some(rows);
+            let banded = render(&graph, &scene, &o).unwrap();
+            assert!(
+                bits(&banded) == bits(&whole),
+                "{}: bands of {rows} rows differ from one band",
+                graph.name
+            );
+        }
+    }
+}
+
+/// The planner's arithmetic, checked against the byte counts written out: the image is
+/// 12 B/px, scene textures 112 B/texel at most 2048 on a side, samples 256 B each.
+#[test]
+fn the_memory_planner_fits_the_budget() {
+    use matgraph::render::{MEMORY_BUDGET, plan_memory, scene_texture_size};
+    const GIB: u64 = 1 << 30;
+    assert_eq!(MEMORY_BUDGET, 2 * GIB);
+    assert_eq!(scene_texture_size(512, 256), (512, 256));
+    assert_eq!(scene_texture_size(8192, 4096), (2048, 1024));
+    assert_eq!(scene_texture_size(16384, 3), (2048, 1));
+    // 2048² × 64 spp: image 48 MiB, one row 2048·64·256 = 32 MiB: (2 GiB − 48 MiB) / 32 MiB
+    // = 62.5 → 62 rows per band, 34 bands.
+    let p = plan_memory(2048, 2048, 64, false, MEMORY_BUDGET).unwrap();
+    assert_eq!(p.fixed_bytes, 2048 * 2048 * 12);
+    assert_eq!((p.band_rows, p.bands), (62, 34));
+    assert_eq!(p.band_bytes, 62 * 2048 * 64 * 256);
+    assert!(p.fixed_bytes + p.band_bytes <= MEMORY_BUDGET);
+    // With scene textures, 2048² × 112 B = 448 MiB more: (2048 − 48 − 448) / 32 = 48.5.
+    let p = plan_memory(2048, 2048, 64, true, MEMORY_BUDGET).unwrap();
+    assert_eq!(p.band_rows, 48);
+    // 8192² × 64 spp, the panic: bands of ≤ 2^32 / (8192·64) = 8192 rows by index,
+    // (2 GiB − 768 MiB) / 128 MiB = 10 rows by memory.
+    let p = plan_memory(8192, 8192, 64, false, MEMORY_BUDGET).unwrap();
+    assert_eq!((p.band_rows, p.bands), (10, 820));
+    // A small image is one band.
+    let p = plan_memory(64, 48, 1, true, MEMORY_BUDGET).unwrap();
+    assert_eq!((p.band_rows, p.bands), (48, 1));
+    // Every allowed size and sample count either fits or is refused; nothing is allocated.
+    for side in [1u32, 7, 512, 4096, 8192, 12000, 16384] {
+        for spp in [1u32, 8, 64] {
+            for scene in [false, true] {
+                match plan_memory(side, side, spp, scene, MEMORY_BUDGET) {
+                    Ok(p) => {
+                        assert!(
+                            p.fixed_bytes + p.band_bytes <= MEMORY_BUDGET,
+                            "{side} {spp}"
+                        );
+                        assert!(side as u64 * p.band_rows as u64 * spp as u64 <= u32::MAX as u64);
+                        assert_eq!(p.bands, side.div_ceil(p.band_rows));
+                    }
+                    Err(e) => assert!(side >= 12000, "{side}² × {spp}: {e}"),
+                }
+            }
+        }
+    }
+}
+
+/// A render that cannot fit is refused before anything is allocated, with an error naming
+/// the budget: 16384² needs 3 GiB for its HDR image alone.
+#[test]
+fn an_oversized_render_is_refused_naming_the_budget() {
+    use matgraph::render::RenderError;
+    let e = matgraph::render::plan_memory(16384, 16384, 64, false, 2 << 30).unwrap_err();
+    assert!(
+        matches!(e, RenderError::Memory { needed, budget, .. } if needed == 16384 * 16384 * 12 + 16384 * 64 * 256 && budget == 2 << 30),
+        "{e:?}"
+    );
+    let msg = e.to_string();
+    assert!(
+        msg.contains("16384x16384 at 64 spp")
+            && msg.contains("3072 MiB image")
+            && msg.contains("memory budget of 2048 MiB"),
+        "{msg}"
+    );
+    // Through render(), with a tiny budget: refused, nothing rendered.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/toon_ball.json");
+    let g = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+    let o = RenderOptions {
+        width: 64,
+        height: 64,
+        memory_budget: 64 * 64 * 12 + 1000,
+        ..RenderOptions::default()
+    };
+    let e = render(&g, &scene_of(&g), &o).unwrap_err();
+    assert!(e.to_string().contains("memory budget of 0 MiB"), "{e}");
+    // The command refuses 16384² up front: the output images alone exceed the budget.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args([
+            "render",
+            "graphs/toon_ball.json",
+            "--size",
+            "16384x16384",
+            "--samples",
+            "64",
+            "-o",
+        ])
+        .arg(tempfile::tempdir().unwrap().path().join("big.png"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("16384x16384") && stderr.contains("memory budget of 2048 MiB"),
+        "{stderr}"
+    );
+}

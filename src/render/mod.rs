@@ -14,6 +14,10 @@
 //!    graph without a `color` output is shown unlit: its first output as is.
 //! 4. **Composite.** `alpha · (color + emission) + (1 − alpha) · background` per sample, the
 //!    samples of a pixel averaged (box filter), then tone mapped for display ([`tonemap`]).
+//!
+//! Stages 2–4 run band by band (rows of the image) so that a render fits
+//! [`RenderOptions::memory_budget`] ([`plan_memory`]); a banded render equals the one-band
+//! render bit for bit.
 
 pub mod sheet;
 pub mod tonemap;
@@ -51,6 +55,25 @@ pub enum RenderError {
     /// A texture could not be prepared.
     #[error("texture: {0}")]
     Texture(String),
+    /// The render cannot fit the memory budget at any band size.
+    #[error(
+        "{width}x{height} at {samples} spp needs at least {} MiB ({}), over the memory budget of {} MiB",
+        needed.div_ceil(1 << 20), what, budget >> 20
+    )]
+    Memory {
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Samples per pixel.
+        samples: u32,
+        /// Bytes needed with the smallest band (one row).
+        needed: u64,
+        /// What the bytes are for.
+        what: String,
+        /// The budget in bytes.
+        budget: u64,
+    },
     /// An output the renderer reads has a type it cannot use.
     #[error("output '{name}' is a {ty}; the renderer needs {expected}")]
     OutputType {
@@ -79,11 +102,16 @@ pub struct RenderOptions {
     /// Parameter values that replace the graph file's.
     pub parameters: Vec<(String, crate::value::Value)>,
     /// The graph's images (see [`crate::image_io::load_graph_textures`]); scene textures
-    /// (`scene:refraction`, `scene:reflection`, `scene:background`) are rendered and added.
+    /// (`scene:refraction`, `scene:reflection`, `scene:background`, at
+    /// [`scene_texture_size`]; `scene:environment`) are rendered and added.
     pub textures: Option<Arc<TextureSet>>,
     /// The equirectangular image of an image environment (see `scene::Environment::Image`);
     /// without it such a scene falls back to the default sky.
     pub environment: Option<Arc<Texture>>,
+    /// Bytes the render may use ([`plan_memory`]); [`MEMORY_BUDGET`] by default.
+    pub memory_budget: u64,
+    /// Rows per band, overriding [`plan_memory`]'s choice (tests force tiny bands).
+    pub band_rows: Option<u32>,
 }
 
 impl Default for RenderOptions {
@@ -97,8 +125,105 @@ impl Default for RenderOptions {
             parameters: Vec::new(),
             textures: None,
             environment: None,
+            memory_budget: MEMORY_BUDGET,
+            band_rows: None,
         }
     }
+}
+
+/// The memory a render may use by default: 2 GiB. The frame is rendered in bands of rows
+/// sized so that the whole render stays within it ([`plan_memory`]).
+pub const MEMORY_BUDGET: u64 = 2 << 30;
+
+/// Bytes per sample of a band, an upper bound: two fragment buffers (40), the background
+/// (12) and, when every sample sees the material, its index (4), 20 attribute floats (80),
+/// the light columns and a copy of the positions (36), the outputs, radiance, alpha and the
+/// composite (40), with headroom for the executor's registers and the GPU's staging buffers.
+pub const BYTES_PER_SAMPLE: u64 = 256;
+
+/// Bytes per pixel of the rendered HDR image (linear RGB f32).
+pub const BYTES_PER_PIXEL: u64 = 12;
+
+/// Largest side of the scene textures (`scene:background`, `scene:refraction`,
+/// `scene:reflection`): larger images get textures scaled down to it, keeping the aspect.
+pub const SCENE_TEXTURE_MAX: u32 = 2048;
+
+/// Bytes per texel of the scene textures at their peak: three RGB maps (36), three RGBA
+/// textures with mip chains (64) and headroom for the rasteriser of the passes.
+pub const BYTES_PER_SCENE_TEXEL: u64 = 112;
+
+/// The size of the scene textures of a `width × height` render: the same, or scaled down so
+/// that the longer side is [`SCENE_TEXTURE_MAX`] (each side at least 1).
+pub fn scene_texture_size(width: u32, height: u32) -> (u32, u32) {
+    let side = width.max(height);
+    if side <= SCENE_TEXTURE_MAX {
+        return (width, height);
+    }
+    let scale = |v: u32| {
+        ((v as u64 * SCENE_TEXTURE_MAX as u64 + side as u64 / 2) / side as u64).max(1) as u32
+    };
+    (scale(width), scale(height))
+}
+
+/// How a render is cut to fit its memory budget.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryPlan {
+    /// Rows per band.
+    pub band_rows: u32,
+    /// Number of bands.
+    pub bands: u32,
+    /// Bytes held for the whole render (the HDR image, the scene textures).
+    pub fixed_bytes: u64,
+    /// Bytes of one band at most.
+    pub band_bytes: u64,
+}
+
+/// Plans a `width × height` render at `samples` per pixel within `budget` bytes: the fixed
+/// part (the HDR image, [`BYTES_PER_PIXEL`]; the scene textures when `scene_textures`,
+/// [`BYTES_PER_SCENE_TEXEL`] at [`scene_texture_size`]) and bands of as many rows as fit
+/// at [`BYTES_PER_SAMPLE`], each band also within `u32` sample indices. An error naming
+/// the budget when not even one row fits. Allocates nothing.
+pub fn plan_memory(
+    width: u32,
+    height: u32,
+    samples: u32,
+    scene_textures: bool,
+    budget: u64,
+) -> Result<MemoryPlan, RenderError> {
+    let (w, h, spp) = (width as u64, height as u64, samples.max(1) as u64);
+    let image = w * h * BYTES_PER_PIXEL;
+    let (tw, th) = scene_texture_size(width, height);
+    let maps = if scene_textures {
+        tw as u64 * th as u64 * BYTES_PER_SCENE_TEXEL
+    } else {
+        0
+    };
+    let fixed = image + maps;
+    let row = w * spp * BYTES_PER_SAMPLE;
+    if fixed + row > budget {
+        let mut what = format!("{} MiB image", image.div_ceil(1 << 20));
+        if maps > 0 {
+            what += &format!(", {} MiB scene textures", maps.div_ceil(1 << 20));
+        }
+        what += &format!(", {} MiB per row of samples", row.div_ceil(1 << 20));
+        return Err(RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed: fixed + row,
+            what,
+            budget,
+        });
+    }
+    let by_budget = (budget - fixed) / row.max(1);
+    let by_index = u32::MAX as u64 / (w * spp).max(1);
+    let band_rows = by_budget.min(by_index).min(h).max(1) as u32;
+    Ok(MemoryPlan {
+        band_rows,
+        bands: height.div_ceil(band_rows),
+        fixed_bytes: fixed,
+        band_bytes: band_rows as u64 * row,
+    })
 }
 
 /// Wall-clock time of each stage of a render.
@@ -279,7 +404,8 @@ fn textures(
             return Ok(set);
         }
     }
-    let maps = scene.scene_textures_with(options.width, options.height, environment);
+    let (tw, th) = scene_texture_size(options.width, options.height);
+    let maps = scene.scene_textures_with(tw, th, environment);
     for name in ["background", "refraction", "reflection"] {
         if !wanted.contains(&name) {
             continue;
@@ -300,6 +426,50 @@ fn textures(
             .map_err(texture_error)?;
     }
     Ok(set)
+}
+
+/// Whether `graph` samples any scene texture (`scene:…`).
+pub fn uses_scene_textures(graph: &Graph) -> bool {
+    graph
+        .nodes()
+        .iter()
+        .any(|n| n.texture.as_ref().and_then(|t| t.scene_name()).is_some())
+}
+
+/// The scene textures `graph` samples (`scene:environment`, `scene:background`,
+/// `scene:refraction`, `scene:reflection`), rendered from `scene` as a `width × height`
+/// render would bind them, `environment` being the image of an image environment. For
+/// evaluating a graph outside a render (`matgraph eval`).
+pub fn scene_texture_set(
+    graph: &Graph,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    environment: Option<Arc<Texture>>,
+) -> Result<TextureSet, RenderError> {
+    let lookup = environment.map(environment_lookup);
+    let lookup: Option<&crate::scene::EnvLookup> =
+        lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
+    let options = RenderOptions {
+        width,
+        height,
+        ..RenderOptions::default()
+    };
+    textures(graph, scene, &options, lookup)
+}
+
+/// The lookup of an equirectangular environment image (bilinear, repeating).
+fn environment_lookup(tex: Arc<Texture>) -> impl Fn(Vec3) -> Vec3 + Send + Sync {
+    move |d: Vec3| {
+        let uv = crate::scene::equirect_uv(d);
+        tex.sample(
+            uv,
+            0.0,
+            crate::texture::Wrap::Repeat,
+            crate::texture::Filter::Bilinear,
+        )
+        .truncate()
+    }
 }
 
 /// The scene a graph names in its file, when it names one inline: a preset name
@@ -355,6 +525,14 @@ pub fn render_timed(
     let Some(first) = roles.color.as_ref().or(roles.emission.as_ref()) else {
         return Err(EvalError::NoOutputs.into());
     };
+    // Refused before anything is compiled or allocated when it cannot fit.
+    let plan = plan_memory(
+        options.width,
+        options.height,
+        options.samples.max(1),
+        uses_scene_textures(graph),
+        options.memory_budget,
+    )?;
     // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
     let mut params = crate::gpu::default_parameters(
         graph,
@@ -414,41 +592,75 @@ pub fn render_timed(
     }
     t.displace = start.elapsed();
 
-    // 2. G-buffer.
+    // 2.–4. Band by band: G-buffer, material, composite and resolve.
+    let band_rows = options.band_rows.unwrap_or(plan.band_rows).max(1);
     let start = Instant::now();
-    let lookup = options.environment.clone().map(|tex| {
-        move |d: Vec3| {
-            let uv = crate::scene::equirect_uv(d);
-            tex.sample(
-                uv,
-                0.0,
-                crate::texture::Wrap::Repeat,
-                crate::texture::Filter::Bilinear,
-            )
-            .truncate()
-        }
-    });
+    let lookup = options.environment.clone().map(environment_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
-    let mut g: GBuffer = scene.gbuffer_with(
+    let bound = Arc::new(textures(graph, scene, options, lookup)?);
+    let frame = crate::scene::GBufferFrame::new(
+        scene,
         &mesh,
         options.width,
         options.height,
         options.samples.max(1),
         lookup,
     );
-    g.batch.set_time(time);
-    g.batch
-        .set_textures(Arc::new(textures(graph, scene, options, lookup)?));
     t.gbuffer = start.elapsed();
+    let mut pixels: Vec<[f32; 3]> =
+        Vec::with_capacity(options.width as usize * options.height as usize);
+    let mut first = 0;
+    while first < options.height {
+        let last = first.saturating_add(band_rows).min(options.height);
+        let start = Instant::now();
+        let mut g = frame.rows(first..last);
+        g.batch.set_time(time);
+        g.batch.set_textures(bound.clone());
+        t.gbuffer += start.elapsed();
+        shade_band(
+            &mut g,
+            &mut pixels,
+            scene,
+            &lit,
+            &unlit,
+            &roles,
+            &params,
+            &mut t,
+        )?;
+        first = last;
+    }
+    let (width, height) = (options.width, options.height);
+    Ok((
+        HdrImage {
+            width,
+            height,
+            pixels,
+        },
+        t,
+    ))
+}
 
+/// Evaluates the material over band `g`, composites it over the background and appends
+/// the band's resolved pixels to `pixels`.
+#[allow(clippy::too_many_arguments)]
+fn shade_band(
+    g: &mut GBuffer,
+    pixels: &mut Vec<[f32; 3]>,
+    scene: &Scene,
+    lit: &Option<Box<dyn Evaluator>>,
+    unlit: &Option<Box<dyn Evaluator>>,
+    roles: &Roles,
+    params: &crate::plan::ParamValues,
+    t: &mut RenderTimings,
+) -> Result<(), RenderError> {
     // 3. Material.
     let start = Instant::now();
     let n = g.samples.len();
     let mut radiance = vec![Vec3::ZERO; n];
     let mut alpha = vec![1.0f32; n];
     if n > 0 {
-        if let Some(lit) = &lit {
+        if let Some(lit) = lit {
             let positions = g
                 .batch
                 .column(Attribute::Position)
@@ -458,15 +670,15 @@ pub fn render_timed(
                 let (dir, color) = scene.light_columns(light, &positions, n);
                 g.batch.set_planar(Attribute::Light, dir)?;
                 g.batch.set_planar(Attribute::LightColor, color)?;
-                let out = lit.evaluate(&g.batch, &params)?;
+                let out = lit.evaluate(&g.batch, params)?;
                 let c = rgb(&out, 0);
                 for (i, r) in radiance.iter_mut().enumerate() {
                     *r += c(i);
                 }
             }
         }
-        if let Some(unlit) = &unlit {
-            let out = unlit.evaluate(&g.batch, &params)?;
+        if let Some(unlit) = unlit {
+            let out = unlit.evaluate(&g.batch, params)?;
             let mut k = 0;
             if roles.emission.is_some() {
                 let c = rgb(&out, 0);
@@ -487,11 +699,14 @@ pub fn render_timed(
             }
         }
     }
-    t.shade = start.elapsed();
+    t.shade += start.elapsed();
 
     // 4. Composite and resolve.
     let start = Instant::now();
-    let mut samples: Vec<Vec3> = g.background.iter().map(|&c| Vec3::from_array(c)).collect();
+    let mut samples: Vec<Vec3> = std::mem::take(&mut g.background)
+        .into_iter()
+        .map(Vec3::from_array)
+        .collect();
     for (k, &s) in g.samples.iter().enumerate() {
         let bg = samples[s as usize];
         let c = radiance[k];
@@ -499,17 +714,11 @@ pub fn render_timed(
         samples[s as usize] = c * alpha[k] + bg * (1.0 - alpha[k]);
     }
     let spp = g.spp as usize;
-    let pixels = samples
-        .chunks(spp)
-        .map(|px| (px.iter().copied().sum::<Vec3>() / spp as f32).to_array())
-        .collect();
-    t.resolve = start.elapsed();
-    Ok((
-        HdrImage {
-            width: g.width,
-            height: g.height,
-            pixels,
-        },
-        t,
-    ))
+    pixels.extend(
+        samples
+            .chunks(spp)
+            .map(|px| (px.iter().copied().sum::<Vec3>() / spp as f32).to_array()),
+    );
+    t.resolve += start.elapsed();
+    Ok(())
 }

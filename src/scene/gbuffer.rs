@@ -10,9 +10,11 @@ use super::columns::light_at;
 use super::environment::EnvLookup;
 use super::image::SceneImage;
 use super::mesh::Mesh;
+use super::objects::Geometry;
 use super::objects::Shape;
 use super::raster::{
-    Divider, DrawItem, Fragment, interpolate, rasterize, sample_coords, sample_offsets,
+    Divider, DrawItem, Fragment, SetupTri, interpolate, rasterize_rows, sample_coords,
+    sample_offsets, setup_all,
 };
 use super::shade::{Prepared, Shading, shade_frame};
 use crate::exec::SampleBatch;
@@ -21,10 +23,13 @@ use crate::node::Attribute;
 /// Samples per parallel block when filling attribute columns.
 const BLOCK: usize = 4096;
 
-/// The material surface's samples of one frame.
+/// The material surface's samples of one frame, or of a band of its rows
+/// ([`GBufferFrame::rows`]).
 ///
-/// The frame has `width × height × spp` samples, sample `s` of pixel `(x, y)` (top-left
-/// origin) at index `(y · width + x) · spp + s`, placed by
+/// The band holds rows `first_row .. first_row + rows` of a `width × height` frame (the
+/// whole frame: `first_row = 0`, `rows = height`): `width × rows × spp` samples, sample `s`
+/// of pixel `(x, y)` (top-left origin) at index `((y − first_row) · width + x) · spp + s`,
+/// placed by
 /// [`sample_offsets`](super::sample_offsets). Every scene object takes part in the depth
 /// test, so a sample is in `samples` only where the material surface is the nearest
 /// surface; where something stands in front of it (a pole in the water), the sample is left
@@ -34,8 +39,12 @@ const BLOCK: usize = 4096;
 pub struct GBuffer {
     /// Image width in pixels.
     pub width: u32,
-    /// Image height in pixels.
+    /// Image height in pixels (of the whole frame).
     pub height: u32,
+    /// The first image row of this band.
+    pub first_row: u32,
+    /// Rows in this band.
+    pub rows: u32,
     /// Samples per pixel.
     pub spp: u32,
     /// Indices into the sample grid of the samples where the material surface is nearest,
@@ -54,15 +63,19 @@ pub struct GBuffer {
 }
 
 impl GBuffer {
-    /// Number of samples in the full grid, `width · height · spp`.
+    /// Number of samples in the band's grid, `width · rows · spp`.
     pub fn sample_count(&self) -> usize {
-        self.width as usize * self.height as usize * self.spp as usize
+        self.width as usize * self.rows as usize * self.spp as usize
     }
 
-    /// Pixel `(x, y)` and sample number `s` of grid index `index`.
+    /// Pixel `(x, y)` (image coordinates) and sample number `s` of grid index `index`.
     pub fn sample_coords(&self, index: u32) -> (u32, u32, u32) {
         let pixel = index / self.spp;
-        (pixel % self.width, pixel / self.width, index % self.spp)
+        (
+            pixel % self.width,
+            self.first_row + pixel / self.width,
+            index % self.spp,
+        )
     }
 
     /// The frame: `material[k]` at `samples[k]`, `background` elsewhere, averaged over each
@@ -92,7 +105,7 @@ impl GBuffer {
             .collect();
         SceneImage {
             width: self.width,
-            height: self.height,
+            height: self.rows,
             data,
         }
     }
@@ -123,41 +136,112 @@ impl Scene {
         spp: u32,
         image: Option<&EnvLookup>,
     ) -> GBuffer {
-        assert!(spp >= 1, "Scene::gbuffer: spp must be at least 1");
         let total = width as u64 * height as u64 * spp as u64;
         assert!(
             total <= u32::MAX as u64,
             "Scene::gbuffer: {width} × {height} × {spp} samples exceed u32 indices"
         );
+        GBufferFrame::new(self, mesh, width, height, spp, image).rows(0..height)
+    }
+}
+
+/// A frame prepared for G-buffers of bands of its rows: the scene's geometry built, every
+/// triangle clipped and set up, the built-in shading prepared, once. A band's G-buffer
+/// ([`GBufferFrame::rows`]) equals the same rows of the whole frame's bit for bit, so a
+/// frame can be rendered band by band in bounded memory.
+pub struct GBufferFrame<'a> {
+    scene: &'a Scene,
+    mesh: &'a Mesh,
+    width: u32,
+    height: u32,
+    spp: u32,
+    geometry: Geometry,
+    cam: CameraFrame,
+    offsets: Vec<[f32; 2]>,
+    back: Vec<SetupTri>,
+    front: Vec<SetupTri>,
+    shading: Shading<'a>,
+}
+
+impl<'a> GBufferFrame<'a> {
+    /// Prepares the frame of `mesh` (the material surface) in `scene` at `width × height`
+    /// pixels and `spp` samples per pixel, `image` looking up an image environment.
+    ///
+    /// # Panics
+    /// If `spp` is 0 or `mesh` is not consistent ([`Mesh::is_consistent`]).
+    pub fn new(
+        scene: &'a Scene,
+        mesh: &'a Mesh,
+        width: u32,
+        height: u32,
+        spp: u32,
+        image: Option<&'a EnvLookup>,
+    ) -> GBufferFrame<'a> {
+        assert!(spp >= 1, "Scene::gbuffer: spp must be at least 1");
         assert!(
             mesh.is_consistent(),
             "Scene::gbuffer: the material mesh has attribute arrays of different lengths or an index out of range"
         );
-        let geometry = self.geometry();
-        let cam = self.camera.frame(width, height);
+        let geometry = scene.geometry();
+        let cam = scene.camera.frame(width, height);
         let offsets = sample_offsets(spp);
-        let objects: Vec<_> = geometry.objects.iter().collect();
-        let items: Vec<DrawItem> = objects
-            .iter()
-            .map(|o| DrawItem {
-                mesh: &o.mesh,
-                mirror_y: false,
-                clip: None,
-            })
-            .collect();
-        let (back, front) = rayon::join(
-            || rasterize(&items, &cam, &offsets),
-            || {
-                let item = DrawItem {
-                    mesh,
+        let (back, front) = if width == 0 || height == 0 {
+            (Vec::new(), Vec::new())
+        } else {
+            let items: Vec<DrawItem> = geometry
+                .objects
+                .iter()
+                .map(|o| DrawItem {
+                    mesh: &o.mesh,
                     mirror_y: false,
                     clip: None,
-                };
-                rasterize(&[item], &cam, &offsets)
-            },
+                })
+                .collect();
+            let item = DrawItem {
+                mesh,
+                mirror_y: false,
+                clip: None,
+            };
+            rayon::join(|| setup_all(&items, &cam), || setup_all(&[item], &cam))
+        };
+        let shading = Shading::new(scene, &geometry, image);
+        GBufferFrame {
+            scene,
+            mesh,
+            width,
+            height,
+            spp,
+            geometry,
+            cam,
+            offsets,
+            back,
+            front,
+            shading,
+        }
+    }
+
+    /// The G-buffer of image rows `rows` (clamped to the image).
+    ///
+    /// # Panics
+    /// If the band has more than `u32::MAX` samples.
+    pub fn rows(&self, rows: std::ops::Range<u32>) -> GBuffer {
+        let end = rows.end.min(self.height);
+        let rows = rows.start.min(end)..end;
+        let (width, spp) = (self.width, self.spp);
+        let total = width as u64 * rows.len() as u64 * spp as u64;
+        assert!(
+            total <= u32::MAX as u64,
+            "Scene::gbuffer: {width} × {} × {spp} samples exceed u32 indices",
+            rows.len()
+        );
+        let range = rows.start as usize..rows.end as usize;
+        let (cam, offsets) = (&self.cam, &self.offsets);
+        let (back, front) = rayon::join(
+            || rasterize_rows(&self.back, cam, offsets, range.clone()),
+            || rasterize_rows(&self.front, cam, offsets, range.clone()),
         );
         let row = (width * spp) as usize;
-        let rows: Vec<Vec<u32>> = back
+        let hits: Vec<Vec<u32>> = back
             .par_chunks(row.max(1))
             .zip(front.par_chunks(row.max(1)))
             .enumerate()
@@ -169,33 +253,39 @@ impl Scene {
                     .collect()
             })
             .collect();
-        let samples = rows.concat();
-        let shading = Shading::new(self, &geometry, image);
-        let background = shade_frame(&back, &objects, &shading, &cam, &offsets, false);
-        let batch = self.material_batch(mesh, &samples, &front, &geometry.casters, &cam, &offsets);
+        let samples = hits.concat();
+        let objects: Vec<_> = self.geometry.objects.iter().collect();
+        let background = shade_frame(
+            &back,
+            &objects,
+            &self.shading,
+            cam,
+            offsets,
+            false,
+            range.start,
+        );
+        let batch = self.material_batch(&samples, &front, rows.start);
         GBuffer {
             width,
-            height,
+            height: self.height,
+            first_row: rows.start,
+            rows: rows.len() as u32,
             spp,
             samples,
             batch,
             background,
         }
     }
+}
 
-    /// The attribute columns of the material samples.
-    fn material_batch(
-        &self,
-        mesh: &Mesh,
-        samples: &[u32],
-        frags: &[Fragment],
-        casters: &[Shape],
-        cam: &CameraFrame,
-        offsets: &[[f32; 2]],
-    ) -> SampleBatch {
+impl GBufferFrame<'_> {
+    /// The attribute columns of the material samples of the band starting at `first_row`.
+    fn material_batch(&self, samples: &[u32], frags: &[Fragment], first_row: u32) -> SampleBatch {
+        let (scene, mesh, cam) = (self.scene, self.mesh, &self.cam);
+        let (casters, offsets): (&[Shape], &[[f32; 2]]) = (&self.geometry.casters, &self.offsets);
         let m = samples.len();
         let mut batch = SampleBatch::new(m);
-        batch.set_time(self.time);
+        batch.set_time(scene.time);
         if m == 0 {
             return batch;
         }
@@ -225,7 +315,7 @@ impl Scene {
         }
         let (spp, width) = (Divider::new(offsets.len() as u32), Divider::new(cam.width));
         let (w, h) = (cam.width as f32, cam.height as f32);
-        let light = self.lights.first().map(Prepared::new);
+        let light = scene.lights.first().map(Prepared::new);
         blocks
             .into_par_iter()
             .enumerate()
@@ -236,6 +326,7 @@ impl Scene {
                     let (p, n, uv) = interpolate(mesh, f.tri, f.b);
                     let view = (cam.origin - p).normalize_or(n);
                     let (x, y, s) = sample_coords(index, spp, width);
+                    let y = y + first_row;
                     let o = offsets[s as usize];
                     let su = (x as f32 + o[0]) / w;
                     let sv = (y as f32 + o[1]) / h;
@@ -257,7 +348,7 @@ impl Scene {
                         uv.y,
                         su,
                         sv,
-                        self.water_depth(p),
+                        scene.water_depth(p),
                         l.x,
                         l.y,
                         l.z,

@@ -81,7 +81,7 @@ pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
 };
 pub use error::SceneError;
-pub use gbuffer::GBuffer;
+pub use gbuffer::{GBuffer, GBufferFrame};
 pub use image::SceneImage;
 pub use kind::{
     Backdrop, BallSetup, BoxObject, PoleObject, SceneKind, Seabed, SphereObject, WaterObject,

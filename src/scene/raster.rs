@@ -147,7 +147,7 @@ impl ClipVert {
 
 /// A screen-space triangle ready to scan.
 #[derive(Clone, Copy, Debug)]
-struct SetupTri {
+pub(crate) struct SetupTri {
     item: u32,
     tri: u32,
     /// Edge functions `λ_k = a x + b y + c`, normalised so that they are the screen-space
@@ -236,7 +236,7 @@ fn setup(item: u32, tri: u32, p: [&ClipVert; 3], cam: &CameraFrame) -> Option<Se
 }
 
 /// Clips and sets up every triangle of `items`, in order.
-fn setup_all(items: &[DrawItem], cam: &CameraFrame) -> Vec<SetupTri> {
+pub(crate) fn setup_all(items: &[DrawItem], cam: &CameraFrame) -> Vec<SetupTri> {
     let mut all = Vec::new();
     for (k, item) in items.iter().enumerate() {
         let mesh = item.mesh;
@@ -327,18 +327,42 @@ pub(crate) fn rasterize(
     cam: &CameraFrame,
     offsets: &[[f32; 2]],
 ) -> Vec<Fragment> {
-    let (w, h, spp) = (cam.width as usize, cam.height as usize, offsets.len());
+    if cam.width as usize * cam.height as usize * offsets.len() == 0 {
+        return Vec::new();
+    }
+    rasterize_rows(&setup_all(items, cam), cam, offsets, 0..cam.height as usize)
+}
+
+/// Rasterises the set-up triangles `tris` ([`setup_all`]) for the image rows `rows` only.
+/// Returns one fragment per sample of those rows, sample `s` of pixel `(x, y)` at
+/// `((y − rows.start) · width + x) · spp + s`. Every sample is computed from its absolute
+/// position and sees the triangles in the same order, so the fragments equal the
+/// corresponding ones of the whole frame bit for bit.
+pub(crate) fn rasterize_rows(
+    tris: &[SetupTri],
+    cam: &CameraFrame,
+    offsets: &[[f32; 2]],
+    rows: std::ops::Range<usize>,
+) -> Vec<Fragment> {
+    let rows = rows.start.min(cam.height as usize)..rows.end.min(cam.height as usize);
+    let (w, h, spp) = (cam.width as usize, rows.len(), offsets.len());
     if w * h * spp == 0 {
         return Vec::new();
     }
-    let tris = setup_all(items, cam);
+    let y0 = rows.start;
     let bands = h.div_ceil(BAND_ROWS);
     let mut bins: Vec<Vec<u32>> = vec![Vec::new(); bands];
     for (i, t) in tris.iter().enumerate() {
+        let (ta, tb) = (t.bbox[1] as usize, t.bbox[3] as usize);
+        if tb < rows.start || ta >= rows.end {
+            continue;
+        }
+        let first = ta.max(rows.start) - y0;
+        let last = tb.min(rows.end - 1) - y0;
         for band in bins
             .iter_mut()
-            .take(t.bbox[3] as usize / BAND_ROWS + 1)
-            .skip(t.bbox[1] as usize / BAND_ROWS)
+            .take(last / BAND_ROWS + 1)
+            .skip(first / BAND_ROWS)
         {
             band.push(i as u32);
         }
@@ -351,8 +375,8 @@ pub(crate) fn rasterize(
         .zip(bins.par_iter())
         .enumerate()
         .for_each(|(band, (out, bin))| {
-            let y_start = band * BAND_ROWS;
-            let y_end = (y_start + BAND_ROWS).min(h);
+            let y_start = y0 + band * BAND_ROWS;
+            let y_end = (y_start + BAND_ROWS).min(rows.end);
             for &ti in bin {
                 let t = &tris[ti as usize];
                 let ya = (t.bbox[1] as usize).max(y_start);
@@ -382,7 +406,7 @@ pub(crate) fn rasterize(
         .par_chunks_mut(w * spp)
         .enumerate()
         .for_each(|(y, row)| {
-            let py = y as f64;
+            let py = (y0 + y) as f64;
             for (x, pixel) in row.chunks_exact_mut(spp).enumerate() {
                 for (f, o) in pixel.iter_mut().zip(&offs) {
                     if f.tri == u32::MAX {
@@ -479,6 +503,33 @@ mod tests {
         assert!(out[..n].iter().any(|c| c.d == 0.0 && c.b == [0.5, 0.0]));
         assert_eq!(clip_polygon(&tri, &mut out, |c| -c.d - 2.0), 0, "all out");
         assert_eq!(clip_polygon(&tri, &mut out, |c| c.d + 2.0), 3, "all in");
+    }
+
+    #[test]
+    fn rows_equal_the_rows_of_the_whole_frame() {
+        let cam = crate::scene::Camera {
+            position: [0.3, 0.4, 3.0],
+            target: [0.0, 0.0, 0.0],
+            fov_y_deg: 50.0,
+            near: 0.05,
+        }
+        .frame(23, 19);
+        let sphere = Mesh::uv_sphere(Vec3::ZERO, 1.0, 24, 12);
+        let item = DrawItem {
+            mesh: &sphere,
+            mirror_y: false,
+            clip: None,
+        };
+        let offsets = sample_offsets(3);
+        let whole = rasterize(&[item], &cam, &offsets);
+        assert!(whole.iter().any(Fragment::is_hit) && !whole.iter().all(Fragment::is_hit));
+        let tris = setup_all(&[item], &cam);
+        let row = 23 * 3;
+        for (a, b) in [(0, 19), (0, 1), (5, 14), (18, 19), (7, 30)] {
+            let part = rasterize_rows(&tris, &cam, &offsets, a..b);
+            let b = b.min(19);
+            assert_eq!(part, whole[a * row..b * row], "rows {a}..{b}");
+        }
     }
 
     #[test]

@@ -134,7 +134,8 @@ impl<'a> Shading<'a> {
 /// Radiance of every sample of a rasterised frame: built-in shading where a surface was hit
 /// (`objects[item]`), the environment elsewhere. With `mirror` the frame is a planar
 /// reflection about `y = 0`: surfaces are lit as seen from the mirrored eye and the
-/// environment is looked up in the mirrored direction.
+/// environment is looked up in the mirrored direction. `frags` may hold a band of rows
+/// starting at image row `first_row` ([`super::raster::rasterize_rows`]).
 pub(crate) fn shade_frame(
     frags: &[Fragment],
     objects: &[&Object],
@@ -142,6 +143,7 @@ pub(crate) fn shade_frame(
     cam: &CameraFrame,
     offsets: &[[f32; 2]],
     mirror: bool,
+    first_row: usize,
 ) -> Vec<[f32; 3]> {
     let (spp, w) = (offsets.len(), cam.width as usize);
     let eye = if mirror {
@@ -157,6 +159,7 @@ pub(crate) fn shade_frame(
         .zip(frags.par_chunks(w * spp))
         .enumerate()
         .for_each(|(y, (out, row))| {
+            let y = first_row + y;
             let pixels = out.chunks_exact_mut(spp).zip(row.chunks_exact(spp));
             for (x, (out, frags)) in pixels.enumerate() {
                 for ((c, f), o) in out.iter_mut().zip(frags).zip(offsets) {

@@ -65,7 +65,7 @@ impl Scene {
             SceneImage {
                 width,
                 height,
-                data: shade_frame(&frags, &objects, &shading, &cam, &offsets, mirror),
+                data: shade_frame(&frags, &objects, &shading, &cam, &offsets, mirror, 0),
             }
         };
         let all: Vec<&Object> = geometry.objects.iter().collect();

@@ -1,0 +1,96 @@
+//! The commands of the `matgraph` binary, one file each, and what they share.
+
+pub mod check;
+pub mod env;
+pub mod eval;
+pub mod fmt;
+pub mod nodes;
+pub mod render;
+pub mod scene;
+pub mod schema;
+pub mod wgsl;
+
+use matgraph::error::GraphErrors;
+use matgraph::io::PathPolicy;
+use matgraph::{Graph, Registry};
+use std::path::Path;
+
+/// What a command returns: `Err` holds the message printed on stderr (exit status 1).
+pub type CliResult = Result<(), String>;
+
+/// The built-in node registry.
+pub fn registry() -> &'static Registry {
+    Registry::builtin()
+}
+
+/// Parses a command-line value: JSON (`0.5`, `[0.1,0.2]`, `true`), else a bare enum choice name.
+pub fn parse_value(text: &str) -> serde_json::Value {
+    serde_json::from_str(text).unwrap_or_else(|_| serde_json::Value::String(text.to_owned()))
+}
+
+/// Splits `--set NAME=VALUE` into the name and the parsed value.
+pub fn split_set(s: &str) -> Result<(&str, serde_json::Value), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("--set '{s}': expected NAME=VALUE"))?;
+    Ok((name.trim(), parse_value(value.trim())))
+}
+
+/// `n` and `noun`, the noun in the plural unless `n` is 1 ("1 output", "3 outputs").
+pub fn count(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// Reads a graph file as text: a missing file, a folder, a FIFO or a device is refused
+/// with a message naming it (before opening it, so a FIFO never blocks).
+pub fn read_graph_text(path: &Path) -> Result<String, String> {
+    matgraph::io::read_text(path).map_err(|e| e.to_string())
+}
+
+/// Reads and validates a graph file; every message names the file.
+pub fn load_graph(path: &Path) -> Result<Graph, String> {
+    let text = read_graph_text(path)?;
+    Graph::from_json(&text, registry()).map_err(|errors| {
+        GraphErrors {
+            source: path.to_owned(),
+            errors,
+        }
+        .to_string()
+    })
+}
+
+/// The path policy of `--allow-outside-paths`.
+pub fn path_policy(allow_outside: bool) -> PathPolicy {
+    if allow_outside {
+        PathPolicy::Anywhere
+    } else {
+        PathPolicy::InsideGraphFolder
+    }
+}
+
+/// A path error with the hint of the flag that allows it.
+pub fn path_message(e: impl std::fmt::Display, outside: bool) -> String {
+    if outside {
+        format!("{e} (pass --allow-outside-paths to read it)")
+    } else {
+        e.to_string()
+    }
+}
+
+/// The graph's images, each path checked against `policy` before it is opened.
+pub fn graph_textures(
+    graph: &Graph,
+    file: &Path,
+    policy: PathPolicy,
+) -> Result<matgraph::texture::TextureSet, String> {
+    use matgraph::image_io::GraphTextureError;
+    use matgraph::io::PathError;
+    matgraph::image_io::load_graph_textures_with(graph, file, policy).map_err(|e| {
+        let outside = matches!(e, GraphTextureError::Path(PathError::Outside { .. }));
+        path_message(e, outside)
+    })
+}

@@ -1,0 +1,295 @@
+//! `matgraph render`: render graphs in a scene to PNG (and EXR).
+
+use super::{CliResult, count, graph_textures, load_graph, path_policy, split_set};
+use matgraph::Value;
+use matgraph::image_io::SaveFormat;
+use matgraph::render::MEMORY_BUDGET;
+use std::path::PathBuf;
+
+/// Bytes per pixel the command holds besides the render itself: the 8-bit image (3) and
+/// its encoded file (3, an upper bound for PNG and JPEG of rendered images); with EXR, the
+/// RGBA f32 image (16) and its encoding (16).
+fn output_bytes_per_pixel(exr: bool) -> u64 {
+    6 + if exr { 32 } else { 0 }
+}
+
+/// Help text after the options of `matgraph render`.
+pub const AFTER_HELP: &str = "With several graphs, -o OUT.png writes one labelled contact sheet; --out-dir writes \
+    one PNG per graph (named after the file) plus contact_sheet.png. Without either, --out-dir renders.\n\
+    A graph's `color` output is lit (evaluated per light and summed); `emission` is added once; `alpha` \
+    blends over the background; `displacement` (vec3) moves the surface. A graph without `color` or \
+    `emission` shows its first output unlit.";
+
+/// Options of `matgraph render`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Graph files.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Output PNG (one graph), or the contact sheet of several.
+    #[arg(short = 'o', long = "out", conflicts_with = "out_dir")]
+    pub out: Option<PathBuf>,
+    /// Folder for one PNG per graph and a contact sheet.
+    #[arg(long)]
+    pub out_dir: Option<PathBuf>,
+    /// Image size, WxH.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Scene: a preset (ball, water) or a scene JSON file; default: the graph's own scene,
+    /// else ball.
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Scene time in seconds (the scene's own time by default).
+    #[arg(long)]
+    pub time: Option<f32>,
+    /// Samples per pixel (stratified, box-filtered).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub samples: u32,
+    /// Evaluate the material on the GPU (wgpu; any adapter, lavapipe included).
+    #[arg(long, conflicts_with = "cpu")]
+    pub gpu: bool,
+    /// Evaluate the material on the CPU (the default).
+    #[arg(long)]
+    pub cpu: bool,
+    /// Also write the linear HDR image as OpenEXR next to each PNG.
+    #[arg(long)]
+    pub exr: bool,
+    /// Exposure in stops applied before tone mapping.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Override a parameter: NAME=VALUE.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub sets: Vec<String>,
+    /// Read textures, scene files and environment images outside the graph's folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or("expected WxH, for example 512x512")?;
+    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("'{v}': {e}"));
+    let (w, h) = (parse(w)?, parse(h)?);
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("{w}x{h}: each side must be 1 to 16384"));
+    }
+    Ok((w, h))
+}
+
+/// A progress spinner on stderr that appears only once the work has taken a second.
+fn delayed_progress() -> indicatif::ProgressBar {
+    let bar =
+        indicatif::ProgressBar::with_draw_target(None, indicatif::ProgressDrawTarget::hidden());
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} [{elapsed}] {pos}/{len} {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    let shown = bar.clone();
+    std::thread::spawn(move || {
+        std::thread::sleep(std::time::Duration::from_secs(1));
+        if !shown.is_finished() {
+            shown.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            shown.enable_steady_tick(std::time::Duration::from_millis(120));
+        }
+    });
+    bar
+}
+
+/// A render's memory refusal restated against the whole budget, the command's own
+/// `reserve` (its output images) included.
+fn with_reserve(e: matgraph::render::RenderError, reserve: u64) -> matgraph::render::RenderError {
+    use matgraph::render::RenderError;
+    match e {
+        RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed,
+            what,
+            ..
+        } => RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed: needed + reserve,
+            what: format!("{what}, {} MiB output images", reserve.div_ceil(1 << 20)),
+            budget: MEMORY_BUDGET,
+        },
+        e => e,
+    }
+}
+
+/// Renders every graph and writes the images.
+pub fn run(args: &Args) -> CliResult {
+    use matgraph::render::{RenderOptions, render_timed, sheet};
+    let policy = path_policy(args.allow_outside_paths);
+    let forced = args
+        .scene
+        .as_deref()
+        .map(|spec| super::scene::forced_scene(spec).map(|s| (spec, s)))
+        .transpose()?;
+    let mut parameters = Vec::new();
+    for s in &args.sets {
+        let (name, json) = split_set(s)?;
+        let v = Value::infer_json(&json).ok_or_else(|| {
+            format!("--set {s}: expected a number, an array of 2-4 numbers or a bool")
+        })?;
+        parameters.push((name.to_owned(), v));
+    }
+    let several = args.files.len() > 1;
+    let (out_dir, sheet_path) = match (&args.out, &args.out_dir) {
+        // One graph: its image; several: their contact sheet.
+        (Some(o), _) => (None, Some(o.clone())),
+        (None, Some(d)) => (
+            Some(d.clone()),
+            several.then(|| d.join("contact_sheet.png")),
+        ),
+        (None, None) => {
+            let d = PathBuf::from("renders");
+            (
+                Some(d.clone()),
+                several.then(|| d.join("contact_sheet.png")),
+            )
+        }
+    };
+    // The format of -o, by its extension, before anything is rendered.
+    let out_format = match &args.out {
+        Some(o) => Some(SaveFormat::from_path(o).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    if several && out_format == Some(SaveFormat::Exr) {
+        return Err("a contact sheet is 8-bit: -o must end in .png, .jpg or .jpeg".to_owned());
+    }
+    // Memory: what this command holds besides each render, then the render's own plan.
+    let (w, h) = (args.size.0 as u64, args.size.1 as u64);
+    let exr = args.exr || out_format == Some(SaveFormat::Exr);
+    let mut reserve = w * h * output_bytes_per_pixel(exr);
+    if several && sheet_path.is_some() {
+        // The 8-bit renders kept for the contact sheet, then the sheet and its file.
+        reserve += w * h * 3 * args.files.len() as u64 + w * h * 6;
+    }
+    if reserve >= MEMORY_BUDGET {
+        return Err(format!(
+            "{}x{}: the output images alone need {} MiB, over the memory budget of {} MiB; \
+             render a smaller size{}",
+            args.size.0,
+            args.size.1,
+            reserve.div_ceil(1 << 20),
+            MEMORY_BUDGET >> 20,
+            if several {
+                " or fewer graphs at once"
+            } else {
+                ""
+            }
+        ));
+    }
+    if let Some(d) = &out_dir {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let backend = if args.gpu {
+        matgraph::gpu::Backend::Gpu
+    } else {
+        matgraph::gpu::Backend::Cpu
+    };
+    let progress = delayed_progress();
+    progress.set_length(args.files.len() as u64);
+    let mut tiles = Vec::new();
+    let mut failures = Vec::new();
+    for file in &args.files {
+        progress.set_message(file.display().to_string());
+        let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
+            let graph = load_graph(file)?;
+            let textures = graph_textures(&graph, file, policy)?;
+            let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
+            let (scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            let options = RenderOptions {
+                width: args.size.0,
+                height: args.size.1,
+                samples: args.samples,
+                time: args.time,
+                backend,
+                parameters: parameters.clone(),
+                textures: Some(std::sync::Arc::new(textures)),
+                environment,
+                memory_budget: MEMORY_BUDGET - reserve,
+                band_rows: None,
+            };
+            let start = std::time::Instant::now();
+            let (hdr, _) = render_timed(&graph, &scene, &options)
+                .map_err(|e| with_reserve(e, reserve))
+                .map_err(|e| format!("{}: {e}", file.display()))?;
+            let elapsed = start.elapsed();
+            let image = hdr.to_srgb8(args.exposure);
+            let stem = file
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("graph")
+                .to_owned();
+            let single = if several { None } else { sheet_path.clone() };
+            let target = single.or_else(|| out_dir.as_ref().map(|d| d.join(format!("{stem}.png"))));
+            if let Some(out) = &target {
+                let format = SaveFormat::from_path(out).map_err(|e| e.to_string())?;
+                let mut written = Vec::new();
+                if format != SaveFormat::Exr {
+                    matgraph::image_io::save_rgb8(out, image.width, image.height, &image.pixels)
+                        .map_err(|e| e.to_string())?;
+                    written.push(out.clone());
+                }
+                if args.exr || format == SaveFormat::Exr {
+                    let exr = out.with_extension("exr");
+                    let data = hdr.pixels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
+                    let img = matgraph::texture::Image::new(hdr.width, hdr.height, data)
+                        .map_err(|e| e.to_string())?;
+                    matgraph::image_io::save_exr(&exr, &img).map_err(|e| e.to_string())?;
+                    written.push(exr);
+                }
+                let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+                progress.suspend(|| {
+                    println!(
+                        "{} -> {} ({}x{}, {} spp, {}, {:.2} s)",
+                        file.display(),
+                        names.join(" + "),
+                        image.width,
+                        image.height,
+                        args.samples,
+                        if args.gpu { "gpu" } else { "cpu" },
+                        elapsed.as_secs_f64()
+                    )
+                });
+            }
+            Ok((graph.name.clone(), image))
+        })();
+        match result {
+            Ok(tile) => tiles.push(tile),
+            Err(e) => {
+                progress.suspend(|| eprintln!("{e}"));
+                failures.push(file.display().to_string());
+            }
+        }
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    if several
+        && let Some(path) = &sheet_path
+        && !tiles.is_empty()
+    {
+        let sheet = sheet::contact_sheet(&tiles);
+        matgraph::image_io::save_rgb8(path, sheet.width, sheet.height, &sheet.pixels)
+            .map_err(|e| e.to_string())?;
+        println!(
+            "contact sheet of {} -> {}",
+            count(tiles.len(), "graph"),
+            path.display()
+        );
+    }
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} of {} failed",
+            failures.len(),
+            count(args.files.len(), "graph")
+        ))
+    }
+}
