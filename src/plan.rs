@@ -41,6 +41,25 @@ pub enum EvalError {
         /// The nearest parameter name.
         suggestion: Option<String>,
     },
+    /// A parameter value outside the hard range of an input it feeds (see
+    /// [`crate::graph::Feed`]).
+    #[error(
+        "parameter '{name}': value {value} is outside [{min}, {max}], the range of input '{input}' of node '{node}' it feeds"
+    )]
+    ParameterOutOfRange {
+        /// The parameter.
+        name: String,
+        /// The node whose input it feeds.
+        node: String,
+        /// That input.
+        input: String,
+        /// The value as the input sees it.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
+    },
     /// A parameter value of the wrong type.
     #[error("parameter '{name}': expected {expected}, found {found}")]
     ParameterType {
@@ -192,6 +211,8 @@ pub struct PlanParameter {
     pub default: Value,
     /// Uniform slot it fills (`None` when unused or baked).
     pub slot: Option<u32>,
+    /// The hard ranges of the inputs it feeds, which every value set must respect.
+    pub feeds: Vec<crate::graph::Feed>,
 }
 
 /// What the compiler did to the graph.
@@ -315,6 +336,7 @@ impl Plan {
         ParamValues {
             names: self.parameters.iter().map(|p| p.name.clone()).collect(),
             values: self.parameters.iter().map(|p| p.default).collect(),
+            feeds: self.parameters.iter().map(|p| p.feeds.clone()).collect(),
         }
     }
 }
@@ -324,10 +346,12 @@ impl Plan {
 pub struct ParamValues {
     names: Vec<String>,
     values: Vec<Value>,
+    feeds: Vec<Vec<crate::graph::Feed>>,
 }
 
 impl ParamValues {
-    /// Sets parameter `name`; a float is broadcast to a vector parameter.
+    /// Sets parameter `name`; a float is broadcast to a vector parameter. A value outside
+    /// the hard range of an input the parameter feeds is refused (the value is unchanged).
     pub fn set(&mut self, name: &str, value: Value) -> Result<(), EvalError> {
         let Some(i) = self.names.iter().position(|n| n == name) else {
             return Err(EvalError::UnknownParameter {
@@ -336,11 +360,24 @@ impl ParamValues {
             });
         };
         let ty = self.values[i].ty();
-        self.values[i] = value.convert(ty).ok_or(EvalError::ParameterType {
+        let v = value.convert(ty).ok_or(EvalError::ParameterType {
             name: name.to_owned(),
             expected: ty,
             found: value.ty(),
         })?;
+        for f in &self.feeds[i] {
+            if let Some(seen) = f.violation(v) {
+                return Err(EvalError::ParameterOutOfRange {
+                    name: name.to_owned(),
+                    node: f.node.clone(),
+                    input: f.input.to_owned(),
+                    value: seen.to_string(),
+                    min: f.range.min,
+                    max: f.range.max,
+                });
+            }
+        }
+        self.values[i] = v;
         Ok(())
     }
     /// The value of parameter `name`.
@@ -387,6 +424,7 @@ struct Compiler<'g> {
     param_slots: HashMap<NodeIndex, u32>,
     const_regs: HashMap<(SocketType, [u32; 4]), u32>,
     textures: Vec<String>,
+    texture_slots: HashMap<String, usize>,
     read: std::collections::HashSet<OutputRef>,
     stats: PlanStats,
 }
@@ -407,6 +445,7 @@ impl<'g> Compiler<'g> {
             param_slots: HashMap::new(),
             const_regs: HashMap::new(),
             textures: Vec::new(),
+            texture_slots: HashMap::new(),
             read: Default::default(),
             stats: PlanStats {
                 graph_nodes: graph.nodes().len(),
@@ -454,6 +493,7 @@ impl<'g> Compiler<'g> {
                 ty: p.ty,
                 default: p.default,
                 slot: self.param_slots.get(&p.node).copied(),
+                feeds: p.feeds.clone(),
             })
             .collect();
         self.allocate(&mut outputs);
@@ -623,9 +663,10 @@ impl<'g> Compiler<'g> {
         let is_texture = t.evaluation() == Evaluation::Texture;
         let kref = if is_texture {
             let key = node.texture.as_ref().map(|s| s.key()).unwrap_or_default();
-            let slot = match self.textures.iter().position(|k| *k == key) {
-                Some(k) => k,
+            let slot = match self.texture_slots.get(&key) {
+                Some(&k) => k,
                 None => {
+                    self.texture_slots.insert(key.clone(), self.textures.len());
                     self.textures.push(key);
                     self.textures.len() - 1
                 }
@@ -772,12 +813,14 @@ impl<'g> Compiler<'g> {
     fn allocate(&mut self, outputs: &mut [PlanOutput]) {
         let n = self.registers.len();
         let mut last_use = vec![usize::MAX; n]; // MAX: never freed
-        let pinned: Vec<bool> = (0..n)
-            .map(|r| {
-                self.registers[r].fill != RegFill::Computed
-                    || outputs.iter().any(|o| o.operand == Operand::Reg(r as u32))
-            })
+        let mut pinned: Vec<bool> = (0..n)
+            .map(|r| self.registers[r].fill != RegFill::Computed)
             .collect();
+        for o in outputs.iter() {
+            if let Operand::Reg(r) = o.operand {
+                pinned[r as usize] = true;
+            }
+        }
         for (s, step) in self.steps.iter().enumerate() {
             for &r in step.inputs.iter().chain(&step.outputs) {
                 if !pinned[r as usize] {
@@ -788,6 +831,7 @@ impl<'g> Compiler<'g> {
         let mut map: Vec<u32> = vec![u32::MAX; n];
         let mut physical: Vec<Register> = Vec::new();
         let mut free: [Vec<u32>; 5] = Default::default();
+        let mut is_free: Vec<bool> = Vec::new(); // by physical register
         for r in 0..n {
             if pinned[r] {
                 map[r] = physical.len() as u32;
@@ -799,20 +843,28 @@ impl<'g> Compiler<'g> {
                 let r = self.steps[s].outputs[k] as usize;
                 if map[r] == u32::MAX {
                     let w = self.registers[r].width;
-                    map[r] = free[w].pop().unwrap_or_else(|| {
-                        physical.push(Register {
-                            width: w,
-                            fill: RegFill::Computed,
-                        });
-                        (physical.len() - 1) as u32
-                    });
+                    map[r] = match free[w].pop() {
+                        Some(p) => {
+                            is_free[p as usize] = false;
+                            p
+                        }
+                        None => {
+                            physical.push(Register {
+                                width: w,
+                                fill: RegFill::Computed,
+                            });
+                            (physical.len() - 1) as u32
+                        }
+                    };
+                    is_free.resize(physical.len(), false);
                 }
             }
             let step = &self.steps[s];
             for &r in step.inputs.iter().chain(&step.outputs) {
                 if last_use[r as usize] == s {
                     let p = map[r as usize];
-                    if !free[self.registers[r as usize].width].contains(&p) {
+                    if !is_free[p as usize] {
+                        is_free[p as usize] = true;
                         free[self.registers[r as usize].width].push(p);
                     }
                 }

@@ -6,7 +6,7 @@ use crate::node::{Attribute, Evaluation, NodeType};
 use crate::plan::Plan;
 use crate::types::{LUMA_709, SocketType};
 use crate::value::Value;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write;
 use std::ops::Range;
 
@@ -85,16 +85,23 @@ const RESERVED: &[&str] = &[
     "out",
 ];
 
-/// A WGSL identifier for `name`: non-alphanumerics become `_`, reserved words get a `_` suffix.
+/// A WGSL identifier for `name`, valid whatever the name: non-ASCII-alphanumerics become
+/// `_`; a name that is then empty, `_`, starts with a digit or with `__` gets a `p_` prefix;
+/// a WGSL keyword or reserved word (naga's list, and the predeclared names above) gets a
+/// `_` suffix. Different names may give the same identifier: callers make them unique.
 pub(super) fn ident(name: &str) -> String {
     let mut s: String = name
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect();
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || s.starts_with("__") {
+    if s.is_empty()
+        || s == "_"
+        || s.starts_with(|c: char| c.is_ascii_digit())
+        || s.starts_with("__")
+    {
         s.insert_str(0, "p_");
     }
-    if RESERVED.contains(&s.as_str()) {
+    if RESERVED.contains(&s.as_str()) || naga::keywords::wgsl::RESERVED.contains(&s.as_str()) {
         s.push('_');
     }
     s
@@ -216,8 +223,44 @@ pub(super) struct Emitter<'a> {
     entry: Entry,
     out: String,
     spans: Vec<(Range<usize>, String)>,
-    /// WGSL expression of each live node output.
+    /// WGSL expression of each live attribute and parameter output.
     exprs: BTreeMap<OutputRef, String>,
+    /// The variable of each node that becomes a call.
+    vars: HashMap<NodeIndex, CallVar>,
+    /// Where the text being emitted is.
+    context: Context,
+    /// Slot of each texture key in the plan's texture list.
+    texture_slots: HashMap<String, usize>,
+}
+
+/// Above this many node calls the material function is split into part functions.
+pub(super) const SPLIT_CALLS: usize = 256;
+/// Node calls per part function of a split material function.
+pub(super) const PART_CALLS: usize = 64;
+/// Calls per function in the tree of functions that run the parts in order.
+pub(super) const PART_FANOUT: usize = 64;
+
+/// The `let` a node's call result is bound to.
+struct CallVar {
+    /// The variable's name (also its member name in `MgState`).
+    name: String,
+    /// Index of the node's function in the emitted function list.
+    function: usize,
+    /// The part function the call is in (0 when the material function is not split).
+    part: usize,
+    /// Whether the value is read outside its part, and so is stored in `MgState`.
+    shared: bool,
+}
+
+/// Where generated text is placed, which decides how a node's value is named.
+#[derive(Clone, Copy, PartialEq)]
+enum Context {
+    /// The one-piece material function: every value is a local `let`.
+    Whole,
+    /// Part function `k`: its own values are `let`s, others are read through `s`.
+    Part(usize),
+    /// The split material function's return: values are read from the local `s`.
+    Material,
 }
 
 impl<'a> Emitter<'a> {
@@ -229,6 +272,15 @@ impl<'a> Emitter<'a> {
             out: String::new(),
             spans: Vec::new(),
             exprs: BTreeMap::new(),
+            vars: HashMap::new(),
+            context: Context::Whole,
+            texture_slots: plan
+                .textures()
+                .iter()
+                .enumerate()
+                .rev()
+                .map(|(k, key)| (key.clone(), k))
+                .collect(),
         }
     }
 
@@ -256,24 +308,33 @@ impl<'a> Emitter<'a> {
 
         // Uniforms: live unbaked parameters (exposed under their names), then time.
         let mut uniform_fields: Vec<UniformSpec> = Vec::new();
-        let mut taken: Vec<String> = Vec::new();
+        // Taken names, and for each base the next suffix to try (the ones before it are
+        // taken), so that many colliding names stay linear.
+        let mut taken: HashSet<String> = HashSet::new();
+        let mut next_suffix: HashMap<String, usize> = HashMap::new();
         let mut unique = |base: String| {
             let mut name = base.clone();
-            let mut k = 2;
+            let k = next_suffix.entry(base.clone()).or_insert(2);
             while taken.contains(&name) {
                 name = format!("{base}_{k}");
-                k += 1;
+                *k += 1;
             }
-            taken.push(name.clone());
+            taken.insert(name.clone());
             name
         };
+        let exposed_by_node: HashMap<NodeIndex, &crate::graph::GraphParameter> = self
+            .graph
+            .parameters()
+            .iter()
+            .map(|p| (p.node, p))
+            .collect();
         let mut attributes: Vec<Attribute> = Vec::new();
         let mut uses_time = false;
         for &i in &order {
             let n = &nodes[i];
             match n.node_type.evaluation() {
                 Evaluation::Parameter if !self.folded(i) => {
-                    let exposed = self.graph.parameters().iter().find(|p| p.node == i);
+                    let exposed = exposed_by_node.get(&i).copied();
                     let pname = exposed
                         .map(|p| p.name.clone())
                         .unwrap_or_else(|| n.id.clone());
@@ -331,6 +392,7 @@ impl<'a> Emitter<'a> {
         // Node functions in first-use order, helpers before them.
         let mut helpers: Vec<&'static str> = Vec::new();
         let mut functions: Vec<(String, NodeFunction, String)> = Vec::new(); // (key, fn, first node id)
+        let mut function_index: HashMap<String, usize> = HashMap::new();
         for &i in &order {
             let n = &nodes[i];
             if !emits_call(n.node_type.evaluation()) || self.folded(i) {
@@ -338,9 +400,10 @@ impl<'a> Emitter<'a> {
             }
             // Keyed by the emitted name: vec3 and colour share one function.
             let key = function_name(&n.node_type, n.generic);
-            if functions.iter().any(|(k, ..)| *k == key) {
+            if function_index.contains_key(&key) {
                 continue;
             }
+            function_index.insert(key.clone(), functions.len());
             let f =
                 node_function(&n.node_type, n.generic).ok_or_else(|| ShaderError::MissingWgsl {
                     node: n.id.clone(),
@@ -403,15 +466,20 @@ impl<'a> Emitter<'a> {
             })
             .collect();
         let out_fields: Vec<String> = {
-            let mut seen: Vec<String> = Vec::new();
+            let mut seen: HashSet<String> = HashSet::new();
+            let mut next_suffix: HashMap<String, String> = HashMap::new();
             outputs
                 .iter()
                 .map(|(name, ..)| {
-                    let mut f = ident(name);
+                    let base = ident(name);
+                    // Continue from the last suffix tried for this base (the ones before it
+                    // are taken), so that many colliding names stay linear.
+                    let mut f = next_suffix.remove(&base).unwrap_or_else(|| base.clone());
                     while seen.contains(&f) {
                         f.push('_');
                     }
-                    seen.push(f.clone());
+                    seen.insert(f.clone());
+                    next_suffix.insert(base, f.clone());
                     f
                 })
                 .collect()
@@ -433,58 +501,48 @@ impl<'a> Emitter<'a> {
             self.out.push('\n');
         }
 
-        // The material function.
-        let arg = if attributes.is_empty() {
-            ""
-        } else {
-            "geom: MgGeometry"
-        };
-        let _ = writeln!(self.out, "fn mg_material({arg}) -> MgOutputs {{");
-        for &i in &order {
-            let n = &nodes[i];
-            if !emits_call(n.node_type.evaluation()) || self.folded(i) {
-                continue;
-            }
-            let f = &functions
-                .iter()
-                .find(|(k, ..)| *k == function_name(&n.node_type, n.generic))
-                .expect("declared")
-                .1;
-            let mut args: Vec<String> = Vec::new();
-            if let Some(src) = &n.texture {
-                // Texture nodes take their slot in the packed texture set first.
-                let key = src.key();
-                let slot = self
-                    .plan
-                    .textures()
-                    .iter()
-                    .position(|k| *k == key)
-                    .unwrap_or(0);
-                args.push(format!("{slot}u"));
-            }
-            args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
-            let var = format!("n{i}_{}", ident(&n.id));
-            let start = self.out.len();
-            let _ = writeln!(self.out, "    let {var} = {}({});", f.name, args.join(", "));
-            self.spans.push((start..self.out.len(), n.id.clone()));
-            for k in 0..n.node_type.outputs().len() {
-                let e = if f.out_struct.is_some() {
-                    format!("{var}.{}", output_member(&n.node_type, k))
-                } else {
-                    var.clone()
-                };
-                self.exprs.insert(OutputRef { node: i, output: k }, e);
-            }
-        }
-        let values: Vec<String> = outputs
+        // The material function: one straight-line body, or for large graphs a tree of
+        // bounded-size part functions sharing their values through a state struct.
+        let calls: Vec<NodeIndex> = order
             .iter()
-            .map(|(_, ty, r)| self.source_expr(*r, *ty))
+            .copied()
+            .filter(|&i| emits_call(nodes[i].node_type.evaluation()) && !self.folded(i))
             .collect();
-        let _ = writeln!(
-            self.out,
-            "    return MgOutputs({});\n}}\n",
-            values.join(", ")
-        );
+        for &i in &calls {
+            let n = &nodes[i];
+            let f = function_index[&function_name(&n.node_type, n.generic)];
+            self.vars.insert(
+                i,
+                CallVar {
+                    name: format!("n{i}_{}", ident(&n.id)),
+                    function: f,
+                    part: 0,
+                    shared: false,
+                },
+            );
+        }
+        if calls.len() > SPLIT_CALLS {
+            self.split_material(&calls, &functions, &attributes, &outputs);
+        } else {
+            let arg = if attributes.is_empty() {
+                ""
+            } else {
+                "geom: MgGeometry"
+            };
+            let _ = writeln!(self.out, "fn mg_material({arg}) -> MgOutputs {{");
+            for &i in &calls {
+                self.emit_call(i, &functions);
+            }
+            let values: Vec<String> = outputs
+                .iter()
+                .map(|(_, ty, r)| self.source_expr(*r, *ty))
+                .collect();
+            let _ = writeln!(
+                self.out,
+                "    return MgOutputs({});\n}}\n",
+                values.join(", ")
+            );
+        }
 
         // The entry point.
         let mut shader_outputs = Vec::new();
@@ -545,8 +603,162 @@ impl<'a> Emitter<'a> {
         if let Some(v) = self.plan.folded(r) {
             return literal(&v.convert(to).unwrap_or(v));
         }
-        let e = self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into());
+        let e = match self.vars.get(&r.node) {
+            Some(var) => {
+                let base = match self.context {
+                    Context::Part(p) if p != var.part => format!("(*s).{}", var.name),
+                    Context::Material => format!("s.{}", var.name),
+                    _ => var.name.clone(),
+                };
+                let n = &self.graph.nodes()[r.node];
+                if n.node_type.outputs().len() > 1 {
+                    format!("{base}.{}", output_member(&n.node_type, r.output))
+                } else {
+                    base
+                }
+            }
+            None => self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into()),
+        };
         convert(&e, from, to)
+    }
+
+    /// Emits the `let` of node `i`'s call (and its store into `MgState` when shared).
+    fn emit_call(&mut self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) {
+        let n = &self.graph.nodes()[i];
+        let var = &self.vars[&i];
+        let f = &functions[var.function].1;
+        let mut args: Vec<String> = Vec::new();
+        if let Some(src) = &n.texture {
+            // Texture nodes take their slot in the packed texture set first.
+            let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
+            args.push(format!("{slot}u"));
+        }
+        args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        let start = self.out.len();
+        let _ = writeln!(
+            self.out,
+            "    let {} = {}({});",
+            var.name,
+            f.name,
+            args.join(", ")
+        );
+        if var.shared {
+            let _ = writeln!(self.out, "    (*s).{0} = {0};", var.name);
+        }
+        self.spans.push((start..self.out.len(), n.id.clone()));
+    }
+
+    /// Emits the material function of a large graph as part functions of at most
+    /// [`PART_CALLS`] calls, run in order by a tree of functions of at most [`PART_FANOUT`]
+    /// calls, so that no function body grows with the graph (naga's WGSL front end types a
+    /// function's expressions in time quadratic in their number). Values read outside the
+    /// part that computes them live in the `MgState` struct the parts share by pointer.
+    fn split_material(
+        &mut self,
+        calls: &[NodeIndex],
+        functions: &[(String, NodeFunction, String)],
+        attributes: &[Attribute],
+        outputs: &[(String, SocketType, OutputRef)],
+    ) {
+        let nodes = self.graph.nodes();
+        for (k, i) in calls.iter().enumerate() {
+            if let Some(v) = self.vars.get_mut(i) {
+                v.part = k / PART_CALLS;
+            }
+        }
+        // Which values cross a part boundary (or reach an output).
+        let mut shared: HashSet<NodeIndex> = HashSet::new();
+        for &i in calls {
+            let part = self.vars[&i].part;
+            for src in &nodes[i].inputs {
+                if let InputSource::Link(r, _) = src
+                    && self.vars.get(&r.node).is_some_and(|v| v.part != part)
+                {
+                    shared.insert(r.node);
+                }
+            }
+        }
+        for (_, _, r) in outputs {
+            if self.vars.contains_key(&r.node) {
+                shared.insert(r.node);
+            }
+        }
+        self.out.push_str("struct MgState {\n");
+        let mut any = false;
+        for &i in calls {
+            if !shared.contains(&i) {
+                continue;
+            }
+            any = true;
+            let n = &nodes[i];
+            let v = self.vars.get_mut(&i).expect("every call has a variable");
+            v.shared = true;
+            let f = &functions[v.function].1;
+            let ty = match &f.out_struct {
+                Some(s) => s.clone(),
+                None => wgsl_type(n.output_type(0)).to_owned(),
+            };
+            let _ = writeln!(self.out, "    {}: {ty},", v.name);
+        }
+        if !any {
+            // WGSL structs need a member.
+            self.out.push_str("    unused: f32,\n");
+        }
+        self.out.push_str("}\n\n");
+
+        let (param, arg) = if attributes.is_empty() {
+            ("", "")
+        } else {
+            ("geom: MgGeometry, ", "geom, ")
+        };
+        let parts = calls.len().div_ceil(PART_CALLS);
+        for (p, chunk) in calls.chunks(PART_CALLS).enumerate() {
+            self.context = Context::Part(p);
+            let _ = writeln!(
+                self.out,
+                "fn mg_part_{p}({param}s: ptr<function, MgState>) {{"
+            );
+            for &i in chunk {
+                self.emit_call(i, functions);
+            }
+            self.out.push_str("}\n\n");
+        }
+        // The tree of sequencing functions, level by level, until one level fits a body.
+        let mut level: Vec<String> = (0..parts).map(|p| format!("mg_part_{p}")).collect();
+        let mut depth = 1;
+        while level.len() > PART_FANOUT {
+            let mut next = Vec::new();
+            for (k, group) in level.chunks(PART_FANOUT).enumerate() {
+                let name = format!("mg_parts_{depth}_{k}");
+                let _ = writeln!(self.out, "fn {name}({param}s: ptr<function, MgState>) {{");
+                for f in group {
+                    let _ = writeln!(self.out, "    {f}({arg}s);");
+                }
+                self.out.push_str("}\n\n");
+                next.push(name);
+            }
+            level = next;
+            depth += 1;
+        }
+        let _ = writeln!(
+            self.out,
+            "fn mg_material({}) -> MgOutputs {{\n    var s: MgState;",
+            param.trim_end_matches(", ")
+        );
+        for f in &level {
+            let _ = writeln!(self.out, "    {f}({arg}&s);");
+        }
+        self.context = Context::Material;
+        let values: Vec<String> = outputs
+            .iter()
+            .map(|(_, ty, r)| self.source_expr(*r, *ty))
+            .collect();
+        let _ = writeln!(
+            self.out,
+            "    return MgOutputs({});\n}}\n",
+            values.join(", ")
+        );
+        self.context = Context::Whole;
     }
 
     fn compute_entry(
