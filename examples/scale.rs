@@ -8,11 +8,11 @@
 //! ```
 //!
 //! Two shapes, each of about N nodes, all live:
-//! - **chain**: `geometry`, `dot(normal, view)`, then N `add` nodes each adding a constant to
-//!   the one before (the deepest possible graph);
-//! - **fan-in**: N/2 leaf `add` nodes reading `dot(normal, view)` plus a constant each, then a
-//!   balanced binary tree of `add` nodes summing them pairwise, written leaves first (every
-//!   leaf value is live at once).
+//! - **chain**: `geometry`, `c = dot(normal, view)`, then N `add` nodes each adding 1 to the
+//!   one before (the deepest possible graph): the output is `c + N`;
+//! - **fan-in**: N/2 leaf `add` nodes computing `c + 1`, then a balanced binary tree of `add`
+//!   nodes summing them pairwise (an odd one out is added to itself), written leaves first
+//!   (every leaf value is live at once): the output is `(c + 1) × 2^depth`.
 //!
 //! For each graph and phase it prints the best of a few runs, in seconds: `check` parses
 //! and validates the text; `eval` also compiles the CPU plan and evaluates one sample (what
@@ -33,23 +33,22 @@ pub fn chain(n: usize) -> String {
     for k in 0..n {
         let _ = write!(
             s,
-            ",\n    {{ \"id\": \"a{k}\", \"type\": \"add\", \"inputs\": {{ \"a\": {{ \"link\": \"{prev}\" }}, \"b\": 0.001 }} }}"
+            ",\n    {{ \"id\": \"a{k}\", \"type\": \"add\", \"inputs\": {{ \"a\": {{ \"link\": \"{prev}\" }}, \"b\": 1.0 }} }}"
         );
         prev = format!("a{k}.result");
     }
     tail(s, &prev)
 }
 
-/// The text of a fan-in tree of about `n` `add` nodes, leaves first.
-pub fn fan_in(n: usize) -> String {
+/// The text of a fan-in tree of about `n` `add` nodes, leaves first, and the tree's depth.
+pub fn fan_in_depth(n: usize) -> (String, u32) {
     let mut s = head(&format!("fan_in_{n}"));
     let leaves = (n / 2).max(1);
     let mut level: Vec<String> = Vec::with_capacity(leaves);
     for k in 0..leaves {
         let _ = write!(
             s,
-            ",\n    {{ \"id\": \"l{k}\", \"type\": \"add\", \"inputs\": {{ \"a\": {{ \"link\": \"cos.result\" }}, \"b\": {} }} }}",
-            (k % 1000) as f32 * 0.001
+            ",\n    {{ \"id\": \"l{k}\", \"type\": \"add\", \"inputs\": {{ \"a\": {{ \"link\": \"cos.result\" }}, \"b\": 1.0 }} }}"
         );
         level.push(format!("l{k}.result"));
     }
@@ -69,7 +68,12 @@ pub fn fan_in(n: usize) -> String {
         level = next;
         depth += 1;
     }
-    tail(s, &level[0])
+    (tail(s, &level[0]), depth)
+}
+
+/// The text of a fan-in tree of about `n` `add` nodes, leaves first.
+pub fn fan_in(n: usize) -> String {
+    fan_in_depth(n).0
 }
 
 fn head(name: &str) -> String {
@@ -97,6 +101,7 @@ fn best<T>(runs: usize, mut f: impl FnMut() -> T) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+#[allow(dead_code)]
 fn main() {
     let mut sizes = Vec::new();
     let mut write_dir = None;

@@ -16,6 +16,9 @@ use glam::{Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::sync::{Arc, LazyLock};
 
+/// The dependency that marks a uniform slot as depending on the batch's time.
+const TIME: NodeIndex = NodeIndex::MAX;
+
 /// Samples per tile: a few hundred keeps a tile's registers in L1/L2.
 pub const TILE: usize = 256;
 
@@ -44,7 +47,7 @@ pub enum EvalError {
     /// A parameter value outside the hard range of an input it feeds (see
     /// [`crate::graph::Feed`]).
     #[error(
-        "parameter '{name}': value {value} is outside [{min}, {max}], the range of input '{input}' of node '{node}' it feeds"
+        "parameter '{name}': input '{input}' of node '{node}', which it feeds, would get {value}, outside its hard range [{min}, {max}]"
     )]
     ParameterOutOfRange {
         /// The parameter.
@@ -53,7 +56,7 @@ pub enum EvalError {
         node: String,
         /// That input.
         input: String,
-        /// The value as the input sees it.
+        /// The value that would reach the input.
         value: String,
         /// Lower bound.
         min: f32,
@@ -211,8 +214,6 @@ pub struct PlanParameter {
     pub default: Value,
     /// Uniform slot it fills (`None` when unused or baked).
     pub slot: Option<u32>,
-    /// The hard ranges of the inputs it feeds, which every value set must respect.
-    pub feeds: Vec<crate::graph::Feed>,
 }
 
 /// What the compiler did to the graph.
@@ -261,6 +262,8 @@ pub struct Plan {
     pub(crate) live: Vec<bool>,
     /// Where each node output of a live node lives (constants are folded values).
     pub(crate) node_operands: HashMap<OutputRef, Operand>,
+    /// The hard-range guards parameter values are checked against.
+    pub(crate) guards: Arc<Guards>,
 }
 
 impl Plan {
@@ -336,17 +339,110 @@ impl Plan {
         ParamValues {
             names: self.parameters.iter().map(|p| p.name.clone()).collect(),
             values: self.parameters.iter().map(|p| p.default).collect(),
-            feeds: self.parameters.iter().map(|p| p.feeds.clone()).collect(),
+            guards: Some(self.guards.clone()),
         }
     }
 }
 
 /// Parameter values for one evaluation, in the plan's parameter order.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub struct ParamValues {
     names: Vec<String>,
     values: Vec<Value>,
-    feeds: Vec<Vec<crate::graph::Feed>>,
+    /// The plan's range guards (not part of equality).
+    guards: Option<Arc<Guards>>,
+}
+
+/// The hard-range guards of a plan: inputs whose value is computed from parameters and
+/// constants alone (a parameter's output linked directly, or through nodes hoisted into the
+/// uniform program), with the uniform program that computes them. A parameter *feeds* such
+/// an input when the input's value depends on it; every value set for the parameter is
+/// refused if it would put a fed input outside its hard range. Inputs that also depend on
+/// per-sample values (geometry, textures) or on time are not guarded.
+pub(crate) struct Guards {
+    init: Vec<Value>,
+    steps: Vec<Step>,
+    /// Uniform slot of each plan parameter (plan order).
+    param_slots: Vec<Option<u32>>,
+    /// Graph node of each plan parameter (plan order).
+    param_nodes: Vec<NodeIndex>,
+    guards: Vec<Guard>,
+}
+
+/// One guarded input.
+#[derive(Clone, Debug)]
+pub(crate) struct Guard {
+    /// The uniform slot holding the input's value.
+    slot: u32,
+    /// The node whose input it is.
+    node: String,
+    /// The input.
+    input: &'static str,
+    /// Its hard range.
+    range: crate::node::Range,
+    /// The `parameter` nodes the value depends on.
+    params: Vec<NodeIndex>,
+}
+
+impl Guards {
+    /// Runs the uniform program for `values` (plan order) and returns the first guard that
+    /// fails among those depending on parameter node `only` (or on any, when `None`), with
+    /// the value that reached it.
+    fn first_violation(
+        &self,
+        values: &[Value],
+        only: Option<NodeIndex>,
+    ) -> Option<(&Guard, Value)> {
+        let relevant = |g: &&Guard| only.is_none_or(|p| g.params.contains(&p));
+        if !self.guards.iter().any(|g| relevant(&g)) {
+            return None;
+        }
+        let mut slots = self.init.clone();
+        for (slot, v) in self.param_slots.iter().zip(values) {
+            if let Some(s) = slot {
+                slots[*s as usize] = *v;
+            }
+        }
+        run_uniform_steps(&self.steps, &mut slots);
+        self.guards
+            .iter()
+            .filter(relevant)
+            .find(|g| !g.range.contains(&slots[g.slot as usize]))
+            .map(|g| (g, slots[g.slot as usize]))
+    }
+}
+
+impl std::fmt::Debug for ParamValues {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ParamValues")
+            .field("names", &self.names)
+            .field("values", &self.values)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for ParamValues {
+    fn eq(&self, other: &ParamValues) -> bool {
+        self.names == other.names && self.values == other.values
+    }
+}
+
+/// Runs uniform steps over `slots` in order.
+pub(crate) fn run_uniform_steps(steps: &[Step], slots: &mut [Value]) {
+    for step in steps {
+        let ins: Vec<Value> = step.inputs.iter().map(|&s| slots[s as usize]).collect();
+        let types: Vec<SocketType> = step
+            .outputs
+            .iter()
+            .map(|&s| slots[s as usize].ty())
+            .collect();
+        let Some(k) = step.kernel.kernel() else {
+            continue; // uniform steps are never texture steps
+        };
+        for (&s, v) in step.outputs.iter().zip(run_single(k, &ins, &types)) {
+            slots[s as usize] = v;
+        }
+    }
 }
 
 impl ParamValues {
@@ -365,15 +461,17 @@ impl ParamValues {
             expected: ty,
             found: value.ty(),
         })?;
-        for f in &self.feeds[i] {
-            if let Some(seen) = f.violation(v) {
+        if let Some(guards) = &self.guards {
+            let mut values = self.values.clone();
+            values[i] = v;
+            if let Some((g, seen)) = guards.first_violation(&values, Some(guards.param_nodes[i])) {
                 return Err(EvalError::ParameterOutOfRange {
                     name: name.to_owned(),
-                    node: f.node.clone(),
-                    input: f.input.to_owned(),
+                    node: g.node.clone(),
+                    input: g.input.to_owned(),
                     value: seen.to_string(),
-                    min: f.range.min,
-                    max: f.range.max,
+                    min: g.range.min,
+                    max: g.range.max,
                 });
             }
         }
@@ -425,6 +523,9 @@ struct Compiler<'g> {
     const_regs: HashMap<(SocketType, [u32; 4]), u32>,
     textures: Vec<String>,
     texture_slots: HashMap<String, usize>,
+    /// The `parameter` nodes each uniform slot depends on; [`TIME`] marks time.
+    uniform_deps: HashMap<u32, Vec<NodeIndex>>,
+    guards: Vec<Guard>,
     read: std::collections::HashSet<OutputRef>,
     stats: PlanStats,
 }
@@ -446,6 +547,8 @@ impl<'g> Compiler<'g> {
             const_regs: HashMap::new(),
             textures: Vec::new(),
             texture_slots: HashMap::new(),
+            uniform_deps: HashMap::new(),
+            guards: Vec::new(),
             read: Default::default(),
             stats: PlanStats {
                 graph_nodes: graph.nodes().len(),
@@ -484,7 +587,7 @@ impl<'g> Compiler<'g> {
                 operand: self.operands[r],
             })
             .collect::<Vec<_>>();
-        let parameters = self
+        let parameters: Vec<PlanParameter> = self
             .graph
             .parameters()
             .iter()
@@ -493,10 +596,38 @@ impl<'g> Compiler<'g> {
                 ty: p.ty,
                 default: p.default,
                 slot: self.param_slots.get(&p.node).copied(),
-                feeds: p.feeds.clone(),
             })
             .collect();
         self.allocate(&mut outputs);
+        let guards = Arc::new(Guards {
+            init: self.uniform_init.clone(),
+            steps: self.uniform_steps.clone(),
+            param_slots: parameters.iter().map(|p: &PlanParameter| p.slot).collect(),
+            param_nodes: self.graph.parameters().iter().map(|p| p.node).collect(),
+            guards: std::mem::take(&mut self.guards),
+        });
+        // The file's values must respect the guards too.
+        let defaults: Vec<Value> = parameters
+            .iter()
+            .map(|p: &PlanParameter| p.default)
+            .collect();
+        if let Some((g, seen)) = guards.first_violation(&defaults, None) {
+            let node = g.params[0];
+            let name = self
+                .graph
+                .parameters()
+                .iter()
+                .find(|p| p.node == node)
+                .map_or_else(|| self.graph.nodes()[node].id.clone(), |p| p.name.clone());
+            return Err(EvalError::ParameterOutOfRange {
+                name,
+                node: g.node.clone(),
+                input: g.input.to_owned(),
+                value: seen.to_string(),
+                min: g.range.min,
+                max: g.range.max,
+            });
+        }
         let mut attributes: Vec<Attribute> = self.attribute_regs.keys().copied().collect();
         attributes.sort();
         self.stats.per_sample_steps = self.steps.len();
@@ -514,6 +645,7 @@ impl<'g> Compiler<'g> {
             textures: self.textures,
             live,
             node_operands: self.operands,
+            guards,
         })
     }
 
@@ -607,6 +739,7 @@ impl<'g> Compiler<'g> {
                             None => {
                                 let s = self.new_uniform(a.default_value());
                                 self.time_slot = Some(s);
+                                self.uniform_deps.insert(s, vec![TIME]);
                                 s
                             }
                         };
@@ -634,6 +767,7 @@ impl<'g> Compiler<'g> {
                 };
                 let slot = self.new_uniform(init);
                 self.param_slots.insert(i, slot);
+                self.uniform_deps.insert(slot, vec![i]);
                 set(self, 0, Operand::Uniform(slot));
                 return;
             }
@@ -649,6 +783,20 @@ impl<'g> Compiler<'g> {
                 InputSource::Link(r, c) => self.convert(self.operands[r], *c, to),
             };
             ins.push(op);
+        }
+        for (k, op) in ins.iter().enumerate() {
+            if let (Operand::Uniform(slot), Some(range)) = (op, t.inputs()[k].hard) {
+                let params = self.deps(*slot);
+                if !params.is_empty() && !params.contains(&TIME) {
+                    self.guards.push(Guard {
+                        slot: *slot,
+                        node: node.id.clone(),
+                        input: t.inputs()[k].name,
+                        range,
+                        params,
+                    });
+                }
+            }
         }
         let variant = t.variants().iter().position(|v| match v.generic {
             None => true,
@@ -702,11 +850,17 @@ impl<'g> Compiler<'g> {
             self.stats.folded += 1;
         } else if !is_texture && ins.iter().all(|o| !matches!(o, Operand::Reg(_))) {
             // Hoist.
-            let inputs = ins.iter().map(|o| self.uniform_slot(*o)).collect();
+            let inputs: Vec<u32> = ins.iter().map(|o| self.uniform_slot(*o)).collect();
+            let mut deps: Vec<NodeIndex> = inputs.iter().flat_map(|&s| self.deps(s)).collect();
+            deps.sort_unstable();
+            deps.dedup();
             let outputs: Vec<u32> = out_types
                 .iter()
                 .map(|&t| self.new_uniform(Value::zero(t)))
                 .collect();
+            for &s in &outputs {
+                self.uniform_deps.insert(s, deps.clone());
+            }
             for (k, &s) in outputs.iter().enumerate() {
                 set(self, k, Operand::Uniform(s));
             }
@@ -748,6 +902,8 @@ impl<'g> Compiler<'g> {
             Operand::Const(v) => Operand::Const(Value::from_lanes(to, &c.apply(v.raw(), to))),
             Operand::Uniform(s) => {
                 let out = self.new_uniform(Value::zero(to));
+                let deps = self.deps(s);
+                self.uniform_deps.insert(out, deps);
                 self.uniform_steps.push(Step {
                     kernel: KernelRef::Convert(k),
                     inputs: vec![s],
@@ -772,6 +928,11 @@ impl<'g> Compiler<'g> {
                 Operand::Reg(out)
             }
         }
+    }
+
+    /// The `parameter` nodes (and [`TIME`]) uniform slot `s` depends on.
+    fn deps(&self, s: u32) -> Vec<NodeIndex> {
+        self.uniform_deps.get(&s).cloned().unwrap_or_default()
     }
 
     /// A uniform slot holding `op` (constants get a slot of their own).
