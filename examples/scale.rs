@@ -17,7 +17,8 @@
 //! For each graph and phase it prints the best of a few runs, in seconds: `check` parses
 //! and validates the text; `eval` also compiles the CPU plan and evaluates one sample (what
 //! `matgraph eval` does); `wgsl` also generates the WGSL and has naga parse and validate it
-//! (what `matgraph wgsl` does).
+//! (what `matgraph wgsl` does). `generate` is the WGSL step alone on the loaded graph
+//! (plan, text, naga parse and validation), of which `naga` is naga's parse and validation.
 
 use matgraph::exec::SampleBatch;
 use matgraph::plan::{Plan, PlanOptions};
@@ -117,8 +118,10 @@ fn main() {
         sizes = vec![10_000, 100_000, 1_000_000];
     }
     let registry = Registry::builtin();
-    println!("| graph | nodes | check (s) | eval (s) | wgsl (s) | wgsl bytes |");
-    println!("| --- | ---: | ---: | ---: | ---: | ---: |");
+    println!(
+        "| graph | nodes | check (s) | eval (s) | wgsl (s) | generate (s) | naga (s) | WGSL bytes |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
     for &n in &sizes {
         for (shape, text) in [("chain", chain(n)), ("fan-in", fan_in(n))] {
             if let Some(dir) = &write_dir {
@@ -143,7 +146,21 @@ fn main() {
                 let m = generate(&g, &WgslOptions::default()).unwrap();
                 bytes = m.source.len();
             });
-            println!("| {shape} | {nodes} | {check:.3} | {eval:.3} | {wgsl:.3} | {bytes} |");
+            let g = Graph::from_json(&text, registry).unwrap();
+            let generate_only = best(runs, || generate(&g, &WgslOptions::default()).unwrap());
+            let source = generate(&g, &WgslOptions::default()).unwrap().source;
+            let naga = best(runs, || {
+                let module = naga::front::wgsl::parse_str(&source).unwrap();
+                naga::valid::Validator::new(
+                    naga::valid::ValidationFlags::all(),
+                    naga::valid::Capabilities::empty(),
+                )
+                .validate(&module)
+                .unwrap()
+            });
+            println!(
+                "| {shape} | {nodes} | {check:.3} | {eval:.3} | {wgsl:.3} | {generate_only:.3} | {naga:.3} | {bytes} |"
+            );
         }
     }
 }

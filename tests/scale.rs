@@ -60,8 +60,8 @@ fn evaluate(graph: &Graph, count: usize) -> (Vec<f64>, Vec<f32>) {
 }
 
 #[test]
-fn a_200k_chain_loads_saves_plans_and_evaluates() {
-    let n = 200_000;
+fn a_100k_chain_loads_saves_plans_and_evaluates() {
+    let n = 100_000;
     let text = scale::chain(n);
     let graph = Graph::from_json(&text, Registry::builtin()).unwrap();
     assert_eq!(graph.nodes().len(), n + 2);
@@ -104,7 +104,7 @@ fn a_60k_chain_compiles_to_valid_wgsl() {
 
 #[test]
 fn a_fan_in_tree_compiles_deterministically_and_evaluates() {
-    let (text, depth) = scale::fan_in_depth(20_000);
+    let (text, depth) = scale::fan_in_depth(5_000);
     let graph = Graph::from_json(&text, Registry::builtin()).unwrap();
     let (cos, got) = evaluate(&graph, 16);
     let scale = (1u64 << depth) as f64;
@@ -115,12 +115,21 @@ fn a_fan_in_tree_compiles_deterministically_and_evaluates() {
     let a = generate(&graph, &WgslOptions::default()).unwrap();
     let b = generate(&graph, &WgslOptions::default()).unwrap();
     assert_eq!(a.source, b.source);
-    assert!(a.source.contains("struct MgState {"));
-    // Every leaf is read in a later part, so its value is shared through the state.
-    assert!(a.source.contains("    n2_l0: f32,\n"));
-    assert!(a.source.contains("(*s).n2_l0 = n2_l0;"));
+    // Calls are placed depth-first, so few values cross a part: far fewer state slots
+    // than nodes (leaves first in file order would make every leaf one).
+    let state = &a.source[a
+        .source
+        .find("struct MgState {\n    f: array<f32, ")
+        .unwrap()..];
+    let slots: usize = state["struct MgState {\n    f: array<f32, ".len()..]
+        .split('>')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(slots * 20 < graph.nodes().len(), "{slots} state slots");
     // Each byte of a node's call maps to that node.
-    for id in ["l0", "l9999", "t0_0", "t3_100"] {
+    for id in ["l0", "l2499", "t0_0", "t3_100"] {
         let at = a.source.find(&format!("_{id} = mg_add_f32(")).unwrap();
         assert_eq!(a.node_at(at), Some(id), "{id}");
     }

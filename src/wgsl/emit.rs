@@ -225,8 +225,8 @@ pub(super) struct Emitter<'a> {
     spans: Vec<(Range<usize>, String)>,
     /// WGSL expression of each live attribute and parameter output.
     exprs: BTreeMap<OutputRef, String>,
-    /// The variable of each node that becomes a call.
-    vars: HashMap<NodeIndex, CallVar>,
+    /// The variable of each node that becomes a call, by node index.
+    vars: Vec<Option<CallVar>>,
     /// Where the text being emitted is.
     context: Context,
     /// Slot of each texture key in the plan's texture list.
@@ -248,8 +248,8 @@ struct CallVar {
     function: usize,
     /// The part function the call is in (0 when the material function is not split).
     part: usize,
-    /// Whether the value is read outside its part, and so is stored in `MgState`.
-    shared: bool,
+    /// For each output read outside its part: the `MgState` array and index it is kept at.
+    slots: Vec<Option<(&'static str, usize)>>,
 }
 
 /// Where generated text is placed, which decides how a node's value is named.
@@ -272,7 +272,7 @@ impl<'a> Emitter<'a> {
             out: String::new(),
             spans: Vec::new(),
             exprs: BTreeMap::new(),
-            vars: HashMap::new(),
+            vars: Vec::new(),
             context: Context::Whole,
             texture_slots: plan
                 .textures()
@@ -393,6 +393,8 @@ impl<'a> Emitter<'a> {
         let mut helpers: Vec<&'static str> = Vec::new();
         let mut functions: Vec<(String, NodeFunction, String)> = Vec::new(); // (key, fn, first node id)
         let mut function_index: HashMap<String, usize> = HashMap::new();
+        // The calls in plan order, each with the index of its function.
+        let mut calls: Vec<(NodeIndex, usize)> = Vec::new();
         for &i in &order {
             let n = &nodes[i];
             if !emits_call(n.node_type.evaluation()) || self.folded(i) {
@@ -400,9 +402,11 @@ impl<'a> Emitter<'a> {
             }
             // Keyed by the emitted name: vec3 and colour share one function.
             let key = function_name(&n.node_type, n.generic);
-            if function_index.contains_key(&key) {
+            if let Some(&f) = function_index.get(&key) {
+                calls.push((i, f));
                 continue;
             }
+            calls.push((i, functions.len()));
             function_index.insert(key.clone(), functions.len());
             let f =
                 node_function(&n.node_type, n.generic).ok_or_else(|| ShaderError::MissingWgsl {
@@ -503,24 +507,16 @@ impl<'a> Emitter<'a> {
 
         // The material function: one straight-line body, or for large graphs a tree of
         // bounded-size part functions sharing their values through a state struct.
-        let calls: Vec<NodeIndex> = order
-            .iter()
-            .copied()
-            .filter(|&i| emits_call(nodes[i].node_type.evaluation()) && !self.folded(i))
-            .collect();
-        for &i in &calls {
-            let n = &nodes[i];
-            let f = function_index[&function_name(&n.node_type, n.generic)];
-            self.vars.insert(
-                i,
-                CallVar {
-                    name: format!("n{i}_{}", ident(&n.id)),
-                    function: f,
-                    part: 0,
-                    shared: false,
-                },
-            );
+        self.vars = (0..nodes.len()).map(|_| None).collect();
+        for &(i, f) in &calls {
+            self.vars[i] = Some(CallVar {
+                name: format!("n{i}_{}", ident(&nodes[i].id)),
+                function: f,
+                part: 0,
+                slots: Vec::new(),
+            });
         }
+        let calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
         if calls.len() > SPLIT_CALLS {
             self.split_material(&calls, &functions, &attributes, &outputs);
         } else {
@@ -603,18 +599,15 @@ impl<'a> Emitter<'a> {
         if let Some(v) = self.plan.folded(r) {
             return literal(&v.convert(to).unwrap_or(v));
         }
-        let e = match self.vars.get(&r.node) {
+        let e = match &self.vars[r.node] {
             Some(var) => {
-                let base = match self.context {
-                    Context::Part(p) if p != var.part => format!("(*s).{}", var.name),
-                    Context::Material => format!("s.{}", var.name),
-                    _ => var.name.clone(),
-                };
-                let n = &self.graph.nodes()[r.node];
-                if n.node_type.outputs().len() > 1 {
-                    format!("{base}.{}", output_member(&n.node_type, r.output))
-                } else {
-                    base
+                let stored = var.slots.get(r.output).copied().flatten();
+                match (self.context, stored) {
+                    (Context::Part(p), Some((array, k))) if p != var.part => {
+                        format!("(*s).{array}[{k}]")
+                    }
+                    (Context::Material, Some((array, k))) => format!("s.{array}[{k}]"),
+                    _ => self.local_value(r),
                 }
             }
             None => self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into()),
@@ -622,10 +615,26 @@ impl<'a> Emitter<'a> {
         convert(&e, from, to)
     }
 
+    /// The variable of call node `i`.
+    fn var(&self, i: NodeIndex) -> &CallVar {
+        self.vars[i].as_ref().expect("a call node has a variable")
+    }
+
+    /// Node output `r` of a call, by its local variable.
+    fn local_value(&self, r: OutputRef) -> String {
+        let var = self.var(r.node);
+        let n = &self.graph.nodes()[r.node];
+        if n.node_type.outputs().len() > 1 {
+            format!("{}.{}", var.name, output_member(&n.node_type, r.output))
+        } else {
+            var.name.clone()
+        }
+    }
+
     /// Emits the `let` of node `i`'s call (and its store into `MgState` when shared).
     fn emit_call(&mut self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) {
         let n = &self.graph.nodes()[i];
-        let var = &self.vars[&i];
+        let var = self.var(i);
         let f = &functions[var.function].1;
         let mut args: Vec<String> = Vec::new();
         if let Some(src) = &n.texture {
@@ -634,25 +643,64 @@ impl<'a> Emitter<'a> {
             args.push(format!("{slot}u"));
         }
         args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
-        let start = self.out.len();
-        let _ = writeln!(
-            self.out,
-            "    let {} = {}({});",
-            var.name,
-            f.name,
-            args.join(", ")
-        );
-        if var.shared {
-            let _ = writeln!(self.out, "    (*s).{0} = {0};", var.name);
+        let mut text = format!("    let {} = {}({});\n", var.name, f.name, args.join(", "));
+        for (k, slot) in var.slots.iter().enumerate() {
+            if let Some((array, j)) = slot {
+                let value = self.local_value(OutputRef { node: i, output: k });
+                let _ = writeln!(text, "    (*s).{array}[{j}] = {value};");
+            }
         }
+        let start = self.out.len();
+        self.out.push_str(&text);
         self.spans.push((start..self.out.len(), n.id.clone()));
     }
 
+    /// The calls in depth-first post-order from the outputs (inputs in port order), so that
+    /// a value is mostly read by calls close after it, in the same part; calls no output
+    /// reaches follow in their first order. Iterative: any depth.
+    fn post_order(
+        &self,
+        calls: &[NodeIndex],
+        outputs: &[(String, SocketType, OutputRef)],
+    ) -> Vec<NodeIndex> {
+        let nodes = self.graph.nodes();
+        let mut done: HashSet<NodeIndex> = HashSet::with_capacity(calls.len());
+        let mut order = Vec::with_capacity(calls.len());
+        let mut stack: Vec<(NodeIndex, usize)> = Vec::new();
+        let roots = outputs
+            .iter()
+            .map(|(_, _, r)| r.node)
+            .chain(calls.iter().copied());
+        for root in roots {
+            if self.vars[root].is_none() || !done.insert(root) {
+                continue;
+            }
+            stack.push((root, 0));
+            while let Some(&mut (i, ref mut k)) = stack.last_mut() {
+                if let Some(src) = nodes[i].inputs.get(*k) {
+                    *k += 1;
+                    if let InputSource::Link(r, _) = src
+                        && self.vars[r.node].is_some()
+                        && done.insert(r.node)
+                    {
+                        stack.push((r.node, 0));
+                    }
+                    continue;
+                }
+                stack.pop();
+                order.push(i);
+            }
+        }
+        order
+    }
+
     /// Emits the material function of a large graph as part functions of at most
-    /// [`PART_CALLS`] calls, run in order by a tree of functions of at most [`PART_FANOUT`]
+    /// [`PART_CALLS`] calls (in depth-first post-order, so most values are read in the part
+    /// that computes them), run in order by a tree of functions of at most [`PART_FANOUT`]
     /// calls, so that no function body grows with the graph (naga's WGSL front end types a
     /// function's expressions in time quadratic in their number). Values read outside the
-    /// part that computes them live in the `MgState` struct the parts share by pointer.
+    /// part that computes them live in the `MgState` struct the parts share by pointer, in
+    /// one array per WGSL type.
     fn split_material(
         &mut self,
         calls: &[NodeIndex],
@@ -661,46 +709,61 @@ impl<'a> Emitter<'a> {
         outputs: &[(String, SocketType, OutputRef)],
     ) {
         let nodes = self.graph.nodes();
+        let calls = &self.post_order(calls, outputs);
         for (k, i) in calls.iter().enumerate() {
-            if let Some(v) = self.vars.get_mut(i) {
+            if let Some(v) = &mut self.vars[*i] {
                 v.part = k / PART_CALLS;
             }
         }
         // Which values cross a part boundary (or reach an output).
-        let mut shared: HashSet<NodeIndex> = HashSet::new();
+        let mut shared: HashSet<OutputRef> = HashSet::new();
         for &i in calls {
-            let part = self.vars[&i].part;
+            let part = self.var(i).part;
             for src in &nodes[i].inputs {
                 if let InputSource::Link(r, _) = src
-                    && self.vars.get(&r.node).is_some_and(|v| v.part != part)
+                    && self.vars[r.node].as_ref().is_some_and(|v| v.part != part)
                 {
-                    shared.insert(r.node);
+                    shared.insert(*r);
                 }
             }
         }
         for (_, _, r) in outputs {
-            if self.vars.contains_key(&r.node) {
-                shared.insert(r.node);
+            if self.vars[r.node].is_some() {
+                shared.insert(*r);
             }
         }
-        self.out.push_str("struct MgState {\n");
-        let mut any = false;
+        // They are kept in one array per WGSL type (index lookups stay constant-time, where
+        // naga resolves a struct member by a search over the members).
+        let mut arrays: Vec<(&'static str, &'static str, usize)> = Vec::new(); // (member, type, len)
         for &i in calls {
-            if !shared.contains(&i) {
-                continue;
-            }
-            any = true;
             let n = &nodes[i];
-            let v = self.vars.get_mut(&i).expect("every call has a variable");
-            v.shared = true;
-            let f = &functions[v.function].1;
-            let ty = match &f.out_struct {
-                Some(s) => s.clone(),
-                None => wgsl_type(n.output_type(0)).to_owned(),
-            };
-            let _ = writeln!(self.out, "    {}: {ty},", v.name);
+            let outs = n.node_type.outputs().len();
+            let mut slots = vec![None; outs];
+            for (k, slot) in slots.iter_mut().enumerate() {
+                if !shared.contains(&OutputRef { node: i, output: k }) {
+                    continue;
+                }
+                let ty = wgsl_type(n.output_type(k));
+                let a = match arrays.iter().position(|(_, t, _)| *t == ty) {
+                    Some(a) => a,
+                    None => {
+                        arrays.push((state_member(ty), ty, 0));
+                        arrays.len() - 1
+                    }
+                };
+                *slot = Some((arrays[a].0, arrays[a].2));
+                arrays[a].2 += 1;
+            }
+            if let Some(v) = &mut self.vars[i] {
+                v.slots = slots;
+            }
         }
-        if !any {
+        arrays.sort_by_key(|(member, ..)| *member);
+        self.out.push_str("struct MgState {\n");
+        for (member, ty, len) in &arrays {
+            let _ = writeln!(self.out, "    {member}: array<{ty}, {len}>,");
+        }
+        if arrays.is_empty() {
             // WGSL structs need a member.
             self.out.push_str("    unused: f32,\n");
         }
@@ -886,6 +949,18 @@ impl<'a> Emitter<'a> {
             ),
         };
         let _ = writeln!(self.out, "    return {rgba};\n}}");
+    }
+}
+
+/// The `MgState` member holding the shared values of WGSL type `ty`.
+fn state_member(ty: &str) -> &'static str {
+    match ty {
+        "f32" => "f",
+        "vec2<f32>" => "v2",
+        "vec3<f32>" => "v3",
+        "vec4<f32>" => "v4",
+        "i32" => "i",
+        _ => "b",
     }
 }
 
