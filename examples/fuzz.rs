@@ -44,12 +44,12 @@ impl Rng {
             .wrapping_mul(case.wrapping_add(0x2545_f491_4f6c_dd1d))
             | 1);
         for _ in 0..4 {
-            r.next();
+            r.bits();
         }
         r
     }
     /// The next 64 random bits.
-    pub fn next(&mut self) -> u64 {
+    pub fn bits(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -57,7 +57,7 @@ impl Rng {
     }
     /// A number in `0..n` (`n > 0`).
     pub fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
+        (self.bits() % n.max(1) as u64) as usize
     }
     /// True with probability `1 / n`.
     pub fn one_in(&mut self, n: usize) -> bool {
@@ -127,7 +127,7 @@ fn number(rng: &mut Rng) -> J {
     if rng.one_in(2) {
         json!(*rng.pick(NUMBERS))
     } else {
-        let x = (rng.next() >> 11) as f64 / (1u64 << 53) as f64;
+        let x = (rng.bits() >> 11) as f64 / (1u64 << 53) as f64;
         let e = rng.below(80) as i32 - 40;
         json!((x * 2.0 - 1.0) * 10f64.powi(e))
     }
@@ -395,7 +395,7 @@ fn mutate_text(rng: &mut Rng, text: &mut Vec<u8>) {
         }
         let at = rng.below(text.len());
         match rng.below(4) {
-            0 => text[at] = rng.next() as u8,
+            0 => text[at] = rng.bits() as u8,
             1 => text.insert(at, *rng.pick(b"{}[],:\"\\0123456789e-.")),
             2 => {
                 text.remove(at);
