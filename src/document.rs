@@ -274,6 +274,7 @@ fn structure_errors(text: &str, e: &serde_json::Error) -> Vec<GraphError> {
         });
     }
     if let Ok(raw) = serde_json::from_str::<RawNodes>(text) {
+        let lines = LineStarts::new(text);
         for (i, node) in raw.nodes.iter().enumerate() {
             let slice = node.get();
             if let Err(ne) = serde_json::from_str::<NodeDocument>(slice) {
@@ -281,7 +282,7 @@ fn structure_errors(text: &str, e: &serde_json::Error) -> Vec<GraphError> {
                     .ok()
                     .and_then(|v| v.get("id").and_then(|id| id.as_str()).map(str::to_owned));
                 let offset = slice.as_ptr() as usize - text.as_ptr() as usize;
-                let (line, column) = offset_location(text, offset, ne.line(), ne.column());
+                let (line, column) = lines.locate(offset, ne.line(), ne.column());
                 errors.push(GraphError::Structure {
                     node: Some(id.unwrap_or_else(|| format!("#{i}"))),
                     line,
@@ -302,16 +303,33 @@ fn structure_errors(text: &str, e: &serde_json::Error) -> Vec<GraphError> {
     errors
 }
 
-/// The 1-based line and column in `text` of a position given relative to a slice starting
-/// at byte `offset`.
-fn offset_location(text: &str, offset: usize, line: usize, column: usize) -> (usize, usize) {
-    let before = &text[..offset];
-    let base_line = before.matches('\n').count() + 1;
-    let base_column = before.len() - before.rfind('\n').map_or(0, |i| i + 1);
-    if line <= 1 {
-        (base_line, base_column + column)
-    } else {
-        (base_line + line - 1, column)
+/// The byte offsets where the lines of a text start: built in one pass, so that locating
+/// every error of a large file costs a binary search each rather than a rescan.
+struct LineStarts(Vec<usize>);
+
+impl LineStarts {
+    fn new(text: &str) -> LineStarts {
+        let mut starts = vec![0];
+        starts.extend(
+            text.bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineStarts(starts)
+    }
+
+    /// The 1-based line and column in the text of a position given (as serde_json gives it:
+    /// 1-based line, column) relative to a slice starting at byte `offset`.
+    fn locate(&self, offset: usize, line: usize, column: usize) -> (usize, usize) {
+        // Lines starting at or before `offset`: the 1-based line of `offset`.
+        let base_line = self.0.partition_point(|&s| s <= offset);
+        let base_column = offset - self.0[base_line - 1];
+        if line <= 1 {
+            (base_line, base_column + column)
+        } else {
+            (base_line + line - 1, column)
+        }
     }
 }
 

@@ -4,6 +4,10 @@ use crate::types::SocketType;
 use std::fmt;
 use std::path::PathBuf;
 
+/// How many errors [`GraphErrors`] prints per file before "… and N more", and how many
+/// nodes of a long cycle [`GraphError::Cycle`] names at each end.
+pub const MAX_SHOWN: usize = 50;
+
 /// One problem in a graph document. Every variant names the place at fault.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GraphError {
@@ -127,6 +131,27 @@ pub enum GraphError {
         /// Upper bound.
         max: f32,
     },
+    /// A parameter's value outside the hard range of an input it feeds (see
+    /// [`crate::graph::Feed`]).
+    #[error(
+        "parameter '{name}' (node '{node}'): value {value} is outside [{min}, {max}], the range of input '{input}' of node '{target}' it feeds"
+    )]
+    ParameterOutOfRange {
+        /// The parameter's name (the node id when the graph does not expose it).
+        name: String,
+        /// The `parameter` node.
+        node: String,
+        /// The node whose input it feeds.
+        target: String,
+        /// That input.
+        input: String,
+        /// The value as the input sees it.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
+    },
     /// A link that is not written `node_id.output`.
     #[error("node '{node}': input '{input}': link '{link}' must be written \"node_id.output\"")]
     BadLink {
@@ -180,7 +205,7 @@ pub enum GraphError {
         to_type: SocketType,
     },
     /// The links form a cycle.
-    #[error("cycle through nodes {}", .nodes.join(" -> "))]
+    #[error("cycle through nodes {}", cycle_text(.nodes))]
     Cycle {
         /// The nodes on the cycle, in link order.
         nodes: Vec<String>,
@@ -209,6 +234,20 @@ fn at_node(node: &Option<String>) -> String {
         .unwrap_or_default()
 }
 
+/// `a -> b -> a`; a cycle longer than twice [`MAX_SHOWN`] shows its first and last
+/// `MAX_SHOWN` nodes around "-> … (N more) ->".
+fn cycle_text(nodes: &[String]) -> String {
+    if nodes.len() <= 2 * MAX_SHOWN {
+        return nodes.join(" -> ");
+    }
+    format!(
+        "{} -> … ({} more) -> {}",
+        nodes[..MAX_SHOWN].join(" -> "),
+        nodes.len() - 2 * MAX_SHOWN,
+        nodes[nodes.len() - MAX_SHOWN..].join(" -> ")
+    )
+}
+
 fn did_you_mean(s: &Option<String>) -> String {
     s.as_ref()
         .map(|s| format!(" (did you mean '{s}'?)"))
@@ -230,6 +269,7 @@ impl GraphError {
             | UnknownInput { node, .. }
             | WrongValueType { node, .. }
             | OutOfRange { node, .. }
+            | ParameterOutOfRange { node, .. }
             | BadLink { node, .. }
             | MissingNode { node, .. }
             | MissingOutput { node, .. }
@@ -249,13 +289,24 @@ pub struct GraphErrors {
     pub errors: Vec<GraphError>,
 }
 
+/// One error a line, each prefixed by the source; past [`MAX_SHOWN`] errors the rest are
+/// counted in a last line "SOURCE: … and N more errors".
 impl fmt::Display for GraphErrors {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (i, e) in self.errors.iter().enumerate() {
+        for (i, e) in self.errors.iter().take(MAX_SHOWN).enumerate() {
             if i > 0 {
                 writeln!(f)?;
             }
             write!(f, "{}: {e}", self.source.display())?;
+        }
+        if self.errors.len() > MAX_SHOWN {
+            let more = self.errors.len() - MAX_SHOWN;
+            write!(
+                f,
+                "\n{}: … and {more} more error{}",
+                self.source.display(),
+                if more == 1 { "" } else { "s" }
+            )?;
         }
         Ok(())
     }

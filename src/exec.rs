@@ -2,7 +2,7 @@
 //! samples, one kernel call per step per tile, tiles spread over threads with rayon.
 
 use crate::node::Attribute;
-use crate::plan::{EvalError, KernelRef, Operand, ParamValues, Plan, RegFill, TILE, run_single};
+use crate::plan::{EvalError, KernelRef, Operand, ParamValues, Plan, RegFill, TILE};
 use crate::texture::{Filter, TextureSet, Wrap};
 use crate::types::SocketType;
 use crate::value::Value;
@@ -216,23 +216,7 @@ impl Plan {
         if let Some(s) = self.time_slot {
             slots[s as usize] = Value::float(batch.time());
         }
-        for step in &self.uniform_steps {
-            let ins: Vec<Value> = step.inputs.iter().map(|&s| slots[s as usize]).collect();
-            let types: Vec<SocketType> = step
-                .outputs
-                .iter()
-                .map(|&s| slots[s as usize].ty())
-                .collect();
-            for (&s, v) in step.outputs.iter().zip(run_single(
-                step.kernel
-                    .kernel()
-                    .expect("uniform steps are never texture steps"),
-                &ins,
-                &types,
-            )) {
-                slots[s as usize] = v;
-            }
-        }
+        crate::plan::run_uniform_steps(&self.uniform_steps, &mut slots);
         slots
     }
 

@@ -9,7 +9,6 @@ use crate::node::{Evaluation, InputDecl, NodeType, PortType};
 use crate::registry::{Registry, nearest};
 use crate::types::{Conversion, SocketType};
 use crate::value::Value;
-use petgraph::graphmap::DiGraphMap;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
@@ -98,6 +97,37 @@ pub struct GraphParameter {
     pub doc: String,
     /// Editor group.
     pub group: Option<String>,
+    /// The hard ranges its value must respect: one per input it feeds (see [`Feed`]).
+    pub feeds: Vec<Feed>,
+}
+
+/// An input with a hard range that a `parameter` node *feeds*: an input linked directly to
+/// the parameter node's `value` output. The parameter's value, after the link's implicit
+/// conversion (a float broadcast to a vector input, a colour's luminance to a float input),
+/// must lie in the input's hard range, as a literal written on that input must; the file's
+/// value is checked at load and every value set later by [`crate::ParamValues::set`].
+/// Values computed *from* a parameter by other nodes are not checked: node outputs have no
+/// declared range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Feed {
+    /// The id of the node whose input is fed.
+    pub node: String,
+    /// The input's name.
+    pub input: &'static str,
+    /// The input's hard range.
+    pub range: crate::node::Range,
+    /// The link's conversion.
+    pub conversion: Conversion,
+    /// The input's type.
+    pub to: SocketType,
+}
+
+impl Feed {
+    /// The value `v` of the parameter as the fed input sees it, if it is outside the range.
+    pub fn violation(&self, v: Value) -> Option<Value> {
+        let seen = Value::from_lanes(self.to, &self.conversion.apply(v.raw(), self.to));
+        (!self.range.contains(&seen)).then_some(seen)
+    }
 }
 
 /// A validated graph.
@@ -333,8 +363,9 @@ impl Builder<'_> {
             }
         }
 
+        let feeds = self.parameter_feeds(doc, &nodes);
         let outputs = self.graph_outputs(doc, &by_id, &nodes);
-        let parameters = self.graph_parameters(doc, &by_id, &nodes);
+        let parameters = self.graph_parameters(doc, &by_id, &nodes, &feeds);
 
         if !self.errors.is_empty() {
             return Err(self.errors);
@@ -350,6 +381,16 @@ impl Builder<'_> {
             parameters,
             scene: doc.scene.clone(),
         })
+    }
+
+    /// The node id nearest to `id`, for a "did you mean"; searched (a pass over every id)
+    /// only while fewer errors than are shown have been found, so a file full of dangling
+    /// links stays linear.
+    fn nearest_id(&self, id: &str, doc: &GraphDocument) -> Option<String> {
+        if self.errors.len() >= crate::error::MAX_SHOWN {
+            return None;
+        }
+        nearest(id, doc.nodes.iter().map(|n| n.id.as_str())).map(str::to_owned)
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -376,8 +417,7 @@ impl Builder<'_> {
                 node: n.id.clone(),
                 input: input.to_owned(),
                 target: target_id.to_owned(),
-                suggestion: nearest(target_id, doc.nodes.iter().map(|n| n.id.as_str()))
-                    .map(str::to_owned),
+                suggestion: self.nearest_id(target_id, doc),
             });
             return None;
         };
@@ -401,53 +441,59 @@ impl Builder<'_> {
         })
     }
 
-    /// A topological order, or `None` after reporting every cycle.
+    /// A topological order, or `None` after reporting every cycle. Iterative throughout
+    /// (Kahn's sort, then an explicit-stack Tarjan over what it could not sort), so a chain
+    /// of any length runs in linear time and constant stack.
     fn topological_order(
         &mut self,
         doc: &GraphDocument,
         links: &[Vec<PendingLink>],
     ) -> Option<Vec<NodeIndex>> {
-        let mut g: DiGraphMap<NodeIndex, ()> = DiGraphMap::new();
-        for i in 0..doc.nodes.len() {
-            g.add_node(i);
-        }
-        for (i, pending) in links.iter().enumerate() {
-            for p in pending {
-                g.add_edge(p.target, i, ());
+        let g = Successors::new(doc.nodes.len(), links);
+        let n = g.len();
+        // Kahn's sort, lowest file index first among ready nodes, so the order is stable.
+        let mut indegree = vec![0usize; n];
+        for u in 0..n {
+            for &v in g.of(u) {
+                indegree[v] += 1;
             }
         }
-        let sccs = petgraph::algo::tarjan_scc(&g);
-        let mut cyclic = false;
-        for scc in &sccs {
-            let self_loop = scc.len() == 1 && g.contains_edge(scc[0], scc[0]);
-            if scc.len() > 1 || self_loop {
-                cyclic = true;
-                self.errors.push(GraphError::Cycle {
-                    nodes: cycle_path(&g, scc, doc),
-                });
-            }
-        }
-        if cyclic {
-            return None;
-        }
-        // tarjan_scc returns components in reverse topological order; make it stable by
-        // file order among independent nodes with a Kahn sort.
-        let mut indegree: Vec<usize> = (0..doc.nodes.len())
-            .map(|i| g.neighbors_directed(i, petgraph::Incoming).count())
-            .collect();
         let mut ready: std::collections::BTreeSet<NodeIndex> =
-            (0..doc.nodes.len()).filter(|&i| indegree[i] == 0).collect();
-        let mut order = Vec::with_capacity(doc.nodes.len());
+            (0..n).filter(|&i| indegree[i] == 0).collect();
+        let mut order = Vec::with_capacity(n);
         while let Some(i) = ready.pop_first() {
             order.push(i);
-            for j in g.neighbors_directed(i, petgraph::Outgoing) {
+            for &j in g.of(i) {
                 indegree[j] -= 1;
                 if indegree[j] == 0 {
                     ready.insert(j);
                 }
             }
         }
-        Some(order)
+        if order.len() == n {
+            return Some(order);
+        }
+        // What is left is the cycles and what hangs off them: report each cycle once.
+        let mut sorted = vec![false; n];
+        for &i in &order {
+            sorted[i] = true;
+        }
+        let components = strongly_connected(&g, &sorted);
+        let mut component_of = vec![usize::MAX; n];
+        for (c, members) in components.iter().enumerate() {
+            for &m in members {
+                component_of[m] = c;
+            }
+        }
+        for (c, members) in components.iter().enumerate() {
+            let self_loop = members.len() == 1 && g.of(members[0]).contains(&members[0]);
+            if members.len() > 1 || self_loop {
+                self.errors.push(GraphError::Cycle {
+                    nodes: cycle_path(&g, &component_of, c, members, doc),
+                });
+            }
+        }
+        None
     }
 
     fn resolve_node(
@@ -649,16 +695,15 @@ impl Builder<'_> {
         nodes: &[Option<Node>],
     ) -> Vec<GraphOutput> {
         let mut out = Vec::new();
-        let mut seen = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for o in &doc.outputs {
-            if seen.contains(&&o.name) {
+            if !seen.insert(o.name.as_str()) {
                 self.errors.push(GraphError::BadOutput {
                     name: o.name.clone(),
                     message: "duplicate output name".into(),
                 });
                 continue;
             }
-            seen.push(&o.name);
             let Some((id, out_name)) = o.from.split_once('.') else {
                 self.errors.push(GraphError::BadOutput {
                     name: o.name.clone(),
@@ -667,7 +712,8 @@ impl Builder<'_> {
                 continue;
             };
             let Some(&i) = by_id.get(id) else {
-                let hint = nearest(id, doc.nodes.iter().map(|n| n.id.as_str()))
+                let hint = self
+                    .nearest_id(id, doc)
                     .map(|s| format!(" (did you mean '{s}'?)"))
                     .unwrap_or_default();
                 self.errors.push(GraphError::BadOutput {
@@ -692,19 +738,73 @@ impl Builder<'_> {
         out
     }
 
+    /// The inputs each `parameter` node feeds (by node index), reporting every file value
+    /// outside a fed input's hard range.
+    fn parameter_feeds(
+        &mut self,
+        doc: &GraphDocument,
+        nodes: &[Option<Node>],
+    ) -> HashMap<NodeIndex, Vec<Feed>> {
+        let mut feeds: HashMap<NodeIndex, Vec<Feed>> = HashMap::new();
+        let mut exposed: HashMap<&str, &str> = HashMap::new();
+        for q in doc.parameters.iter().rev() {
+            exposed.insert(q.node.as_str(), q.name.as_str());
+        }
+        for n in nodes.iter().flatten() {
+            for (k, src) in n.inputs.iter().enumerate() {
+                let (InputSource::Link(r, c), Some(range)) = (src, n.node_type.inputs()[k].hard)
+                else {
+                    continue;
+                };
+                let Some(p) = &nodes[r.node] else { continue };
+                if p.node_type.evaluation() != Evaluation::Parameter {
+                    continue;
+                }
+                let feed = Feed {
+                    node: n.id.clone(),
+                    input: n.node_type.inputs()[k].name,
+                    range,
+                    conversion: *c,
+                    to: n.input_type(k),
+                };
+                if let InputSource::Default(v) | InputSource::Value { value: v, .. } = p.inputs[0]
+                    && let Some(seen) = feed.violation(v)
+                {
+                    let name = exposed
+                        .get(p.id.as_str())
+                        .unwrap_or(&p.id.as_str())
+                        .to_string();
+                    self.errors.push(GraphError::ParameterOutOfRange {
+                        name,
+                        node: p.id.clone(),
+                        target: n.id.clone(),
+                        input: feed.input.to_owned(),
+                        value: seen.to_string(),
+                        min: range.min,
+                        max: range.max,
+                    });
+                }
+                feeds.entry(r.node).or_default().push(feed);
+            }
+        }
+        feeds
+    }
+
     fn graph_parameters(
         &mut self,
         doc: &GraphDocument,
         by_id: &HashMap<String, NodeIndex>,
         nodes: &[Option<Node>],
+        feeds: &HashMap<NodeIndex, Vec<Feed>>,
     ) -> Vec<GraphParameter> {
         let mut out: Vec<GraphParameter> = Vec::new();
+        let mut names = std::collections::HashSet::new();
         for p in &doc.parameters {
             let bad = |message: String| GraphError::BadParameter {
                 name: p.name.clone(),
                 message,
             };
-            if out.iter().any(|q| q.name == p.name) {
+            if names.contains(p.name.as_str()) {
                 self.errors.push(bad("duplicate parameter name".into()));
                 continue;
             }
@@ -734,6 +834,7 @@ impl Builder<'_> {
                     continue;
                 }
             };
+            names.insert(p.name.as_str());
             out.push(GraphParameter {
                 name: p.name.clone(),
                 node: i,
@@ -741,6 +842,7 @@ impl Builder<'_> {
                 default,
                 doc: p.doc.clone(),
                 group: p.group.clone(),
+                feeds: feeds.get(&i).cloned().unwrap_or_default(),
             });
         }
         out
@@ -815,10 +917,111 @@ fn valid_id(id: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
-/// The nodes of one shortest cycle through the lowest-indexed node of a strongly connected
-/// component, in link order, ending where it starts.
+/// The links of a graph as successor lists in compressed form: `of(u)` are the nodes that
+/// read an output of `u` (one entry per link).
+struct Successors {
+    start: Vec<usize>,
+    targets: Vec<NodeIndex>,
+}
+
+impl Successors {
+    fn new(n: usize, links: &[Vec<PendingLink>]) -> Successors {
+        let mut start = vec![0usize; n + 1];
+        for pending in links {
+            for p in pending {
+                start[p.target + 1] += 1;
+            }
+        }
+        for u in 0..n {
+            start[u + 1] += start[u];
+        }
+        let mut fill = start.clone();
+        let mut targets = vec![0; start[n]];
+        for (i, pending) in links.iter().enumerate() {
+            for p in pending {
+                targets[fill[p.target]] = i;
+                fill[p.target] += 1;
+            }
+        }
+        Successors { start, targets }
+    }
+    fn len(&self) -> usize {
+        self.start.len() - 1
+    }
+    fn of(&self, u: NodeIndex) -> &[NodeIndex] {
+        &self.targets[self.start[u]..self.start[u + 1]]
+    }
+}
+
+/// The strongly connected components of the nodes not marked `skip`, by Tarjan's algorithm
+/// with an explicit stack (no recursion), each component's members in ascending order and
+/// the components ordered by their lowest member.
+fn strongly_connected(g: &Successors, skip: &[bool]) -> Vec<Vec<NodeIndex>> {
+    const UNSEEN: usize = usize::MAX;
+    let n = g.len();
+    let mut index = vec![UNSEEN; n];
+    let mut lowlink = vec![0usize; n];
+    let mut on_stack = vec![false; n];
+    let mut stack: Vec<NodeIndex> = Vec::new();
+    let mut calls: Vec<(NodeIndex, usize)> = Vec::new();
+    let mut next = 0usize;
+    let mut components = Vec::new();
+    for root in 0..n {
+        if skip[root] || index[root] != UNSEEN {
+            continue;
+        }
+        index[root] = next;
+        lowlink[root] = next;
+        next += 1;
+        stack.push(root);
+        on_stack[root] = true;
+        calls.push((root, 0));
+        while let Some(&mut (u, ref mut pos)) = calls.last_mut() {
+            if let Some(&w) = g.of(u).get(*pos) {
+                *pos += 1;
+                if skip[w] {
+                    continue;
+                }
+                if index[w] == UNSEEN {
+                    index[w] = next;
+                    lowlink[w] = next;
+                    next += 1;
+                    stack.push(w);
+                    on_stack[w] = true;
+                    calls.push((w, 0));
+                } else if on_stack[w] {
+                    lowlink[u] = lowlink[u].min(index[w]);
+                }
+                continue;
+            }
+            calls.pop();
+            if let Some(&(parent, _)) = calls.last() {
+                lowlink[parent] = lowlink[parent].min(lowlink[u]);
+            }
+            if lowlink[u] == index[u] {
+                let mut members = Vec::new();
+                while let Some(w) = stack.pop() {
+                    on_stack[w] = false;
+                    members.push(w);
+                    if w == u {
+                        break;
+                    }
+                }
+                members.sort_unstable();
+                components.push(members);
+            }
+        }
+    }
+    components.sort_unstable_by_key(|m| m[0]);
+    components
+}
+
+/// The nodes of one shortest cycle through the lowest-indexed node of strongly connected
+/// component `c` (members `scc`), in link order, ending where it starts.
 fn cycle_path(
-    g: &DiGraphMap<NodeIndex, ()>,
+    g: &Successors,
+    component_of: &[usize],
+    c: usize,
     scc: &[NodeIndex],
     doc: &GraphDocument,
 ) -> Vec<String> {
@@ -829,10 +1032,13 @@ fn cycle_path(
     let mut last = start;
     'search: while let Some(cur) = queue.pop_front() {
         let mut next: Vec<NodeIndex> = g
-            .neighbors_directed(cur, petgraph::Outgoing)
-            .filter(|n| scc.contains(n))
+            .of(cur)
+            .iter()
+            .copied()
+            .filter(|&n| component_of[n] == c)
             .collect();
         next.sort_unstable();
+        next.dedup();
         for n in next {
             if n == start {
                 last = cur;

@@ -16,6 +16,9 @@ use glam::{Vec2, Vec3, Vec4};
 use std::collections::HashMap;
 use std::sync::{Arc, LazyLock};
 
+/// The dependency that marks a uniform slot as depending on the batch's time.
+const TIME: NodeIndex = NodeIndex::MAX;
+
 /// Samples per tile: a few hundred keeps a tile's registers in L1/L2.
 pub const TILE: usize = 256;
 
@@ -40,6 +43,25 @@ pub enum EvalError {
         name: String,
         /// The nearest parameter name.
         suggestion: Option<String>,
+    },
+    /// A parameter value outside the hard range of an input it feeds (see
+    /// [`crate::graph::Feed`]).
+    #[error(
+        "parameter '{name}': input '{input}' of node '{node}', which it feeds, would get {value}, outside its hard range [{min}, {max}]"
+    )]
+    ParameterOutOfRange {
+        /// The parameter.
+        name: String,
+        /// The node whose input it feeds.
+        node: String,
+        /// That input.
+        input: String,
+        /// The value that would reach the input.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
     },
     /// A parameter value of the wrong type.
     #[error("parameter '{name}': expected {expected}, found {found}")]
@@ -240,6 +262,8 @@ pub struct Plan {
     pub(crate) live: Vec<bool>,
     /// Where each node output of a live node lives (constants are folded values).
     pub(crate) node_operands: HashMap<OutputRef, Operand>,
+    /// The hard-range guards parameter values are checked against.
+    pub(crate) guards: Arc<Guards>,
 }
 
 impl Plan {
@@ -315,19 +339,115 @@ impl Plan {
         ParamValues {
             names: self.parameters.iter().map(|p| p.name.clone()).collect(),
             values: self.parameters.iter().map(|p| p.default).collect(),
+            guards: Some(self.guards.clone()),
         }
     }
 }
 
 /// Parameter values for one evaluation, in the plan's parameter order.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub struct ParamValues {
     names: Vec<String>,
     values: Vec<Value>,
+    /// The plan's range guards (not part of equality).
+    guards: Option<Arc<Guards>>,
+}
+
+/// The hard-range guards of a plan: inputs whose value is computed from parameters and
+/// constants alone (a parameter's output linked directly, or through nodes hoisted into the
+/// uniform program), with the uniform program that computes them. A parameter *feeds* such
+/// an input when the input's value depends on it; every value set for the parameter is
+/// refused if it would put a fed input outside its hard range. Inputs that also depend on
+/// per-sample values (geometry, textures) or on time are not guarded.
+pub(crate) struct Guards {
+    init: Vec<Value>,
+    steps: Vec<Step>,
+    /// Uniform slot of each plan parameter (plan order).
+    param_slots: Vec<Option<u32>>,
+    /// Graph node of each plan parameter (plan order).
+    param_nodes: Vec<NodeIndex>,
+    guards: Vec<Guard>,
+}
+
+/// One guarded input.
+#[derive(Clone, Debug)]
+pub(crate) struct Guard {
+    /// The uniform slot holding the input's value.
+    slot: u32,
+    /// The node whose input it is.
+    node: String,
+    /// The input.
+    input: &'static str,
+    /// Its hard range.
+    range: crate::node::Range,
+    /// The `parameter` nodes the value depends on.
+    params: Vec<NodeIndex>,
+}
+
+impl Guards {
+    /// Runs the uniform program for `values` (plan order) and returns the first guard that
+    /// fails among those depending on parameter node `only` (or on any, when `None`), with
+    /// the value that reached it.
+    fn first_violation(
+        &self,
+        values: &[Value],
+        only: Option<NodeIndex>,
+    ) -> Option<(&Guard, Value)> {
+        let relevant = |g: &&Guard| only.is_none_or(|p| g.params.contains(&p));
+        if !self.guards.iter().any(|g| relevant(&g)) {
+            return None;
+        }
+        let mut slots = self.init.clone();
+        for (slot, v) in self.param_slots.iter().zip(values) {
+            if let Some(s) = slot {
+                slots[*s as usize] = *v;
+            }
+        }
+        run_uniform_steps(&self.steps, &mut slots);
+        self.guards
+            .iter()
+            .filter(relevant)
+            .find(|g| !g.range.contains(&slots[g.slot as usize]))
+            .map(|g| (g, slots[g.slot as usize]))
+    }
+}
+
+impl std::fmt::Debug for ParamValues {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ParamValues")
+            .field("names", &self.names)
+            .field("values", &self.values)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for ParamValues {
+    fn eq(&self, other: &ParamValues) -> bool {
+        self.names == other.names && self.values == other.values
+    }
+}
+
+/// Runs uniform steps over `slots` in order.
+pub(crate) fn run_uniform_steps(steps: &[Step], slots: &mut [Value]) {
+    for step in steps {
+        let ins: Vec<Value> = step.inputs.iter().map(|&s| slots[s as usize]).collect();
+        let types: Vec<SocketType> = step
+            .outputs
+            .iter()
+            .map(|&s| slots[s as usize].ty())
+            .collect();
+        let Some(k) = step.kernel.kernel() else {
+            continue; // uniform steps are never texture steps
+        };
+        for (&s, v) in step.outputs.iter().zip(run_single(k, &ins, &types)) {
+            slots[s as usize] = v;
+        }
+    }
 }
 
 impl ParamValues {
-    /// Sets parameter `name`; a float is broadcast to a vector parameter.
+    /// Sets parameter `name`; a float is broadcast to a vector parameter. A value outside
+    /// the hard range of an input the parameter feeds is refused (the value is unchanged).
     pub fn set(&mut self, name: &str, value: Value) -> Result<(), EvalError> {
         let Some(i) = self.names.iter().position(|n| n == name) else {
             return Err(EvalError::UnknownParameter {
@@ -336,11 +456,26 @@ impl ParamValues {
             });
         };
         let ty = self.values[i].ty();
-        self.values[i] = value.convert(ty).ok_or(EvalError::ParameterType {
+        let v = value.convert(ty).ok_or(EvalError::ParameterType {
             name: name.to_owned(),
             expected: ty,
             found: value.ty(),
         })?;
+        if let Some(guards) = &self.guards {
+            let mut values = self.values.clone();
+            values[i] = v;
+            if let Some((g, seen)) = guards.first_violation(&values, Some(guards.param_nodes[i])) {
+                return Err(EvalError::ParameterOutOfRange {
+                    name: name.to_owned(),
+                    node: g.node.clone(),
+                    input: g.input.to_owned(),
+                    value: seen.to_string(),
+                    min: g.range.min,
+                    max: g.range.max,
+                });
+            }
+        }
+        self.values[i] = v;
         Ok(())
     }
     /// The value of parameter `name`.
@@ -387,6 +522,10 @@ struct Compiler<'g> {
     param_slots: HashMap<NodeIndex, u32>,
     const_regs: HashMap<(SocketType, [u32; 4]), u32>,
     textures: Vec<String>,
+    texture_slots: HashMap<String, usize>,
+    /// The `parameter` nodes each uniform slot depends on; [`TIME`] marks time.
+    uniform_deps: HashMap<u32, Vec<NodeIndex>>,
+    guards: Vec<Guard>,
     read: std::collections::HashSet<OutputRef>,
     stats: PlanStats,
 }
@@ -407,6 +546,9 @@ impl<'g> Compiler<'g> {
             param_slots: HashMap::new(),
             const_regs: HashMap::new(),
             textures: Vec::new(),
+            texture_slots: HashMap::new(),
+            uniform_deps: HashMap::new(),
+            guards: Vec::new(),
             read: Default::default(),
             stats: PlanStats {
                 graph_nodes: graph.nodes().len(),
@@ -445,7 +587,7 @@ impl<'g> Compiler<'g> {
                 operand: self.operands[r],
             })
             .collect::<Vec<_>>();
-        let parameters = self
+        let parameters: Vec<PlanParameter> = self
             .graph
             .parameters()
             .iter()
@@ -457,6 +599,35 @@ impl<'g> Compiler<'g> {
             })
             .collect();
         self.allocate(&mut outputs);
+        let guards = Arc::new(Guards {
+            init: self.uniform_init.clone(),
+            steps: self.uniform_steps.clone(),
+            param_slots: parameters.iter().map(|p: &PlanParameter| p.slot).collect(),
+            param_nodes: self.graph.parameters().iter().map(|p| p.node).collect(),
+            guards: std::mem::take(&mut self.guards),
+        });
+        // The file's values must respect the guards too.
+        let defaults: Vec<Value> = parameters
+            .iter()
+            .map(|p: &PlanParameter| p.default)
+            .collect();
+        if let Some((g, seen)) = guards.first_violation(&defaults, None) {
+            let node = g.params[0];
+            let name = self
+                .graph
+                .parameters()
+                .iter()
+                .find(|p| p.node == node)
+                .map_or_else(|| self.graph.nodes()[node].id.clone(), |p| p.name.clone());
+            return Err(EvalError::ParameterOutOfRange {
+                name,
+                node: g.node.clone(),
+                input: g.input.to_owned(),
+                value: seen.to_string(),
+                min: g.range.min,
+                max: g.range.max,
+            });
+        }
         let mut attributes: Vec<Attribute> = self.attribute_regs.keys().copied().collect();
         attributes.sort();
         self.stats.per_sample_steps = self.steps.len();
@@ -474,6 +645,7 @@ impl<'g> Compiler<'g> {
             textures: self.textures,
             live,
             node_operands: self.operands,
+            guards,
         })
     }
 
@@ -567,6 +739,7 @@ impl<'g> Compiler<'g> {
                             None => {
                                 let s = self.new_uniform(a.default_value());
                                 self.time_slot = Some(s);
+                                self.uniform_deps.insert(s, vec![TIME]);
                                 s
                             }
                         };
@@ -594,6 +767,7 @@ impl<'g> Compiler<'g> {
                 };
                 let slot = self.new_uniform(init);
                 self.param_slots.insert(i, slot);
+                self.uniform_deps.insert(slot, vec![i]);
                 set(self, 0, Operand::Uniform(slot));
                 return;
             }
@@ -610,6 +784,20 @@ impl<'g> Compiler<'g> {
             };
             ins.push(op);
         }
+        for (k, op) in ins.iter().enumerate() {
+            if let (Operand::Uniform(slot), Some(range)) = (op, t.inputs()[k].hard) {
+                let params = self.deps(*slot);
+                if !params.is_empty() && !params.contains(&TIME) {
+                    self.guards.push(Guard {
+                        slot: *slot,
+                        node: node.id.clone(),
+                        input: t.inputs()[k].name,
+                        range,
+                        params,
+                    });
+                }
+            }
+        }
         let variant = t.variants().iter().position(|v| match v.generic {
             None => true,
             Some(g) => {
@@ -623,9 +811,10 @@ impl<'g> Compiler<'g> {
         let is_texture = t.evaluation() == Evaluation::Texture;
         let kref = if is_texture {
             let key = node.texture.as_ref().map(|s| s.key()).unwrap_or_default();
-            let slot = match self.textures.iter().position(|k| *k == key) {
-                Some(k) => k,
+            let slot = match self.texture_slots.get(&key) {
+                Some(&k) => k,
                 None => {
+                    self.texture_slots.insert(key.clone(), self.textures.len());
                     self.textures.push(key);
                     self.textures.len() - 1
                 }
@@ -661,11 +850,17 @@ impl<'g> Compiler<'g> {
             self.stats.folded += 1;
         } else if !is_texture && ins.iter().all(|o| !matches!(o, Operand::Reg(_))) {
             // Hoist.
-            let inputs = ins.iter().map(|o| self.uniform_slot(*o)).collect();
+            let inputs: Vec<u32> = ins.iter().map(|o| self.uniform_slot(*o)).collect();
+            let mut deps: Vec<NodeIndex> = inputs.iter().flat_map(|&s| self.deps(s)).collect();
+            deps.sort_unstable();
+            deps.dedup();
             let outputs: Vec<u32> = out_types
                 .iter()
                 .map(|&t| self.new_uniform(Value::zero(t)))
                 .collect();
+            for &s in &outputs {
+                self.uniform_deps.insert(s, deps.clone());
+            }
             for (k, &s) in outputs.iter().enumerate() {
                 set(self, k, Operand::Uniform(s));
             }
@@ -707,6 +902,8 @@ impl<'g> Compiler<'g> {
             Operand::Const(v) => Operand::Const(Value::from_lanes(to, &c.apply(v.raw(), to))),
             Operand::Uniform(s) => {
                 let out = self.new_uniform(Value::zero(to));
+                let deps = self.deps(s);
+                self.uniform_deps.insert(out, deps);
                 self.uniform_steps.push(Step {
                     kernel: KernelRef::Convert(k),
                     inputs: vec![s],
@@ -731,6 +928,11 @@ impl<'g> Compiler<'g> {
                 Operand::Reg(out)
             }
         }
+    }
+
+    /// The `parameter` nodes (and [`TIME`]) uniform slot `s` depends on.
+    fn deps(&self, s: u32) -> Vec<NodeIndex> {
+        self.uniform_deps.get(&s).cloned().unwrap_or_default()
     }
 
     /// A uniform slot holding `op` (constants get a slot of their own).
@@ -772,12 +974,14 @@ impl<'g> Compiler<'g> {
     fn allocate(&mut self, outputs: &mut [PlanOutput]) {
         let n = self.registers.len();
         let mut last_use = vec![usize::MAX; n]; // MAX: never freed
-        let pinned: Vec<bool> = (0..n)
-            .map(|r| {
-                self.registers[r].fill != RegFill::Computed
-                    || outputs.iter().any(|o| o.operand == Operand::Reg(r as u32))
-            })
+        let mut pinned: Vec<bool> = (0..n)
+            .map(|r| self.registers[r].fill != RegFill::Computed)
             .collect();
+        for o in outputs.iter() {
+            if let Operand::Reg(r) = o.operand {
+                pinned[r as usize] = true;
+            }
+        }
         for (s, step) in self.steps.iter().enumerate() {
             for &r in step.inputs.iter().chain(&step.outputs) {
                 if !pinned[r as usize] {
@@ -788,6 +992,7 @@ impl<'g> Compiler<'g> {
         let mut map: Vec<u32> = vec![u32::MAX; n];
         let mut physical: Vec<Register> = Vec::new();
         let mut free: [Vec<u32>; 5] = Default::default();
+        let mut is_free: Vec<bool> = Vec::new(); // by physical register
         for r in 0..n {
             if pinned[r] {
                 map[r] = physical.len() as u32;
@@ -799,20 +1004,28 @@ impl<'g> Compiler<'g> {
                 let r = self.steps[s].outputs[k] as usize;
                 if map[r] == u32::MAX {
                     let w = self.registers[r].width;
-                    map[r] = free[w].pop().unwrap_or_else(|| {
-                        physical.push(Register {
-                            width: w,
-                            fill: RegFill::Computed,
-                        });
-                        (physical.len() - 1) as u32
-                    });
+                    map[r] = match free[w].pop() {
+                        Some(p) => {
+                            is_free[p as usize] = false;
+                            p
+                        }
+                        None => {
+                            physical.push(Register {
+                                width: w,
+                                fill: RegFill::Computed,
+                            });
+                            (physical.len() - 1) as u32
+                        }
+                    };
+                    is_free.resize(physical.len(), false);
                 }
             }
             let step = &self.steps[s];
             for &r in step.inputs.iter().chain(&step.outputs) {
                 if last_use[r as usize] == s {
                     let p = map[r as usize];
-                    if !free[self.registers[r as usize].width].contains(&p) {
+                    if !is_free[p as usize] {
+                        is_free[p as usize] = true;
                         free[self.registers[r as usize].width].push(p);
                     }
                 }

@@ -6,7 +6,7 @@ use crate::node::{Attribute, Evaluation, NodeType};
 use crate::plan::Plan;
 use crate::types::{LUMA_709, SocketType};
 use crate::value::Value;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write;
 use std::ops::Range;
 
@@ -85,16 +85,23 @@ const RESERVED: &[&str] = &[
     "out",
 ];
 
-/// A WGSL identifier for `name`: non-alphanumerics become `_`, reserved words get a `_` suffix.
+/// A WGSL identifier for `name`, valid whatever the name: non-ASCII-alphanumerics become
+/// `_`; a name that is then empty, `_`, starts with a digit or with `__` gets a `p_` prefix;
+/// a WGSL keyword or reserved word (naga's list, and the predeclared names above) gets a
+/// `_` suffix. Different names may give the same identifier: callers make them unique.
 pub(super) fn ident(name: &str) -> String {
     let mut s: String = name
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect();
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) || s.starts_with("__") {
+    if s.is_empty()
+        || s == "_"
+        || s.starts_with(|c: char| c.is_ascii_digit())
+        || s.starts_with("__")
+    {
         s.insert_str(0, "p_");
     }
-    if RESERVED.contains(&s.as_str()) {
+    if RESERVED.contains(&s.as_str()) || naga::keywords::wgsl::RESERVED.contains(&s.as_str()) {
         s.push('_');
     }
     s
@@ -231,8 +238,44 @@ pub(super) struct Emitter<'a> {
     entry: Entry,
     out: String,
     spans: Vec<(Range<usize>, String)>,
-    /// WGSL expression of each live node output.
+    /// WGSL expression of each live attribute and parameter output.
     exprs: BTreeMap<OutputRef, String>,
+    /// The variable of each node that becomes a call, by node index.
+    vars: Vec<Option<CallVar>>,
+    /// Where the text being emitted is.
+    context: Context,
+    /// Slot of each texture key in the plan's texture list.
+    texture_slots: HashMap<String, usize>,
+}
+
+/// Above this many node calls the material function is split into part functions.
+pub(super) const SPLIT_CALLS: usize = 256;
+/// Node calls per part function of a split material function.
+pub(super) const PART_CALLS: usize = 64;
+/// Calls per function in the tree of functions that run the parts in order.
+pub(super) const PART_FANOUT: usize = 64;
+
+/// The `let` a node's call result is bound to.
+struct CallVar {
+    /// The variable's name (also its member name in `MgState`).
+    name: String,
+    /// Index of the node's function in the emitted function list.
+    function: usize,
+    /// The part function the call is in (0 when the material function is not split).
+    part: usize,
+    /// For each output read outside its part: the `MgState` array and index it is kept at.
+    slots: Vec<Option<(&'static str, usize)>>,
+}
+
+/// Where generated text is placed, which decides how a node's value is named.
+#[derive(Clone, Copy, PartialEq)]
+enum Context {
+    /// The one-piece material function: every value is a local `let`.
+    Whole,
+    /// Part function `k`: its own values are `let`s, others are read through `s`.
+    Part(usize),
+    /// The split material function's return: values are read from the local `s`.
+    Material,
 }
 
 impl<'a> Emitter<'a> {
@@ -244,6 +287,15 @@ impl<'a> Emitter<'a> {
             out: String::new(),
             spans: Vec::new(),
             exprs: BTreeMap::new(),
+            vars: Vec::new(),
+            context: Context::Whole,
+            texture_slots: plan
+                .textures()
+                .iter()
+                .enumerate()
+                .rev()
+                .map(|(k, key)| (key.clone(), k))
+                .collect(),
         }
     }
 
@@ -271,24 +323,33 @@ impl<'a> Emitter<'a> {
 
         // Uniforms: live unbaked parameters (exposed under their names), then time.
         let mut uniform_fields: Vec<UniformSpec> = Vec::new();
-        let mut taken: Vec<String> = Vec::new();
+        // Taken names, and for each base the next suffix to try (the ones before it are
+        // taken), so that many colliding names stay linear.
+        let mut taken: HashSet<String> = HashSet::new();
+        let mut next_suffix: HashMap<String, usize> = HashMap::new();
         let mut unique = |base: String| {
             let mut name = base.clone();
-            let mut k = 2;
+            let k = next_suffix.entry(base.clone()).or_insert(2);
             while taken.contains(&name) {
                 name = format!("{base}_{k}");
-                k += 1;
+                *k += 1;
             }
-            taken.push(name.clone());
+            taken.insert(name.clone());
             name
         };
+        let exposed_by_node: HashMap<NodeIndex, &crate::graph::GraphParameter> = self
+            .graph
+            .parameters()
+            .iter()
+            .map(|p| (p.node, p))
+            .collect();
         let mut attributes: Vec<Attribute> = Vec::new();
         let mut uses_time = false;
         for &i in &order {
             let n = &nodes[i];
             match n.node_type.evaluation() {
                 Evaluation::Parameter if !self.folded(i) => {
-                    let exposed = self.graph.parameters().iter().find(|p| p.node == i);
+                    let exposed = exposed_by_node.get(&i).copied();
                     let pname = exposed
                         .map(|p| p.name.clone())
                         .unwrap_or_else(|| n.id.clone());
@@ -346,6 +407,9 @@ impl<'a> Emitter<'a> {
         // Node functions in first-use order, helpers before them.
         let mut helpers: Vec<&'static str> = Vec::new();
         let mut functions: Vec<(String, NodeFunction, String)> = Vec::new(); // (key, fn, first node id)
+        let mut function_index: HashMap<String, usize> = HashMap::new();
+        // The calls in plan order, each with the index of its function.
+        let mut calls: Vec<(NodeIndex, usize)> = Vec::new();
         for &i in &order {
             let n = &nodes[i];
             if !emits_call(n.node_type.evaluation()) || self.folded(i) {
@@ -353,9 +417,12 @@ impl<'a> Emitter<'a> {
             }
             // Keyed by the emitted name: vec3 and colour share one function.
             let key = function_name(&n.node_type, n.generic);
-            if functions.iter().any(|(k, ..)| *k == key) {
+            if let Some(&f) = function_index.get(&key) {
+                calls.push((i, f));
                 continue;
             }
+            calls.push((i, functions.len()));
+            function_index.insert(key.clone(), functions.len());
             let f =
                 node_function(&n.node_type, n.generic).ok_or_else(|| ShaderError::MissingWgsl {
                     node: n.id.clone(),
@@ -418,15 +485,20 @@ impl<'a> Emitter<'a> {
             })
             .collect();
         let out_fields: Vec<String> = {
-            let mut seen: Vec<String> = Vec::new();
+            let mut seen: HashSet<String> = HashSet::new();
+            let mut next_suffix: HashMap<String, String> = HashMap::new();
             outputs
                 .iter()
                 .map(|(name, ..)| {
-                    let mut f = ident(name);
+                    let base = ident(name);
+                    // Continue from the last suffix tried for this base (the ones before it
+                    // are taken), so that many colliding names stay linear.
+                    let mut f = next_suffix.remove(&base).unwrap_or_else(|| base.clone());
                     while seen.contains(&f) {
                         f.push('_');
                     }
-                    seen.push(f.clone());
+                    seen.insert(f.clone());
+                    next_suffix.insert(base, f.clone());
                     f
                 })
                 .collect()
@@ -448,58 +520,40 @@ impl<'a> Emitter<'a> {
             self.out.push('\n');
         }
 
-        // The material function.
-        let arg = if attributes.is_empty() {
-            ""
-        } else {
-            "geom: MgGeometry"
-        };
-        let _ = writeln!(self.out, "fn mg_material({arg}) -> MgOutputs {{");
-        for &i in &order {
-            let n = &nodes[i];
-            if !emits_call(n.node_type.evaluation()) || self.folded(i) {
-                continue;
-            }
-            let f = &functions
-                .iter()
-                .find(|(k, ..)| *k == function_name(&n.node_type, n.generic))
-                .expect("declared")
-                .1;
-            let mut args: Vec<String> = Vec::new();
-            if let Some(src) = &n.texture {
-                // Texture nodes take their slot in the packed texture set first.
-                let key = src.key();
-                let slot = self
-                    .plan
-                    .textures()
-                    .iter()
-                    .position(|k| *k == key)
-                    .unwrap_or(0);
-                args.push(format!("{slot}u"));
-            }
-            args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
-            let var = format!("n{i}_{}", ident(&n.id));
-            let start = self.out.len();
-            let _ = writeln!(self.out, "    let {var} = {}({});", f.name, args.join(", "));
-            self.spans.push((start..self.out.len(), n.id.clone()));
-            for k in 0..n.node_type.outputs().len() {
-                let e = if f.out_struct.is_some() {
-                    format!("{var}.{}", output_member(&n.node_type, k))
-                } else {
-                    var.clone()
-                };
-                self.exprs.insert(OutputRef { node: i, output: k }, e);
-            }
+        // The material function: one straight-line body, or for large graphs a tree of
+        // bounded-size part functions sharing their values through a state struct.
+        self.vars = (0..nodes.len()).map(|_| None).collect();
+        for &(i, f) in &calls {
+            self.vars[i] = Some(CallVar {
+                name: format!("n{i}_{}", ident(&nodes[i].id)),
+                function: f,
+                part: 0,
+                slots: Vec::new(),
+            });
         }
-        let values: Vec<String> = outputs
-            .iter()
-            .map(|(_, ty, r)| self.source_expr(*r, *ty))
-            .collect();
-        let _ = writeln!(
-            self.out,
-            "    return MgOutputs({});\n}}\n",
-            values.join(", ")
-        );
+        let calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
+        if calls.len() > SPLIT_CALLS {
+            self.split_material(&calls, &functions, &attributes, &outputs);
+        } else {
+            let arg = if attributes.is_empty() {
+                ""
+            } else {
+                "geom: MgGeometry"
+            };
+            let _ = writeln!(self.out, "fn mg_material({arg}) -> MgOutputs {{");
+            for &i in &calls {
+                self.emit_call(i, &functions);
+            }
+            let values: Vec<String> = outputs
+                .iter()
+                .map(|(_, ty, r)| self.source_expr(*r, *ty))
+                .collect();
+            let _ = writeln!(
+                self.out,
+                "    return MgOutputs({});\n}}\n",
+                values.join(", ")
+            );
+        }
 
         // The entry point.
         let mut shader_outputs = Vec::new();
@@ -560,8 +614,229 @@ impl<'a> Emitter<'a> {
         if let Some(v) = self.plan.folded(r) {
             return literal(&v.convert(to).unwrap_or(v));
         }
-        let e = self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into());
+        let e = match &self.vars[r.node] {
+            Some(var) => {
+                let stored = var.slots.get(r.output).copied().flatten();
+                match (self.context, stored) {
+                    (Context::Part(p), Some((array, k))) if p != var.part => {
+                        format!("(*s).{array}[{k}]")
+                    }
+                    (Context::Material, Some((array, k))) => format!("s.{array}[{k}]"),
+                    _ => self.local_value(r),
+                }
+            }
+            None => self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into()),
+        };
         convert(&e, from, to)
+    }
+
+    /// The variable of call node `i`.
+    fn var(&self, i: NodeIndex) -> &CallVar {
+        self.vars[i].as_ref().expect("a call node has a variable")
+    }
+
+    /// Node output `r` of a call, by its local variable.
+    fn local_value(&self, r: OutputRef) -> String {
+        let var = self.var(r.node);
+        let n = &self.graph.nodes()[r.node];
+        if n.node_type.outputs().len() > 1 {
+            format!("{}.{}", var.name, output_member(&n.node_type, r.output))
+        } else {
+            var.name.clone()
+        }
+    }
+
+    /// Emits the `let` of node `i`'s call (and its store into `MgState` when shared).
+    fn emit_call(&mut self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) {
+        let n = &self.graph.nodes()[i];
+        let var = self.var(i);
+        let f = &functions[var.function].1;
+        let mut args: Vec<String> = Vec::new();
+        if let Some(src) = &n.texture {
+            // Texture nodes take their slot in the packed texture set first.
+            let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
+            args.push(format!("{slot}u"));
+        }
+        args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        let mut text = format!("    let {} = {}({});\n", var.name, f.name, args.join(", "));
+        for (k, slot) in var.slots.iter().enumerate() {
+            if let Some((array, j)) = slot {
+                let value = self.local_value(OutputRef { node: i, output: k });
+                let _ = writeln!(text, "    (*s).{array}[{j}] = {value};");
+            }
+        }
+        let start = self.out.len();
+        self.out.push_str(&text);
+        self.spans.push((start..self.out.len(), n.id.clone()));
+    }
+
+    /// The calls in depth-first post-order from the outputs (inputs in port order), so that
+    /// a value is mostly read by calls close after it, in the same part; calls no output
+    /// reaches follow in their first order. Iterative: any depth.
+    fn post_order(
+        &self,
+        calls: &[NodeIndex],
+        outputs: &[(String, SocketType, OutputRef)],
+    ) -> Vec<NodeIndex> {
+        let nodes = self.graph.nodes();
+        let mut done: HashSet<NodeIndex> = HashSet::with_capacity(calls.len());
+        let mut order = Vec::with_capacity(calls.len());
+        let mut stack: Vec<(NodeIndex, usize)> = Vec::new();
+        let roots = outputs
+            .iter()
+            .map(|(_, _, r)| r.node)
+            .chain(calls.iter().copied());
+        for root in roots {
+            if self.vars[root].is_none() || !done.insert(root) {
+                continue;
+            }
+            stack.push((root, 0));
+            while let Some(&mut (i, ref mut k)) = stack.last_mut() {
+                if let Some(src) = nodes[i].inputs.get(*k) {
+                    *k += 1;
+                    if let InputSource::Link(r, _) = src
+                        && self.vars[r.node].is_some()
+                        && done.insert(r.node)
+                    {
+                        stack.push((r.node, 0));
+                    }
+                    continue;
+                }
+                stack.pop();
+                order.push(i);
+            }
+        }
+        order
+    }
+
+    /// Emits the material function of a large graph as part functions of at most
+    /// [`PART_CALLS`] calls (in depth-first post-order, so most values are read in the part
+    /// that computes them), run in order by a tree of functions of at most [`PART_FANOUT`]
+    /// calls, so that no function body grows with the graph (naga's WGSL front end types a
+    /// function's expressions in time quadratic in their number). Values read outside the
+    /// part that computes them live in the `MgState` struct the parts share by pointer, in
+    /// one array per WGSL type.
+    fn split_material(
+        &mut self,
+        calls: &[NodeIndex],
+        functions: &[(String, NodeFunction, String)],
+        attributes: &[Attribute],
+        outputs: &[(String, SocketType, OutputRef)],
+    ) {
+        let nodes = self.graph.nodes();
+        let calls = &self.post_order(calls, outputs);
+        for (k, i) in calls.iter().enumerate() {
+            if let Some(v) = &mut self.vars[*i] {
+                v.part = k / PART_CALLS;
+            }
+        }
+        // Which values cross a part boundary (or reach an output).
+        let mut shared: HashSet<OutputRef> = HashSet::new();
+        for &i in calls {
+            let part = self.var(i).part;
+            for src in &nodes[i].inputs {
+                if let InputSource::Link(r, _) = src
+                    && self.vars[r.node].as_ref().is_some_and(|v| v.part != part)
+                {
+                    shared.insert(*r);
+                }
+            }
+        }
+        for (_, _, r) in outputs {
+            if self.vars[r.node].is_some() {
+                shared.insert(*r);
+            }
+        }
+        // They are kept in one array per WGSL type (index lookups stay constant-time, where
+        // naga resolves a struct member by a search over the members).
+        let mut arrays: Vec<(&'static str, &'static str, usize)> = Vec::new(); // (member, type, len)
+        for &i in calls {
+            let n = &nodes[i];
+            let outs = n.node_type.outputs().len();
+            let mut slots = vec![None; outs];
+            for (k, slot) in slots.iter_mut().enumerate() {
+                if !shared.contains(&OutputRef { node: i, output: k }) {
+                    continue;
+                }
+                let ty = wgsl_type(n.output_type(k));
+                let a = match arrays.iter().position(|(_, t, _)| *t == ty) {
+                    Some(a) => a,
+                    None => {
+                        arrays.push((state_member(ty), ty, 0));
+                        arrays.len() - 1
+                    }
+                };
+                *slot = Some((arrays[a].0, arrays[a].2));
+                arrays[a].2 += 1;
+            }
+            if let Some(v) = &mut self.vars[i] {
+                v.slots = slots;
+            }
+        }
+        arrays.sort_by_key(|(member, ..)| *member);
+        self.out.push_str("struct MgState {\n");
+        for (member, ty, len) in &arrays {
+            let _ = writeln!(self.out, "    {member}: array<{ty}, {len}>,");
+        }
+        if arrays.is_empty() {
+            // WGSL structs need a member.
+            self.out.push_str("    unused: f32,\n");
+        }
+        self.out.push_str("}\n\n");
+
+        let (param, arg) = if attributes.is_empty() {
+            ("", "")
+        } else {
+            ("geom: MgGeometry, ", "geom, ")
+        };
+        let parts = calls.len().div_ceil(PART_CALLS);
+        for (p, chunk) in calls.chunks(PART_CALLS).enumerate() {
+            self.context = Context::Part(p);
+            let _ = writeln!(
+                self.out,
+                "fn mg_part_{p}({param}s: ptr<function, MgState>) {{"
+            );
+            for &i in chunk {
+                self.emit_call(i, functions);
+            }
+            self.out.push_str("}\n\n");
+        }
+        // The tree of sequencing functions, level by level, until one level fits a body.
+        let mut level: Vec<String> = (0..parts).map(|p| format!("mg_part_{p}")).collect();
+        let mut depth = 1;
+        while level.len() > PART_FANOUT {
+            let mut next = Vec::new();
+            for (k, group) in level.chunks(PART_FANOUT).enumerate() {
+                let name = format!("mg_parts_{depth}_{k}");
+                let _ = writeln!(self.out, "fn {name}({param}s: ptr<function, MgState>) {{");
+                for f in group {
+                    let _ = writeln!(self.out, "    {f}({arg}s);");
+                }
+                self.out.push_str("}\n\n");
+                next.push(name);
+            }
+            level = next;
+            depth += 1;
+        }
+        let _ = writeln!(
+            self.out,
+            "fn mg_material({}) -> MgOutputs {{\n    var s: MgState;",
+            param.trim_end_matches(", ")
+        );
+        for f in &level {
+            let _ = writeln!(self.out, "    {f}({arg}&s);");
+        }
+        self.context = Context::Material;
+        let values: Vec<String> = outputs
+            .iter()
+            .map(|(_, ty, r)| self.source_expr(*r, *ty))
+            .collect();
+        let _ = writeln!(
+            self.out,
+            "    return MgOutputs({});\n}}\n",
+            values.join(", ")
+        );
+        self.context = Context::Whole;
     }
 
     fn compute_entry(
@@ -689,6 +964,18 @@ impl<'a> Emitter<'a> {
             ),
         };
         let _ = writeln!(self.out, "    return {rgba};\n}}");
+    }
+}
+
+/// The `MgState` member holding the shared values of WGSL type `ty`.
+fn state_member(ty: &str) -> &'static str {
+    match ty {
+        "f32" => "f",
+        "vec2<f32>" => "v2",
+        "vec3<f32>" => "v3",
+        "vec4<f32>" => "v4",
+        "i32" => "i",
+        _ => "b",
     }
 }
 
