@@ -222,31 +222,44 @@ fn needs_rescale(s: f32) -> bool {
     s > SCALE_ABOVE || (s < SCALE_BELOW && s > 0.0)
 }
 
+// The CPU takes the plain formula and rescales only when its result shows an overflow or an
+// underflow (one comparison on the common path); the GPU, where WGSL does not promise
+// infinities, decides from the inputs' magnitudes first. Both give the representable result.
+
 fn dot<T: Vector>(a: T, b: T) -> f32 {
-    let (sa, sb) = (magnitude(a), magnitude(b));
-    if sa > SCALE_ABOVE || sb > SCALE_ABOVE {
-        (a.map(|x| x / sa).dot_(b.map(|x| x / sb)) * sa) * sb
-    } else {
-        a.dot_(b)
+    let d = a.dot_(b);
+    if d.is_finite() {
+        return d;
     }
+    let (sa, sb) = (magnitude(a), magnitude(b));
+    (a.map(|x| x / sa).dot_(b.map(|x| x / sb)) * sa) * sb
 }
 fn length<T: Vector>(v: T) -> f32 {
+    let l = v.dot_(v).sqrt();
+    if l.is_finite() && l >= SCALE_BELOW {
+        return l;
+    }
     let s = magnitude(v);
     if needs_rescale(s) {
         let u = v.map(|x| x / s);
         u.dot_(u).sqrt() * s
     } else {
-        v.dot_(v).sqrt()
+        l
     }
 }
 fn normalize<T: Vector>(v: T) -> T {
-    let s = magnitude(v);
-    let v = if needs_rescale(s) {
-        v.map(|x| x / s)
-    } else {
-        v
-    };
     let l = v.dot_(v).sqrt();
+    let (v, l) = if l.is_finite() && l >= SCALE_BELOW {
+        (v, l)
+    } else {
+        let s = magnitude(v);
+        let v = if needs_rescale(s) {
+            v.map(|x| x / s)
+        } else {
+            v
+        };
+        (v, v.dot_(v).sqrt())
+    };
     if l > 0.0 && l <= f32::MAX {
         v * T::splat(1.0 / l)
     } else {
@@ -254,15 +267,15 @@ fn normalize<T: Vector>(v: T) -> T {
     }
 }
 
-/// `a × b`, rescaled when a component is beyond 10¹⁸ so that the products cannot overflow
-/// where the result is representable (parallel vectors give 0).
+/// `a × b`, rescaled when the products overflow, so that a representable result comes out
+/// (parallel vectors give 0).
 fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    let (sa, sb) = (magnitude(a), magnitude(b));
-    if sa > SCALE_ABOVE || sb > SCALE_ABOVE {
-        ((a / sa).cross(b / sb) * sa) * sb
-    } else {
-        a.cross(b)
+    let c = a.cross(b);
+    if c.is_finite() {
+        return c;
     }
+    let (sa, sb) = (magnitude(a), magnitude(b));
+    ((a / sa).cross(b / sb) * sa) * sb
 }
 fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
     let [x, y, z, w] = v.xyzw();

@@ -11,6 +11,13 @@ pub const MAX_SHOWN: usize = 50;
 /// One problem in a graph document. Every variant names the place at fault.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum GraphError {
+    /// The file could not be read (missing, a folder, not a regular file, an I/O error);
+    /// the message names the file and why.
+    #[error("{message}")]
+    Unreadable {
+        /// What went wrong, e.g. "cannot read x.json: no such file".
+        message: String,
+    },
     /// The text is not JSON.
     #[error("malformed JSON at line {line}, column {column}: {message}")]
     Syntax {

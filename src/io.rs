@@ -117,10 +117,7 @@ pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors
         errors,
     };
     let text = read_text(path).map_err(|e| {
-        wrap(vec![GraphError::Structure {
-            node: None,
-            line: 0,
-            column: 0,
+        wrap(vec![GraphError::Unreadable {
             message: e.to_string(),
         }])
     })?;

@@ -575,6 +575,31 @@ fn load_save_load_save_is_byte_identical() {
     }
 }
 
+/// Regression (the fuzzer's one finding, 23 cases in 1,000,000): free-form JSON such as a
+/// bare-number scene was read one unit in the last place off (serde_json without
+/// `float_roundtrip`), so `fmt` flipped `1e-45` and `1.0000000000000001e-45`.
+#[test]
+fn free_form_numbers_round_trip_exactly() {
+    for x in [
+        "1e-45",
+        "5e-324",
+        "1.7976931348623157e308",
+        "0.1",
+        "2.2250738585072014e-308",
+    ] {
+        let text = doc(
+            r#"{"id": "c", "type": "constant", "inputs": {"value": 0.5}}"#,
+            &format!(r#""outputs": [{{"name": "x", "from": "c.value"}}], "scene": {x}"#),
+        );
+        let first = load(&text).to_json();
+        let second = load(&first).to_json();
+        assert_eq!(first, second, "scene {x}");
+        let v: serde_json::Value = serde_json::from_str(&first).unwrap();
+        let want: f64 = x.parse().unwrap();
+        assert_eq!(v["scene"].as_f64(), Some(want), "scene {x} kept its value");
+    }
+}
+
 #[test]
 fn committed_graphs_are_canonical() {
     for path in committed_graphs() {
@@ -1201,4 +1226,20 @@ fn schema_describes_the_format() {
         assert!(required.contains(&field), "{required:?}");
     }
     assert_eq!(schema["additionalProperties"], false);
+}
+
+/// Regression: the library's loader said "… at line 0, column 0" for a file it could not read.
+#[test]
+fn unreadable_files_are_named_without_a_location() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.json");
+    let e = matgraph::io::load_graph(&missing, Registry::builtin()).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("missing.json") && text.contains("no such file"),
+        "{text}"
+    );
+    assert!(!text.contains("line 0"), "{text}");
+    let e = matgraph::io::load_graph(dir.path(), Registry::builtin()).unwrap_err();
+    assert!(e.to_string().contains("is a directory"), "{e}");
 }

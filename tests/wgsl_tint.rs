@@ -78,6 +78,58 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
     );
 }
 
+/// Regression: a constant infinity or NaN was `bitcast<f32>(0x7f800000u)`, which Tint's
+/// constant evaluator rejects ("value inf cannot be represented as 'f32'"); it is now a call of
+/// a helper whose bitcast happens at run time.
+#[test]
+fn tint_accepts_non_finite_constants() {
+    const TEST: &str = "tint_accepts_non_finite_constants";
+    let Some(tint) = checker(TEST) else {
+        return;
+    };
+    let graph = matgraph::Graph::from_json(
+        r#"{
+          "version": 1, "name": "non_finite",
+          "nodes": [
+            { "id": "huge", "type": "exp", "data_type": "float", "inputs": { "x": 100.0 } },
+            { "id": "minus", "type": "mul", "data_type": "float", "inputs": { "a": { "link": "huge.result" }, "b": -1.0 } },
+            { "id": "nan", "type": "add", "data_type": "float", "inputs": { "a": { "link": "huge.result" }, "b": { "link": "minus.result" } } }
+          ],
+          "outputs": [
+            { "name": "inf", "from": "huge.result" },
+            { "name": "minus_inf", "from": "minus.result" },
+            { "name": "nan", "from": "nan.result" }
+          ]
+        }"#,
+        Registry::builtin(),
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for entry in [Entry::Compute, Entry::Fragment] {
+        let m = generate(
+            &graph,
+            &WgslOptions {
+                entry,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            m.source.contains("mg_non_finite(0x7f800000u)"),
+            "{}",
+            m.source
+        );
+        files.push(write(
+            &dir,
+            &format!("non_finite.{}.wgsl", entry.function()),
+            &m.source,
+        ));
+    }
+    let found = errors(TEST, tint.check(&files).unwrap_or_else(|e| panic!("{e}")));
+    assert!(found.is_empty(), "{found:?}");
+}
+
 /// The checker, or `None` after the skip line.
 fn checker(test: &str) -> Option<Tint> {
     tool_or_skip(test, Tint::find())

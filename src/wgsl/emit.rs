@@ -113,13 +113,14 @@ pub(super) fn ident(name: &str) -> String {
 /// it is used, and Tint rejects a value outside f32's finite range. Rust's shortest f32
 /// decimal is used when that reading gives back `x`'s bits; it does not for ±f32::MAX
 /// (`3.4028235e38` exceeds f32::MAX as an f64), and then the shortest f64 decimal of `x`,
-/// which converts to f32 exactly, is printed instead. WGSL has no literal for infinity or NaN:
-/// a non-finite `x` is `bitcast<f32>(bits)`, which naga accepts but Tint's constant evaluator
-/// rejects ("value inf cannot be represented as 'f32'"); only a runtime bitcast (of a
-/// `var<private>`, say) passes both, and that needs a module-scope declaration.
+/// which converts to f32 exactly, is printed instead. WGSL has no literal for infinity or NaN,
+/// and a constant `bitcast<f32>(0x7f800000u)` is rejected by Tint's constant evaluator ("value
+/// inf cannot be represented as 'f32'"): a non-finite `x` is a call of the helper
+/// [`NON_FINITE_WGSL`], whose bitcast of its argument is evaluated at run time, which naga and
+/// Tint both accept. The emitter appends the helper to modules that call it.
 pub(super) fn float_literal(x: f32) -> String {
     if !x.is_finite() {
-        return format!("bitcast<f32>({:#010x}u)", x.to_bits());
+        return format!("{NON_FINITE_FN}({:#010x}u)", x.to_bits());
     }
     let short = format!("{x:?}");
     match short.parse::<f64>() {
@@ -127,6 +128,14 @@ pub(super) fn float_literal(x: f32) -> String {
         _ => format!("{:?}", f64::from(x)),
     }
 }
+
+/// The name of the helper that makes a non-finite f32 from its bits.
+const NON_FINITE_FN: &str = "mg_non_finite";
+
+/// The helper of non-finite constants: a user function is never evaluated as a constant
+/// expression, so its bitcast happens at run time.
+pub(super) const NON_FINITE_WGSL: &str =
+    "fn mg_non_finite(bits: u32) -> f32 { return bitcast<f32>(bits); }\n";
 
 /// A WGSL literal of a value.
 pub(super) fn literal(v: &Value) -> String {
@@ -586,6 +595,10 @@ impl<'a> Emitter<'a> {
             bindings.push((first, Binding::TextureTexels));
             bindings.push((first + 1, Binding::TextureLevels));
             bindings.push((first + 2, Binding::TextureTable));
+        }
+        if self.out.contains(&format!("{NON_FINITE_FN}(")) {
+            self.out.push('\n');
+            self.out.push_str(NON_FINITE_WGSL);
         }
         Ok(Text {
             source: self.out,
