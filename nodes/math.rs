@@ -9,9 +9,11 @@
 //! is within f32's range (|x| ≤ 3.4·10³⁸). A result beyond it (`div 10 / 2e-38`,
 //! `pow 1e-20^-2`, a remap through a 1e-40 wide range) overflows to ±inf, as IEEE arithmetic
 //! does: the nodes do not clamp. Where only an intermediate would overflow or underflow —
-//! `dot`, `cross`, `length` and `normalize` of vectors with components beyond 10¹⁸ or below
-//! 10⁻¹⁸, `mix` of values of opposite sign near the limit — the node rescales first, so the
-//! representable result comes out.
+//! `cross`, `length` and `normalize` of vectors with components beyond 10¹⁸ or below 10⁻¹⁸,
+//! `mix` of values of opposite sign near the limit — the node rescales first, so the
+//! representable result comes out. The exception is `dot`, kept bare for speed: a product
+//! aᵢbᵢ beyond f32's range overflows, so the sum can be ±inf, or NaN where such products of
+//! opposite signs meet.
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::types::SocketType::{self, *};
@@ -223,22 +225,26 @@ fn needs_rescale(s: f32) -> bool {
 }
 
 // The CPU takes the plain formula and rescales only when its result shows an overflow or an
-// underflow (one comparison on the common path); the GPU, where WGSL does not promise
-// infinities, decides from the inputs' magnitudes first. Both give the representable result.
+// underflow (one comparison on the common path, the slow path out of line); the GPU, where
+// WGSL does not promise infinities, decides from the inputs' magnitudes first. Both give the
+// representable result. `dot` stays bare: it is the most used node, and a check costs the
+// skin benchmark ~20% (docs/benchmarks.md).
 
 fn dot<T: Vector>(a: T, b: T) -> f32 {
-    let d = a.dot_(b);
-    if d.is_finite() {
-        return d;
-    }
-    let (sa, sb) = (magnitude(a), magnitude(b));
-    (a.map(|x| x / sa).dot_(b.map(|x| x / sb)) * sa) * sb
+    a.dot_(b)
 }
 fn length<T: Vector>(v: T) -> f32 {
     let l = v.dot_(v).sqrt();
     if l.is_finite() && l >= SCALE_BELOW {
-        return l;
+        l
+    } else {
+        length_rescaled(v, l)
     }
+}
+/// [`length`] where the squares overflow or underflow; `l` is the plain result.
+#[cold]
+#[inline(never)]
+fn length_rescaled<T: Vector>(v: T, l: f32) -> f32 {
     let s = magnitude(v);
     if needs_rescale(s) {
         let u = v.map(|x| x / s);
@@ -249,17 +255,23 @@ fn length<T: Vector>(v: T) -> f32 {
 }
 fn normalize<T: Vector>(v: T) -> T {
     let l = v.dot_(v).sqrt();
-    let (v, l) = if l.is_finite() && l >= SCALE_BELOW {
-        (v, l)
+    if l.is_finite() && l >= SCALE_BELOW {
+        v * T::splat(1.0 / l)
     } else {
-        let s = magnitude(v);
-        let v = if needs_rescale(s) {
-            v.map(|x| x / s)
-        } else {
-            v
-        };
-        (v, v.dot_(v).sqrt())
+        normalize_rescaled(v)
+    }
+}
+/// [`normalize`] where the squares overflow or underflow, or of a zero vector.
+#[cold]
+#[inline(never)]
+fn normalize_rescaled<T: Vector>(v: T) -> T {
+    let s = magnitude(v);
+    let v = if needs_rescale(s) {
+        v.map(|x| x / s)
+    } else {
+        v
     };
+    let l = v.dot_(v).sqrt();
     if l > 0.0 && l <= f32::MAX {
         v * T::splat(1.0 / l)
     } else {
@@ -272,8 +284,15 @@ fn normalize<T: Vector>(v: T) -> T {
 fn cross(a: Vec3, b: Vec3) -> Vec3 {
     let c = a.cross(b);
     if c.is_finite() {
-        return c;
+        c
+    } else {
+        cross_rescaled(a, b)
     }
+}
+/// [`cross`] of vectors whose products overflow.
+#[cold]
+#[inline(never)]
+fn cross_rescaled(a: Vec3, b: Vec3) -> Vec3 {
     let (sa, sb) = (magnitude(a), magnitude(b));
     ((a / sa).cross(b / sb) * sa) * sb
 }
@@ -351,18 +370,6 @@ fn $fn(v: $T) -> f32 {
         return sqrt(dot(u, u)) * s;
     }
     return sqrt(dot(v, v));
-}
-"#;
-
-/// WGSL of [`dot`], rescaled like the Rust.
-const DOT_WGSL: &str = r#"
-fn $fn(a: $T, b: $T) -> f32 {
-    let sa = dot(abs(a), $T(0.25));
-    let sb = dot(abs(b), $T(0.25));
-    if (sa > 1e18 || sb > 1e18) {
-        return (dot(a / sa, b / sb) * sa) * sb;
-    }
-    return dot(a, b);
 }
 "#;
 
@@ -544,12 +551,15 @@ pub fn all() -> Vec<NodeType> {
         ),
         vector_types!(
             NodeType::new("dot", Category::Vector, "Dot product a · b.")
-                .source(CLOSED_FORM)
+                .source(
+                    "Closed form. Kept bare for speed: a product beyond f32's range (|aᵢbᵢ| > \
+                     3.4e38) overflows, so the sum can be ±inf, or NaN where such products of \
+                     opposite signs meet.",
+                )
                 .input(In::generic("a", 0.0).range(-2.0, 2.0).doc("First vector."))
                 .input(In::generic("b", 0.0).range(-2.0, 2.0).doc("Second vector."))
                 .output(Out::float("result").doc("Σ aᵢbᵢ."))
-                .wgsl(DOT_WGSL)
-                .hard_case("huge components", &[("a", v(1e30)), ("b", v(-1e-20))]),
+                .wgsl("fn $fn(a: $T, b: $T) -> f32 { return dot(a, b); }"),
             dot
         ),
         NodeType::new("cross", Category::Vector, "Cross product a × b.")

@@ -24,23 +24,17 @@ pub fn reflect(i: Vec3, n: Vec3) -> Vec3 {
 }
 
 /// `cos²θt` of Snell's law with `eta = n_i / n_t`: `1 − η² sin²θi` written as
-/// `(1 − η)(1 + η) + η² cos²θi`, exact in `cos²θi` at an index match (no `1 − cos²`).
+/// `(1 − η)(1 + η) + (η cosθi)²`, exact in `cos²θi` at an index match (no `1 − cos²`).
 /// Negative under total internal reflection.
 ///
-/// Evaluated in f64 and rounded once: near the critical angle `cos²θt` is the difference of
-/// two terms near `|1 − η²|`, and f32 arithmetic there would lose ~2e-7 absolute (4e-6 in R
-/// at 48.7° inside water, ~3e-4 within 0.01° of the critical angle). The GPU evaluates the same
-/// expression in f32 (WGSL has no f64); docs/models/optics.md gives its error.
+/// Its limit, stated: near the critical angle `cos²θt` is the difference of two terms near
+/// `|1 − η²|`, so its f32 rounding (about 2u = 1.2e-7 absolute, from `η = n1/n2` alone) is
+/// amplified by the square root: 4e-6 in R at 48.7° inside water, up to ~3e-4 within 0.01°
+/// of the critical angle. f64 would remove it on the CPU but not on the GPU (WGSL has no
+/// f64), and cost the CPU executor 20% on the skin benchmark (docs/models/optics.md).
 #[inline]
 pub fn cos2_transmitted(cos_i: f32, eta: f32) -> f32 {
-    cos2_transmitted_f64(cos_i, eta as f64) as f32
-}
-
-/// [`cos2_transmitted`] with the index ratio in f64 (`n1 / n2` unrounded).
-#[inline]
-fn cos2_transmitted_f64(cos_i: f32, eta: f64) -> f64 {
-    let ec = eta * cos_i as f64;
-    (1.0 - eta) * (1.0 + eta) + ec * ec
+    (1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i)
 }
 
 /// Vector Snell refraction with `eta = n1 / n2`:
@@ -76,25 +70,27 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
     } else {
         (ior_inside, ior_outside, (-cos_theta).min(1.0))
     };
-    if n1 == n2 {
-        // No interface: nothing is reflected, at every angle (grazing included, where the
-        // quotients below would be 0/0).
-        return (0.0, 1.0);
-    }
-    let cos2_t = cos2_transmitted_f64(cos_i, n1 as f64 / n2 as f64);
-    if cos2_t < 0.0 {
-        return (1.0, 0.0);
-    }
-    let cos_t = cos2_t.sqrt() as f32;
+    let cos2_t = cos2_transmitted(cos_i, n1 / n2);
+    let cos_t = cos2_t.max(0.0).sqrt();
     let (a, b) = (n1 * cos_i, n2 * cos_t);
     let (ap, bp) = (n2 * cos_i, n1 * cos_t);
-    let rs = (a - b) / (a + b);
-    let rp = (ap - bp) / (ap + bp);
+    let (inv_s, inv_p) = (1.0 / (a + b), 1.0 / (ap + bp));
+    let rs = (a - b) * inv_s;
+    let rp = (ap - bp) * inv_p;
     let r = 0.5 * (rs * rs + rp * rp);
-    // Quotients first: no overflow for indices up to f32::MAX (f0_to_ior of a mirror).
-    let ts = 2.0 * (a / (a + b)) * (b / (a + b));
-    let tp = 2.0 * (ap / (ap + bp)) * (bp / (ap + bp));
-    (r, ts + tp)
+    // Each factor is at most 1: no overflow for indices up to f32::MAX (f0_to_ior of a mirror).
+    let ts = 2.0 * (a * inv_s) * (b * inv_s);
+    let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
+    // Selects rather than early returns, so a tile of samples vectorises.
+    if n1 == n2 {
+        // No interface: nothing is reflected, at every angle (grazing included, where the
+        // quotients above are 0/0).
+        (0.0, 1.0)
+    } else if cos2_t < 0.0 {
+        (1.0, 0.0)
+    } else {
+        (r, ts + tp)
+    }
 }
 
 /// Schlick's approximation `F = F0 + (1 − F0)(1 − cosθ)⁵`.
@@ -210,7 +206,7 @@ pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
 const REFRACT_WGSL: &str = r#"
 fn $fn(i: vec3<f32>, n: vec3<f32>, eta: f32) -> $out {
     let c = dot(n, i);
-    let k = (1.0 - eta) * (1.0 + eta) + eta * eta * (c * c);
+    let k = (1.0 - eta) * (1.0 + eta) + (eta * c) * (eta * c);
     if (k < 0.0) {
         return $out(i - 2.0 * c * n, true);
     }
@@ -278,7 +274,7 @@ fn $fn(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> $out {
         return $out(0.0, 1.0);
     }
     let eta = n1 / n2;
-    let cos2_t = (1.0 - eta) * (1.0 + eta) + eta * eta * (cos_i * cos_i);
+    let cos2_t = (1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i);
     if (cos2_t < 0.0) {
         return $out(1.0, 0.0);
     }
@@ -287,10 +283,12 @@ fn $fn(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> $out {
     let b = n2 * cos_t;
     let ap = n2 * cos_i;
     let bp = n1 * cos_t;
-    let rs = (a - b) / (a + b);
-    let rp = (ap - bp) / (ap + bp);
-    let ts = 2.0 * (a / (a + b)) * (b / (a + b));
-    let tp = 2.0 * (ap / (ap + bp)) * (bp / (ap + bp));
+    let inv_s = 1.0 / (a + b);
+    let inv_p = 1.0 / (ap + bp);
+    let rs = (a - b) * inv_s;
+    let rp = (ap - bp) * inv_p;
+    let ts = 2.0 * (a * inv_s) * (b * inv_s);
+    let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
     return $out(0.5 * (rs * rs + rp * rp), ts + tp);
 }
 "#;
@@ -333,8 +331,8 @@ pub fn all() -> Vec<NodeType> {
                  (1 − η²) + η²cos²θi (Fresnel's equations, Hecht, Optics §4.6 eqs. 4.34, 4.40; \
                  docs/models/optics.md; pbrt-v4 FrDielectric). cos_theta > 0: light arrives from the \
                  outside medium; < 0: from the inside, where TIR gives R = 1. R = 0 at an index match. \
-                 Within 0.01° of the critical angle the f32 error of R reaches a few 1e-4 (cosθt is \
-                 not resolved there; see docs/models/optics.md).",
+                 Within 0.01° of the critical angle the f32 error of R reaches ~3e-4 (cos²θt cancels \
+                 there; see docs/models/optics.md).",
             )
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine of the angle of incidence; sign gives the side."))
             .input(In::float("ior_outside", 1.0).range(1.0, 3.0).hard(1e-3, 100.0).doc("Index of refraction on the normal's side."))

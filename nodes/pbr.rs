@@ -247,9 +247,9 @@ fn mg_pbrh_fresnel(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
             return 0.0;
         }
         let cos_i = min(max(v_dot_h, 0.0), 1.0);
-        let cos_t = sqrt((1.0 - eta) * (1.0 + eta) + eta * eta * (cos_i * cos_i));
-        let rs = (cos_i - n2 * cos_t) / (cos_i + n2 * cos_t);
-        let rp = (n2 * cos_i - cos_t) / (n2 * cos_i + cos_t);
+        let cos_t = sqrt((1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i));
+        let rs = (cos_i - n2 * cos_t) * (1.0 / (cos_i + n2 * cos_t));
+        let rp = (n2 * cos_i - cos_t) * (1.0 / (n2 * cos_i + cos_t));
         return 0.5 * (rs * rs + rp * rp);
     }
     let m = max(1.0 - min(max(v_dot_h, 0.0), 1.0), 0.0);

@@ -276,18 +276,18 @@ fn $fn(i: vec3<f32>, n: vec3<f32>, eta_i_over_t: f32) -> $out {
     let nf = select(n, -n, dot(n, i) > 0.0);
     let c = min(max(-dot(nf, i), 0.0), 1.0);
     let eta = eta_i_over_t;
-    let cos2_t = (1.0 - eta) * (1.0 + eta) + eta * eta * (c * c);
+    let cos2_t = (1.0 - eta) * (1.0 + eta) + (eta * c) * (eta * c);
     var r = 1.0;
     if (eta == 1.0) {
         r = 0.0;
     } else if (cos2_t >= 0.0) {
         let cos_t = sqrt(cos2_t);
-        let rs = (eta * c - cos_t) / (eta * c + cos_t);
-        let rp = (c - eta * cos_t) / (c + eta * cos_t);
+        let rs = (eta * c - cos_t) * (1.0 / (eta * c + cos_t));
+        let rp = (c - eta * cos_t) * (1.0 / (c + eta * cos_t));
         r = 0.5 * (rs * rs + rp * rp);
     }
     let cn = dot(nf, i);
-    let k = (1.0 - eta) * (1.0 + eta) + eta * eta * (cn * cn);
+    let k = (1.0 - eta) * (1.0 + eta) + (eta * cn) * (eta * cn);
     let x = min(max(r / 0.5, 0.0), 1.0);
     if (k < 0.0) {
         return $out(1.0, 0.0, i - 2.0 * cn * nf);

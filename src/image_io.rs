@@ -204,6 +204,22 @@ pub fn save_png(path: &Path, image: &Image) -> Result<(), TextureError> {
         .map_err(|e| file_error(path, format_args!("cannot write: {e}")))
 }
 
+/// Refuses a pixel buffer whose length is not `width × height`, or an empty image.
+fn check_rgb8_size(
+    path: &Path,
+    width: u32,
+    height: u32,
+    pixels: &[[u8; 3]],
+) -> Result<(), TextureError> {
+    if pixels.len() != (width as usize) * (height as usize) || width == 0 || height == 0 {
+        return Err(file_error(
+            path,
+            format_args!("{width}×{height} image with {} pixels", pixels.len()),
+        ));
+    }
+    Ok(())
+}
+
 /// Saves display-ready 8-bit sRGB pixels (row-major, top row first) as an RGB PNG,
 /// atomically. The bytes depend only on the pixels (no time stamps).
 pub fn save_png_rgb8(
@@ -213,12 +229,7 @@ pub fn save_png_rgb8(
     pixels: &[[u8; 3]],
 ) -> Result<(), TextureError> {
     use image::ImageEncoder;
-    if pixels.len() != (width as usize) * (height as usize) || width == 0 || height == 0 {
-        return Err(file_error(
-            path,
-            format_args!("{width}×{height} image with {} pixels", pixels.len()),
-        ));
-    }
+    check_rgb8_size(path, width, height, pixels)?;
     let mut out = std::io::Cursor::new(Vec::new());
     image::codecs::png::PngEncoder::new(&mut out)
         .write_image(
@@ -378,12 +389,7 @@ pub fn save_jpeg_rgb8(
     height: u32,
     pixels: &[[u8; 3]],
 ) -> Result<(), TextureError> {
-    if pixels.len() != (width as usize) * (height as usize) || width == 0 || height == 0 {
-        return Err(file_error(
-            path,
-            format_args!("{width}×{height} image with {} pixels", pixels.len()),
-        ));
-    }
+    check_rgb8_size(path, width, height, pixels)?;
     let mut out = Vec::new();
     image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, JPEG_QUALITY)
         .write_image(

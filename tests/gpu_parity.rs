@@ -29,22 +29,7 @@ const ABS: f64 = 1e-5;
 const REL: f64 = 1e-4;
 
 /// Node types allowed a looser bound: (type name, absolute, relative, why).
-const LOOSE: &[(&str, f64, f64, &str)] = &[
-    (
-        "fresnel_dielectric",
-        3e-4,
-        1e-3,
-        "near the critical angle (cos²θt → 0) the CPU forms cos²θt in f64 and the GPU in f32 \
-         (WGSL has no f64): up to 3e-4 apart within 0.01° of it (docs/models/optics.md)",
-    ),
-    (
-        "skin_efresnel",
-        3e-4,
-        1e-3,
-        "its Fresnel term is fresnel_dielectric's: the same f32 cos²θt on the GPU near the \
-         critical angle",
-    ),
-];
+const LOOSE: &[(&str, f64, f64, &str)] = &[];
 
 /// Random samples per node type and generic type.
 const RANDOM_SAMPLES: usize = 10_000;

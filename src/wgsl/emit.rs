@@ -553,15 +553,7 @@ impl<'a> Emitter<'a> {
             for &i in &calls {
                 self.emit_call(i, &functions);
             }
-            let values: Vec<String> = outputs
-                .iter()
-                .map(|(_, ty, r)| self.source_expr(*r, *ty))
-                .collect();
-            let _ = writeln!(
-                self.out,
-                "    return MgOutputs({});\n}}\n",
-                values.join(", ")
-            );
+            self.emit_return(&outputs);
         }
 
         // The entry point.
@@ -840,6 +832,12 @@ impl<'a> Emitter<'a> {
             let _ = writeln!(self.out, "    {f}({arg}&s);");
         }
         self.context = Context::Material;
+        self.emit_return(outputs);
+        self.context = Context::Whole;
+    }
+
+    /// The material function's `return MgOutputs(...)` and closing brace.
+    fn emit_return(&mut self, outputs: &[(String, SocketType, OutputRef)]) {
         let values: Vec<String> = outputs
             .iter()
             .map(|(_, ty, r)| self.source_expr(*r, *ty))
@@ -849,7 +847,6 @@ impl<'a> Emitter<'a> {
             "    return MgOutputs({});\n}}\n",
             values.join(", ")
         );
-        self.context = Context::Whole;
     }
 
     fn compute_entry(
