@@ -1547,3 +1547,29 @@ fn render_gpu_without_a_runtime_dir_is_quiet() {
         "the private folder is removed"
     );
 }
+
+/// `--json` writes non-finite values as the strings "inf", "-inf" and "NaN" (JSON has no such
+/// numbers), so a reader can tell them apart; here from the documented overflows of `div`
+/// and `dot`.
+#[test]
+fn eval_json_tells_inf_and_nan_apart() {
+    check_eval(
+        &["--node", "div", "--set", "a=10", "--set", "b=2e-38"],
+        &[("result", J::String("inf".into()))],
+    );
+    check_eval(
+        &["--node", "div", "--set", "a=-10", "--set", "b=2e-38"],
+        &[("result", J::String("-inf".into()))],
+    );
+    check_eval(
+        &[
+            "--node",
+            "dot",
+            "--set",
+            "a=[1e30,-1e30,0]",
+            "--set",
+            "b=[1e30,1e30,0]",
+        ],
+        &[("result", J::String("NaN".into()))],
+    );
+}
