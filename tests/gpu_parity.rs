@@ -29,7 +29,22 @@ const ABS: f64 = 1e-5;
 const REL: f64 = 1e-4;
 
 /// Node types allowed a looser bound: (type name, absolute, relative, why).
-const LOOSE: &[(&str, f64, f64, &str)] = &[];
+const LOOSE: &[(&str, f64, f64, &str)] = &[
+    (
+        "fresnel_dielectric",
+        3e-4,
+        1e-3,
+        "near a critical angle cos²θt = (1 − η)(1 + η) + (η cosθ)² cancels, and backends round \
+         its terms differently (llvmpipe's GL contracts them into FMAs): the square root \
+         amplifies a 1-ulp difference to up to 3e-4 there (docs/models/optics.md)",
+    ),
+    (
+        "skin_efresnel",
+        3e-4,
+        1e-3,
+        "the same cos²θt as fresnel_dielectric, in its Fresnel term and its refracted direction",
+    ),
+];
 
 /// Random samples per node type and generic type.
 const RANDOM_SAMPLES: usize = 10_000;
