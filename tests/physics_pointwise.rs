@@ -414,11 +414,9 @@ fn refract_and_reflect_pointwise() {
     let check = |ch: &mut Check, i: Vec3, eta: f32, why: &str| {
         let (t, tir) = optics::refract(i, n, eta);
         let (want, want_tir) = ref_refract(d3(i), d3(n), eta as f64);
-        for k in 0..3 {
-            let tol = ABS + critical_term(ref_refract_dk(d3(i), d3(n), eta as f64), eta as f64);
-            ch.near_tol(t.to_array()[k], want[k], tol, REL, || {
-                format!("{why}: i {i} eta {eta} [{k}]")
-            });
+        let tol = ABS + critical_term(ref_refract_dk(d3(i), d3(n), eta as f64), eta as f64);
+        for (k, (&got, &w)) in t.to_array().iter().zip(&want).enumerate() {
+            ch.near_tol(got, w, tol, REL, || format!("{why}: i {i} eta {eta} [{k}]"));
         }
         // TIR may flip only where k is within rounding of 0.
         let c = i.z as f64;
@@ -433,8 +431,8 @@ fn refract_and_reflect_pointwise() {
         check(&mut ch, i, rng.f(0.2, 3.0), "random");
         let r = optics::reflect(i, n);
         let want = add(d3(i), scale(d3(n), -2.0 * dot(d3(n), d3(i))));
-        for k in 0..3 {
-            rf.near(r.to_array()[k], want[k], || format!("reflect i {i} [{k}]"));
+        for (k, (&got, &w)) in r.to_array().iter().zip(&want).enumerate() {
+            rf.near(got, w, || format!("reflect i {i} [{k}]"));
         }
     }
     for k in 3..=7 {
@@ -712,7 +710,7 @@ fn brdf_pointwise() {
         let v = rng.up();
         let l = Vec3::new(-v.x + rng.f(-1e-3, 1e-3), -v.y + rng.f(-1e-3, 1e-3), v.z);
         let r = rng.f(0.02, 0.05);
-        check(&mut ch, v, l, Vec3::ONE, 1.0, r, 0.5, (i % 2) as i32);
+        check(&mut ch, v, l, Vec3::ONE, 1.0, r, 0.5, i % 2);
     }
     // The audit's reproducer: +120% before |N × H|² replaced 1 − (N·H)².
     let v = Vec3::new(-0.645_648_4, -0.691_011_6, 0.325_024_9);
@@ -755,10 +753,8 @@ fn efresnel_pointwise() {
         ch.near_tol(kt, 1.0 - want_kr, tol_r, REL, || {
             format!("kt i {i} eta {eta}")
         });
-        for k in 0..3 {
-            ch.near_tol(t.to_array()[k], want_t[k], tol_t, REL, || {
-                format!("t i {i} eta {eta} [{k}]")
-            });
+        for (k, (&got, &w)) in t.to_array().iter().zip(&want_t).enumerate() {
+            ch.near_tol(got, w, tol_t, REL, || format!("t i {i} eta {eta} [{k}]"));
         }
     };
     for _ in 0..N {
