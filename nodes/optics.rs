@@ -202,28 +202,70 @@ pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
     one_minus_h * (1.0 + h) / (4.0 * PI * base * base.sqrt())
 }
 
-/// WGSL of [`refract`].
-const REFRACT_WGSL: &str = r#"
-fn $fn(i: vec3<f32>, n: vec3<f32>, eta: f32) -> $out {
-    let c = dot(n, i);
-    let k = (1.0 - eta) * (1.0 + eta) + (eta * c) * (eta * c);
-    if (k < 0.0) {
-        return $out(i - 2.0 * c * n, true);
-    }
-    return $out(eta * i - (eta * c + sqrt(k)) * n, false);
+/// WGSL of [`cos2_transmitted`], `mg_opth_cos2_t(cos_i, eta)`: the same expression. Shared by every
+/// node that refracts (`refract`, the Fresnel helper, `skin_efresnel`) through `wgsl_uses`.
+pub const COS2_T_WGSL: &str = r#"
+fn mg_opth_cos2_t(cos_i: f32, eta: f32) -> f32 {
+    return (1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i);
 }
 "#;
 
-/// WGSL of [`f0_to_ior`]; the largest f32 is written in hex, which every WGSL compiler reads
-/// exactly.
-const F0_TO_IOR_WGSL: &str = r#"
-fn $fn(f0_in: f32) -> f32 {
+/// WGSL of [`fresnel_dielectric`] as a helper, `mg_opth_fresnel(cos_theta, ior_outside, ior_inside)`
+/// returning (R, T): the same steps. Needs [`COS2_T_WGSL`].
+pub const FRESNEL_HELPER_WGSL: &str = r#"
+fn mg_opth_fresnel(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> vec2<f32> {
+    var n1 = ior_outside;
+    var n2 = ior_inside;
+    var cos_i = min(cos_theta, 1.0);
+    if (cos_theta < 0.0) {
+        n1 = ior_inside;
+        n2 = ior_outside;
+        cos_i = min(-cos_theta, 1.0);
+    }
+    if (n1 == n2) {
+        return vec2<f32>(0.0, 1.0);
+    }
+    let cos2_t = mg_opth_cos2_t(cos_i, n1 / n2);
+    if (cos2_t < 0.0) {
+        return vec2<f32>(1.0, 0.0);
+    }
+    let cos_t = sqrt(cos2_t);
+    let a = n1 * cos_i;
+    let b = n2 * cos_t;
+    let ap = n2 * cos_i;
+    let bp = n1 * cos_t;
+    let inv_s = 1.0 / (a + b);
+    let inv_p = 1.0 / (ap + bp);
+    let rs = (a - b) * inv_s;
+    let rp = (ap - bp) * inv_p;
+    let ts = 2.0 * (a * inv_s) * (b * inv_s);
+    let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
+    return vec2<f32>(0.5 * (rs * rs + rp * rp), ts + tp);
+}
+"#;
+
+/// WGSL of [`f0_to_ior`] as a helper, `mg_opth_f0_to_ior(f0)`; the largest f32 is written in hex,
+/// which every WGSL compiler reads exactly.
+pub const F0_TO_IOR_HELPER_WGSL: &str = r#"
+fn mg_opth_f0_to_ior(f0_in: f32) -> f32 {
     let f0 = min(max(f0_in, 0.0), 1.0);
     let one_plus_s = 1.0 + sqrt(f0);
     if (f0 >= 1.0) {
         return 0x1.fffffep+127f;
     }
     return min(one_plus_s * one_plus_s / (1.0 - f0), 0x1.fffffep+127f);
+}
+"#;
+
+/// WGSL of [`refract`].
+const REFRACT_WGSL: &str = r#"
+fn $fn(i: vec3<f32>, n: vec3<f32>, eta: f32) -> $out {
+    let c = dot(n, i);
+    let k = mg_opth_cos2_t(c, eta);
+    if (k < 0.0) {
+        return $out(i - 2.0 * c * n, true);
+    }
+    return $out(eta * i - (eta * c + sqrt(k)) * n, false);
 }
 "#;
 
@@ -262,34 +304,8 @@ fn mg_hg(cos_theta: f32, g: f32) -> f32 {
 /// WGSL of [`fresnel_dielectric`], the same steps.
 const FRESNEL_DIELECTRIC_WGSL: &str = r#"
 fn $fn(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> $out {
-    var n1 = ior_outside;
-    var n2 = ior_inside;
-    var cos_i = min(cos_theta, 1.0);
-    if (cos_theta < 0.0) {
-        n1 = ior_inside;
-        n2 = ior_outside;
-        cos_i = min(-cos_theta, 1.0);
-    }
-    if (n1 == n2) {
-        return $out(0.0, 1.0);
-    }
-    let eta = n1 / n2;
-    let cos2_t = (1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i);
-    if (cos2_t < 0.0) {
-        return $out(1.0, 0.0);
-    }
-    let cos_t = sqrt(cos2_t);
-    let a = n1 * cos_i;
-    let b = n2 * cos_t;
-    let ap = n2 * cos_i;
-    let bp = n1 * cos_t;
-    let inv_s = 1.0 / (a + b);
-    let inv_p = 1.0 / (ap + bp);
-    let rs = (a - b) * inv_s;
-    let rp = (ap - bp) * inv_p;
-    let ts = 2.0 * (a * inv_s) * (b * inv_s);
-    let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
-    return $out(0.5 * (rs * rs + rp * rp), ts + tp);
+    let rt = mg_opth_fresnel(cos_theta, ior_outside, ior_inside);
+    return $out(rt.x, rt.y);
 }
 "#;
 
@@ -321,6 +337,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::vec3("t").doc("Refracted direction (reflected under TIR)."))
             .output(Out::boolean("tir").doc("True under total internal reflection."))
             .wgsl(REFRACT_WGSL)
+            .wgsl_uses(&[COS2_T_WGSL])
             .hard_case("grazing from air", &[("i", v3([1.0, 0.0, -1e-4])), ("eta", f(1.0 / 1.33))])
             .hard_case("just past the critical angle", &[("i", v3([0.7518, 0.0, -0.6594])), ("eta", f(1.33))])
             .hard_case("index match", &[("eta", f(1.0))])
@@ -346,7 +363,8 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("grazing at an index match", &[("cos_theta", f(1e-4)), ("ior_inside", f(1.0))])
             .hard_case("very grazing", &[("cos_theta", f(1e-7))])
             .compute(fresnel_dielectric)
-            .wgsl(FRESNEL_DIELECTRIC_WGSL),
+            .wgsl(FRESNEL_DIELECTRIC_WGSL)
+            .wgsl_uses(&[COS2_T_WGSL, FRESNEL_HELPER_WGSL]),
         NodeType::new("fresnel_schlick", Category::Optics, "Schlick's Fresnel approximation.")
             .source(
                 "F = F0 + (1 − F0)(1 − cosθ)⁵ (Schlick 1994, eq. 24; docs/models/optics.md). f0 may be a \
@@ -387,7 +405,8 @@ pub fn all() -> Vec<NodeType> {
             )
             .input(In::float("f0", 0.04).range(0.0, 0.9).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::float("ior").doc("Index of refraction relative to air."))
-            .wgsl(F0_TO_IOR_WGSL)
+            .wgsl("fn $fn(f0: f32) -> f32 { return mg_opth_f0_to_ior(f0); }")
+            .wgsl_uses(&[F0_TO_IOR_HELPER_WGSL])
             .hard_case("mirror", &[("f0", f(1.0))])
             .hard_case("nearly a mirror", &[("f0", f(0.99999))])
             .compute(f0_to_ior),

@@ -191,6 +191,16 @@ pub fn brdf(
     (diffuse + spec, diffuse, spec)
 }
 
+/// The helpers `pbr_brdf`'s WGSL is emitted with: the optics helpers its exact Fresnel option
+/// calls, the PBR helpers and its Fresnel choice.
+const BRDF_WGSL_USES: &[&str] = &[
+    super::optics::COS2_T_WGSL,
+    super::optics::FRESNEL_HELPER_WGSL,
+    super::optics::F0_TO_IOR_HELPER_WGSL,
+    PBR_HELPERS_WGSL,
+    PBR_FRESNEL_WGSL,
+];
+
 /// WGSL helpers shared by the PBR nodes: the same steps as the Rust above.
 const PBR_HELPERS_WGSL: &str = r#"
 fn mg_pbrh_alpha2(roughness: f32) -> f32 {
@@ -234,23 +244,13 @@ fn mg_pbrh_f0(metallic: f32, base_color: vec3<f32>, specular: f32) -> vec3<f32> 
     let d = 0.08 * min(max(specular, 0.0), 12.5);
     return vec3<f32>(d * (1.0 - m)) + base_color * m;
 }
+"#;
+
+/// WGSL of [`fresnel`] (the BRDF's per-channel Fresnel choice).
+const PBR_FRESNEL_WGSL: &str = r#"
 fn mg_pbrh_fresnel(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
     if (mode == 1) {
-        let f0 = min(max(f0_in, 0.0), 1.0);
-        let one_plus_s = 1.0 + sqrt(f0);
-        var n2 = 0x1.fffffep+127f;
-        if (f0 < 1.0) {
-            n2 = min(one_plus_s * one_plus_s / (1.0 - f0), 0x1.fffffep+127f);
-        }
-        let eta = 1.0 / n2;
-        if (eta == 1.0) {
-            return 0.0;
-        }
-        let cos_i = min(max(v_dot_h, 0.0), 1.0);
-        let cos_t = sqrt((1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i));
-        let rs = (cos_i - n2 * cos_t) * (1.0 / (cos_i + n2 * cos_t));
-        let rp = (n2 * cos_i - cos_t) * (1.0 / (n2 * cos_i + cos_t));
-        return 0.5 * (rs * rs + rp * rp);
+        return mg_opth_fresnel(v_dot_h, 1.0, mg_opth_f0_to_ior(f0_in)).x;
     }
     let m = max(1.0 - min(max(v_dot_h, 0.0), 1.0), 0.0);
     let m2 = m * m;
@@ -374,7 +374,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("diffuse").doc("The Lambert term times N·L."))
             .output(Out::color("specular").doc("The GGX term times N·L."))
             .wgsl(BRDF_WGSL)
-            .wgsl_uses(&[PBR_HELPERS_WGSL])
+            .wgsl_uses(BRDF_WGSL_USES)
             .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4])), ("light", v3([-0.6, 0.0, 0.8]))])
             .hard_case("grazing light", &[("light", v3([1.0, 0.0, 1e-4]))])
             .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])

@@ -275,19 +275,9 @@ const EFRESNEL_WGSL: &str = r#"
 fn $fn(i: vec3<f32>, n: vec3<f32>, eta_i_over_t: f32) -> $out {
     let nf = select(n, -n, dot(n, i) > 0.0);
     let c = min(max(-dot(nf, i), 0.0), 1.0);
-    let eta = eta_i_over_t;
-    let cos2_t = (1.0 - eta) * (1.0 + eta) + (eta * c) * (eta * c);
-    var r = 1.0;
-    if (eta == 1.0) {
-        r = 0.0;
-    } else if (cos2_t >= 0.0) {
-        let cos_t = sqrt(cos2_t);
-        let rs = (eta * c - cos_t) * (1.0 / (eta * c + cos_t));
-        let rp = (c - eta * cos_t) * (1.0 / (c + eta * cos_t));
-        r = 0.5 * (rs * rs + rp * rp);
-    }
+    let r = mg_opth_fresnel(c, eta_i_over_t, 1.0).x;
     let cn = dot(nf, i);
-    let k = (1.0 - eta) * (1.0 + eta) + (eta * cn) * (eta * cn);
+    let k = mg_opth_cos2_t(cn, eta_i_over_t);
     let x = min(max(r / 0.5, 0.0), 1.0);
     if (k < 0.0) {
         return $out(1.0, 0.0, i - 2.0 * cn * nf);
@@ -403,6 +393,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::float("kt").doc("Transmitted weight, 1 − kr."))
             .output(Out::vec3("t").doc("Refracted direction (reflected under TIR)."))
             .wgsl(EFRESNEL_WGSL)
+            .wgsl_uses(&[super::optics::COS2_T_WGSL, super::optics::FRESNEL_HELPER_WGSL])
             .hard_case("grazing", &[("i", v3([1.0, 0.0, -1e-4]))])
             .hard_case("exactly grazing", &[("i", v3([1.0, 0.0, 0.0]))])
             .hard_case("light below the horizon", &[("i", v3([0.0, 0.6, 0.8]))])
