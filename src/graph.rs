@@ -104,10 +104,10 @@ pub struct GraphParameter {
 /// An input with a hard range that a `parameter` node *feeds*: an input linked directly to
 /// the parameter node's `value` output. The parameter's value, after the link's implicit
 /// conversion (a float broadcast to a vector input, a colour's luminance to a float input),
-/// must lie in the input's hard range, as a literal written on that input must; the file's
-/// value is checked at load and every value set later by [`crate::ParamValues::set`].
-/// Values computed *from* a parameter by other nodes are not checked: node outputs have no
-/// declared range.
+/// must lie in the input's hard range, as a literal written on that input must. This is the
+/// load-time check of the file's value; values computed *from* parameters by other nodes, and
+/// every value set later by [`crate::ParamValues::set`], are checked by the plan's guards
+/// (`plan::Guards`), which run the uniform program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Feed {
     /// The id of the node whose input is fed.
