@@ -4,6 +4,8 @@
 pub mod image;
 pub mod input;
 pub mod math;
+pub mod math_scalar;
+pub mod math_vector;
 pub mod optics;
 pub mod pbr;
 pub mod skin;
@@ -16,6 +18,8 @@ pub fn all() -> Vec<NodeType> {
     let mut v = Vec::new();
     v.extend(input::all());
     v.extend(math::all());
+    v.extend(math_scalar::all());
+    v.extend(math_vector::all());
     v.extend(optics::all());
     v.extend(skin::all());
     v.extend(pbr::all());
