@@ -8,6 +8,7 @@ pub mod optics;
 pub mod pbr;
 pub mod skin;
 pub mod texture;
+pub mod thin_film;
 
 use crate::node::NodeType;
 
@@ -17,6 +18,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(input::all());
     v.extend(math::all());
     v.extend(optics::all());
+    v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
     v.extend(texture::all());
