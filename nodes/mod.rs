@@ -10,6 +10,7 @@ pub mod optics;
 pub mod pbr;
 pub mod skin;
 pub mod texture;
+pub mod thin_film;
 
 use crate::node::NodeType;
 
@@ -21,6 +22,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(math_scalar::all());
     v.extend(math_vector::all());
     v.extend(optics::all());
+    v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
     v.extend(texture::all());
