@@ -7,6 +7,7 @@ pub mod math;
 pub mod optics;
 pub mod pbr;
 pub mod skin;
+pub mod sunshine;
 pub mod texture;
 
 use crate::node::NodeType;
@@ -21,5 +22,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(pbr::all());
     v.extend(texture::all());
     v.extend(image::all());
+    v.extend(sunshine::all());
     v
 }
