@@ -9,6 +9,7 @@ pub mod math_vector;
 pub mod optics;
 pub mod pbr;
 pub mod skin;
+pub mod sunshine;
 pub mod texture;
 pub mod thin_film;
 
@@ -27,5 +28,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(pbr::all());
     v.extend(texture::all());
     v.extend(image::all());
+    v.extend(sunshine::all());
     v
 }
