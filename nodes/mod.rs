@@ -8,6 +8,7 @@ pub mod optics;
 pub mod pbr;
 pub mod skin;
 pub mod texture;
+pub mod toon_water;
 
 use crate::node::NodeType;
 
@@ -21,5 +22,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(pbr::all());
     v.extend(texture::all());
     v.extend(image::all());
+    v.extend(toon_water::all());
     v
 }
