@@ -706,6 +706,6 @@ mod tests {
         let b = Vec4::new(5.0, 6.0, 7.0, 8.0);
         let ws = waves_from_inputs(6, [a, b, a, b], [a, b], [a, b], [a, b], [a, b]);
         assert_eq!(ws.len(), 6);
-        assert_eq!(ws[5], wave([7.0, 8.0], 6.0, 6.0, 6.0, 6.0));
+        assert_eq!(ws[5], wave([3.0, 4.0], 6.0, 6.0, 6.0, 6.0));
     }
 }
