@@ -12,6 +12,7 @@ pub mod skin;
 pub mod sunshine;
 pub mod texture;
 pub mod thin_film;
+pub mod toon_water;
 
 use crate::node::NodeType;
 
@@ -29,5 +30,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(texture::all());
     v.extend(image::all());
     v.extend(sunshine::all());
+    v.extend(toon_water::all());
     v
 }

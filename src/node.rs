@@ -41,6 +41,8 @@ pub enum Category {
     Pbr,
     /// Procedural and image textures (noise, checker, ramp).
     Texture,
+    /// Cartoon water and waves (seed 004).
+    Water,
 }
 
 impl Category {
@@ -56,6 +58,7 @@ impl Category {
             Category::Skin => "skin",
             Category::Pbr => "pbr",
             Category::Texture => "texture",
+            Category::Water => "water",
         }
     }
 }

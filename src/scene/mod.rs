@@ -69,10 +69,12 @@ mod image;
 mod json;
 mod kind;
 mod light;
+mod lod;
 mod mesh;
 mod objects;
 mod raster;
 mod shade;
+mod snell;
 mod textures;
 mod validate;
 
@@ -88,8 +90,10 @@ pub use kind::{
     WaterSetup,
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
+pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
 pub use raster::sample_offsets;
+pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;
 
 use glam::{Vec2, Vec3};
@@ -191,13 +195,16 @@ impl Scene {
 
     /// The mesh that carries the material: the ball's UV sphere (`segments`), or the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
-    /// along `-z`).
+    /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]).
     pub fn material_mesh(&self) -> Mesh {
         match &self.kind {
             SceneKind::Ball(b) => {
                 Mesh::uv_sphere(Vec3::from(b.center), b.radius, b.segments[0], b.segments[1])
             }
-            SceneKind::Water(w) => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
+            SceneKind::Water(w) => match &w.lod {
+                Some(lod) => lod.mesh(Vec2::from(w.size), Vec3::from(self.camera.position)),
+                None => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
+            },
         }
     }
 
