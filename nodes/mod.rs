@@ -1,6 +1,7 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod bubble;
 pub mod image;
 pub mod input;
 pub mod math;
@@ -27,6 +28,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());
     v.extend(sunshine::all());

@@ -39,6 +39,8 @@ pub enum Category {
     Skin,
     /// Physically based rendering (seed 003).
     Pbr,
+    /// The soap bubble (seed 000).
+    Bubble,
     /// Procedural and image textures (noise, checker, ramp).
     Texture,
     /// Cartoon water and waves (seed 004).
@@ -57,6 +59,7 @@ impl Category {
             Category::Optics => "optics",
             Category::Skin => "skin",
             Category::Pbr => "pbr",
+            Category::Bubble => "bubble",
             Category::Texture => "texture",
             Category::Water => "water",
         }
