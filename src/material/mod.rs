@@ -30,12 +30,14 @@
 mod contract;
 mod frame;
 mod layout;
+mod load;
 mod params;
 mod textures;
 
 pub use contract::{CONTRACT_SCHEMA, Contract};
 pub use frame::{Frame, Light, lights_bytes};
 pub use layout::{StageCounts, VERTEX_ATTRIBUTES, VERTEX_STRIDE, vertex_buffer_layout};
+pub use load::LoadError;
 pub use params::{IntoParam, ParamBlock};
 pub use textures::{
     GpuTextures, TextureInfo, TextureSource, format_name, sampler_descriptor, texel_bytes,
