@@ -349,6 +349,23 @@ impl Material {
         textures::upload(&self.render, &self.textures, device, queue, set)
     }
 
+    /// Uploads the textures the library module samples from `set` (its slots may differ from
+    /// the render module's: it computes every output).
+    pub fn upload_library_textures(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &TextureSet,
+    ) -> Result<GpuTextures, MaterialError> {
+        let infos = textures::infos(&self.library, self.options.float32_filterable);
+        textures::upload(&self.library, &infos, device, queue, set)
+    }
+
+    /// The textures the library module samples, in its slot order.
+    pub fn library_textures(&self) -> Vec<TextureInfo> {
+        textures::infos(&self.library, self.options.float32_filterable)
+    }
+
     /// The bind group of group 0: `params` (ignored when the module has no parameter block),
     /// `frame`, `lights` and the uploaded textures.
     pub fn bind_group(
@@ -360,42 +377,78 @@ impl Material {
         lights: &wgpu::Buffer,
         textures: &GpuTextures,
     ) -> wgpu::BindGroup {
-        let entries: Vec<wgpu::BindGroupEntry> = self
-            .render
-            .bindings
-            .iter()
-            .filter_map(|(binding, b)| {
-                let resource = match (b, textures) {
-                    (Binding::Params, _) => params.as_entire_binding(),
-                    (Binding::Frame, _) => frame.as_entire_binding(),
-                    (Binding::Lights, _) => lights.as_entire_binding(),
-                    (Binding::TextureTexels, GpuTextures::Exact(t)) => t[0].as_entire_binding(),
-                    (Binding::TextureLevels, GpuTextures::Exact(t)) => t[1].as_entire_binding(),
-                    (Binding::TextureTable, GpuTextures::Exact(t)) => t[2].as_entire_binding(),
-                    (Binding::Texture(k), GpuTextures::Hardware { views, .. }) => {
-                        wgpu::BindingResource::TextureView(views.get(*k as usize)?)
-                    }
-                    (Binding::Sampler(..), GpuTextures::Hardware { samplers, .. }) => {
-                        let s = samplers.iter().find(|(sb, _)| sb == binding)?;
-                        wgpu::BindingResource::Sampler(&s.1)
-                    }
-                    _ => return None,
-                };
-                Some(wgpu::BindGroupEntry {
-                    binding: *binding,
-                    resource,
-                })
-            })
-            .collect();
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("matgraph material"),
+        bind_group(
+            &self.render,
+            device,
             layout,
-            entries: &entries,
-        })
+            [Some(params), Some(frame), Some(lights)],
+            textures,
+        )
+    }
+
+    /// The bind group of the library module's group 0 (made with
+    /// [`Material::library_bind_group_layout_entries`]): `params` and the textures
+    /// from [`Material::upload_library_textures`].
+    pub fn library_bind_group(
+        &self,
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        textures: &GpuTextures,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            &self.library,
+            device,
+            layout,
+            [Some(params), None, None],
+            textures,
+        )
     }
 
     /// The contract, for apps in other languages ([`Contract::to_json`]).
     pub fn contract(&self) -> Contract {
         contract::build(self)
     }
+}
+
+/// The bind group of `module`'s group 0 from its buffers (parameters, frame, lights) and
+/// textures.
+fn bind_group(
+    module: &ShaderModule,
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    [params, frame, lights]: [Option<&wgpu::Buffer>; 3],
+    textures: &GpuTextures,
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = module
+        .bindings
+        .iter()
+        .filter_map(|(binding, b)| {
+            let resource = match (b, textures) {
+                (Binding::Params, _) => params?.as_entire_binding(),
+                (Binding::Frame, _) => frame?.as_entire_binding(),
+                (Binding::Lights, _) => lights?.as_entire_binding(),
+                (Binding::TextureTexels, GpuTextures::Exact(t)) => t[0].as_entire_binding(),
+                (Binding::TextureLevels, GpuTextures::Exact(t)) => t[1].as_entire_binding(),
+                (Binding::TextureTable, GpuTextures::Exact(t)) => t[2].as_entire_binding(),
+                (Binding::Texture(k), GpuTextures::Hardware { views, .. }) => {
+                    wgpu::BindingResource::TextureView(views.get(*k as usize)?)
+                }
+                (Binding::Sampler(..), GpuTextures::Hardware { samplers, .. }) => {
+                    let s = samplers.iter().find(|(sb, _)| sb == binding)?;
+                    wgpu::BindingResource::Sampler(&s.1)
+                }
+                _ => return None,
+            };
+            Some(wgpu::BindGroupEntry {
+                binding: *binding,
+                resource,
+            })
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("matgraph material"),
+        layout,
+        entries: &entries,
+    })
 }
