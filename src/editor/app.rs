@@ -10,6 +10,9 @@ use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
 
+/// The size a node is assumed to have when the view is fitted to the nodes.
+pub const NODE_EXTENT: egui::Vec2 = egui::vec2(200.0, 140.0);
+
 /// The canvas widget's id (its selection is read through it).
 pub fn canvas_id() -> egui::Id {
     egui::Id::new("matgraph-canvas")
@@ -23,6 +26,15 @@ pub struct EditorApp {
     to_screen: egui::emath::TSTransform,
     /// The canvas rect of the last frame.
     canvas_rect: egui::Rect,
+    /// The nodes' bounding box of the last frame, in canvas coordinates.
+    nodes_rect: egui::Rect,
+    /// Frames until the view is fitted to the nodes (0: no fit pending).
+    frame_in: u8,
+    /// How many of the document's nodes the canvas shows yet (see
+    /// [`super::view::build_snarl_prefix`]).
+    revealed: usize,
+    /// Whether the last frame drew (and measured) every node.
+    nodes_measured: bool,
 }
 
 impl EditorApp {
@@ -32,7 +44,35 @@ impl EditorApp {
             state,
             to_screen: egui::emath::TSTransform::IDENTITY,
             canvas_rect: egui::Rect::NOTHING,
+            nodes_rect: egui::Rect::NOTHING,
+            // Once every node is shown and measured, the view is fitted to them.
+            frame_in: 1,
+            revealed: 0,
+            nodes_measured: false,
         }
+    }
+
+    /// Whether every node of the document is on the canvas (it shows a file's nodes one
+    /// per frame) and the view is fitted.
+    pub fn settled(&self) -> bool {
+        self.revealed >= self.state.doc.doc().nodes.len() && self.frame_in == 0
+    }
+
+    /// Fits the view to every node (View → Frame all, Home), on the next frame.
+    pub fn frame_all(&mut self) {
+        self.frame_in = 1;
+    }
+
+    /// The canvas → screen transform that shows `nodes` (canvas) whole in `canvas` (screen),
+    /// with a margin, at most at scale 1.
+    pub fn fit(nodes: egui::Rect, canvas: egui::Rect) -> Option<egui::emath::TSTransform> {
+        if !nodes.is_positive() || !canvas.is_positive() {
+            return None;
+        }
+        let nodes = nodes.expand(30.0);
+        let scale = (canvas.size() / nodes.size()).min_elem().clamp(0.1, 1.0);
+        let translation = canvas.center().to_vec2() - nodes.center().to_vec2() * scale;
+        Some(egui::emath::TSTransform::new(translation, scale))
     }
 
     /// Draws one frame and applies what the user did in it.
@@ -82,13 +122,37 @@ impl EditorApp {
     }
 
     fn canvas(&mut self, ui: &mut Ui) -> Vec<Action> {
+        let n = self.state.doc.doc().nodes.len();
+        if self.revealed < n {
+            self.revealed += 1;
+            self.state.snarl = super::view::build_snarl_prefix(&self.state.doc, self.revealed);
+            ui.ctx().request_repaint();
+        } else {
+            // Edits rebuild the whole canvas; nothing left to reveal.
+            self.revealed = n;
+        }
         let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+        let shader_error = self.shader_problem();
         let mut viewer = Viewer {
             doc: &self.state.doc,
             hard,
             actions: Vec::new(),
             to_screen: None,
+            shader_error: shader_error.and_then(|(n, m)| Some((n?, m))),
+            set_transform: None,
         };
+        let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
+            let fit = Self::fit(self.nodes_rect, self.canvas_rect);
+            if fit.is_none() {
+                // Nothing to frame.
+                self.frame_in = 0;
+            }
+            fit
+        } else {
+            None
+        };
+        viewer.set_transform = fit;
+        let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
             ..SnarlStyle::new()
@@ -98,7 +162,22 @@ impl EditorApp {
             &mut viewer,
             ui,
         );
-        self.canvas_rect = r.rect;
+        let _ = r;
+        // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
+        if fit.is_some() && viewer.to_screen == fit {
+            self.frame_in = 0;
+        }
+        self.canvas_rect = canvas;
+        // Node positions are their top-left corners; NODE_EXTENT covers a typical node.
+        self.nodes_rect = self
+            .state
+            .snarl
+            .nodes_pos()
+            .fold(egui::Rect::NOTHING, |r, (p, _)| {
+                r.union(egui::Rect::from_min_size(p, NODE_EXTENT))
+            });
+        // The fit uses the rects of a frame that drew every node.
+        self.nodes_measured = self.revealed >= n;
         if let Some(t) = viewer
             .to_screen
             .filter(|t| t.scaling.is_finite() && t.scaling > 0.0)
@@ -124,6 +203,17 @@ impl EditorApp {
             actions.push(Action::Focus(selected[0].clone()));
         }
         actions
+    }
+
+    /// The shader generator's error (with its node, when known) while the graph validates.
+    fn shader_problem(&mut self) -> Option<(Option<String>, String)> {
+        let graph = self.state.doc.graph()?.clone();
+        let generated = self.state.code.generated(Some(&graph));
+        generated
+            .text
+            .as_ref()
+            .err()
+            .map(|e| (generated.error_node.clone(), e.clone()))
     }
 
     /// The ids of the nodes selected on the canvas.
@@ -236,6 +326,9 @@ impl EditorApp {
         if search {
             self.open_search(ctx);
         }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Home)) {
+            self.frame_all();
+        }
         let selected = self.selected(ctx);
         if delete {
             self.state.remove_nodes(&selected);
@@ -297,6 +390,9 @@ impl EditorApp {
                     }
                 });
                 ui.menu_button("View", |ui| {
+                    if ui.button("Frame all  (Home)").clicked() {
+                        self.frame_all();
+                    }
                     ui.checkbox(&mut self.state.code.open, "Generated code");
                     ui.checkbox(&mut self.state.preview.enabled, "Preview");
                 });
@@ -505,7 +601,15 @@ impl EditorApp {
                         },
                     );
                 }
-                egui::ScrollArea::both().show(ui, |ui| {
+                let mut area = egui::ScrollArea::both();
+                if focus != self.state.code.scrolled_for
+                    && let Some(&first) = lines.first()
+                {
+                    let row = ui.ctx().fonts_mut(|f| f.row_height(&mono));
+                    area = area.vertical_scroll_offset((first as f32 - 3.0).max(0.0) * row);
+                    self.state.code.scrolled_for = focus.clone();
+                }
+                area.show(ui, |ui| {
                     ui.add(egui::Label::new(job).selectable(true));
                 });
             });
@@ -633,7 +737,10 @@ impl EditorApp {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
             Pending::Open(path) => {
-                let _ = self.state.load(&path);
+                if self.state.load(&path).is_ok() {
+                    self.frame_in = 1;
+                    self.revealed = 0;
+                }
             }
             Pending::New => {
                 let registry = self.state.doc.registry();

@@ -15,6 +15,8 @@ pub struct CodeState {
     pub open: bool,
     /// The language (index in [`TARGETS`]).
     pub target: usize,
+    /// The node the view was last scrolled to.
+    pub scrolled_for: Option<String>,
     /// The generated code, regenerated when the document or the language changes.
     cache: Option<Generated>,
 }

@@ -36,7 +36,9 @@ pub fn screenshot(app: EditorApp, size: [u32; 2]) -> Result<(u32, u32, Vec<u8>),
     let mut h = harness(app, size);
     h.run_steps(SETTLE_FRAMES);
     let start = std::time::Instant::now();
-    while !h.state().state.preview.settled() && start.elapsed() < PREVIEW_WAIT {
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed() < PREVIEW_WAIT
+    {
         std::thread::sleep(std::time::Duration::from_millis(50));
         h.step();
     }

@@ -20,11 +20,20 @@ pub const LAYOUT_STEP: [f32; 2] = [220.0, 140.0];
 /// The canvas of `doc`: node `k` is document node `k`, at its position (nodes without one
 /// laid out in columns by link depth), and one wire per link.
 pub fn build_snarl(doc: &EditorDoc) -> Snarl<NodeView> {
+    build_snarl_prefix(doc, usize::MAX)
+}
+
+/// The canvas of the first `count` nodes of `doc` and the links between them. Showing a
+/// file's nodes one more per frame fixes their stacking to file order (later nodes on top):
+/// egui-snarl 0.12 stacks nodes that appear in the same frame in `HashSet` order, which
+/// varies from run to run.
+pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
     let d = doc.doc();
+    let count = count.min(d.nodes.len());
     let mut snarl = Snarl::new();
     let depth = depths(doc);
     let mut rows = std::collections::HashMap::<usize, usize>::new();
-    for (k, n) in d.nodes.iter().enumerate() {
+    for (k, n) in d.nodes.iter().enumerate().take(count) {
         let pos = n.position.unwrap_or_else(|| {
             let row = rows.entry(depth[k]).or_default();
             *row += 1;
@@ -36,7 +45,7 @@ pub fn build_snarl(doc: &EditorDoc) -> Snarl<NodeView> {
         let id = snarl.insert_node(egui::pos2(pos[0], pos[1]), NodeView { id: n.id.clone() });
         debug_assert_eq!(id, NodeId(k));
     }
-    for (k, n) in d.nodes.iter().enumerate() {
+    for (k, n) in d.nodes.iter().enumerate().take(count) {
         let Some(t) = doc.registry().get(&n.node_type) else {
             continue;
         };
@@ -49,7 +58,8 @@ pub fn build_snarl(doc: &EditorDoc) -> Snarl<NodeView> {
             else {
                 continue;
             };
-            let (Some(s), Some(st)) = (doc.index(src), doc.node_type(src)) else {
+            let (Some(s), Some(st)) = (doc.index(src).filter(|&s| s < count), doc.node_type(src))
+            else {
                 continue;
             };
             let Some(o) = st.output_index(out) else {

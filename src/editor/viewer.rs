@@ -66,9 +66,24 @@ pub struct Viewer<'a> {
     pub actions: Vec<Action>,
     /// The canvas → screen transform snarl used this frame.
     pub to_screen: Option<egui::emath::TSTransform>,
+    /// The shader generator's error (naga's, mapped to a node) and its node.
+    pub shader_error: Option<(String, String)>,
+    /// A transform to impose this frame (frame all), canvas → screen.
+    pub set_transform: Option<egui::emath::TSTransform>,
 }
 
 impl Viewer<'_> {
+    /// The loader's errors at node `id`, and the shader generator's when it names `id`.
+    fn errors_of(&self, id: &str) -> Vec<String> {
+        let mut errors = self.doc.node_errors(id);
+        if let Some((node, message)) = &self.shader_error
+            && node == id
+        {
+            errors.push(message.clone());
+        }
+        errors
+    }
+
     fn id<'s>(&self, snarl: &'s Snarl<NodeView>, node: NodeId) -> &'s str {
         &snarl[node].id
     }
@@ -88,10 +103,9 @@ impl Viewer<'_> {
 
 impl SnarlViewer<NodeView> for Viewer<'_> {
     fn title(&mut self, node: &NodeView) -> String {
-        match self.doc.node(&node.id) {
-            Some(n) => format!("{}  ·  {}", n.id, n.node_type),
-            None => node.id.clone(),
-        }
+        // The id alone keeps nodes narrow (the bundled graphs leave 200 units per column);
+        // the type is in the hover, the header colour and the side panel.
+        node.id.clone()
     }
 
     fn show_header(
@@ -103,7 +117,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
-        let errors = self.doc.node_errors(&id);
+        let errors = self.errors_of(&id);
         let title = self.title(&snarl[node]);
         ui.horizontal(|ui| {
             let label = ui.add(
@@ -142,7 +156,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         _: &[OutPin],
         snarl: &Snarl<NodeView>,
     ) -> egui::Frame {
-        if self.doc.node_errors(&snarl[node].id).is_empty() {
+        if self.errors_of(&snarl[node].id).is_empty() {
             default
         } else {
             default.stroke(Stroke::new(2.0, Color32::from_rgb(230, 60, 50)))
@@ -170,7 +184,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let ty_name = ty.map_or("T".to_owned(), |t| t.name().to_owned());
         let info = self.pin(&id, decl.ty);
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
-        ui.spacing_mut().slider_width = 56.0;
+        ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 36.0;
         ui.horizontal(|ui| {
             ui.label(decl.name)
@@ -217,6 +231,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         to_global: &mut egui::emath::TSTransform,
         _: &mut Snarl<NodeView>,
     ) {
+        if let Some(t) = self.set_transform.take() {
+            *to_global = t;
+        }
         self.to_screen = Some(*to_global);
     }
 
@@ -233,7 +250,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         if let Some(t) = self.doc.node_type(&snarl[node].id) {
-            ui.label(format!("{} ({})", t.name(), t.category()));
+            ui.strong(format!("{}  ({})", t.name(), t.category()));
             ui.label(t.summary());
         }
     }
