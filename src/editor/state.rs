@@ -322,7 +322,7 @@ impl EditorState {
         let registry = self.doc.registry();
         match EditorState::open(path, registry) {
             Ok(s) => {
-                let preview = std::mem::replace(&mut self.preview, super::preview::Preview::new());
+                let preview = std::mem::take(&mut self.preview);
                 *self = s;
                 self.preview = preview;
                 self.preview.invalidate();
