@@ -185,7 +185,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let info = self.pin(&id, decl.ty);
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
         ui.spacing_mut().slider_width = 40.0;
-        ui.spacing_mut().interact_size.x = 36.0;
+        ui.spacing_mut().interact_size.x = 44.0;
         ui.horizontal(|ui| {
             ui.label(decl.name)
                 .on_hover_text(port_hover(&ty_name, decl.unit, decl.doc));
