@@ -369,3 +369,31 @@ fn frame_times_delays_and_names() {
         PathBuf::from("out/anim_0007.png")
     );
 }
+
+/// The scene's own time-dependent parts (the bubble's motion towards its target) follow each
+/// frame's time too: frame 1 is the still at that `--time`, and differs from frame 0.
+#[test]
+fn scene_motion_follows_the_frame_time() {
+    let graph = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/bubble.json");
+    let graph = graph.to_str().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let run = |args: &[&str]| {
+        let mut all = vec!["render", graph, "--size", "32x32"];
+        all.extend_from_slice(args);
+        let out = matgraph(d, &all);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&["--frames", "2", "--fps", "1", "--time", "1", "-o", "b.png"]);
+    run(&["--time", "2", "-o", "t2.png"]);
+    let read = |n: &str| std::fs::read(d.join(n)).unwrap();
+    assert!(
+        read("b_0001.png") == read("t2.png"),
+        "frame 1 is the still at --time 2"
+    );
+    assert!(read("b_0000.png") != read("b_0001.png"), "the bubble moved");
+}

@@ -237,7 +237,12 @@ pub fn run(args: &Args) -> CliResult {
             let graph = load_graph(file)?;
             let textures = graph_textures(&graph, file, policy)?;
             let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
-            let (scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            let (mut scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            // The scene's own time-dependent parts (the bubble's motion, its backdrop) follow
+            // --time as the material does.
+            if let Some(t) = args.time {
+                scene.time = t;
+            }
             let mut options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,
@@ -276,6 +281,9 @@ pub fn run(args: &Args) -> CliResult {
             let mut first = None;
             for (k, time) in times.into_iter().enumerate() {
                 options.time = time;
+                if let Some(t) = time {
+                    scene.time = t;
+                }
                 let start = std::time::Instant::now();
                 let (hdr, _) = render_timed(&graph, &scene, &options)
                     .map_err(|e| with_reserve(e, reserve))
