@@ -4,8 +4,9 @@
 //! methods: the spectral reference, Belcour & Barla 2017's analytic integration, and three
 //! wavelengths.
 //!
-//! Airy summation per polarisation (Born & Wolf, *Principles of Optics* §7.6.1 eqs. 55–58;
-//! Hecht, *Optics* §9.7.1), with Fresnel amplitudes in Hecht's convention (eqs. 4.42–4.45):
+//! Airy summation per polarisation (Born & Wolf, *Principles of Optics*, 7th ed., §1.6.4 "A
+//! homogeneous dielectric film" and §7.6.1), with Fresnel amplitudes in Hecht's convention
+//! (*Optics*, 4th ed., eqs. 4.42–4.45):
 //! `r = (r12 + r23 E) / (1 + r12 r23 E)`, `t = t12 t23 E^½ / (1 + r12 r23 E)`,
 //! `E = e^{iδ}`, `δ = 2π · 2 n_f d cosθ_f / λ`, `R = |r|²`,
 //! `T = n3 Re(cosθ3) / (n1 cosθ1) · |t|²`, averaged over s and p. Under total internal
@@ -312,7 +313,7 @@ const BB_XYZ_TO_RGB: [[f32; 3]; 3] = [
     [0.061217755, -0.22420866, 1.1617086],
 ];
 
-/// Belcour & Barla's sensitivity `S(opd, shift)` in XYZ (their eq. 12's Fourier transform of
+/// Belcour & Barla's sensitivity `S(opd, shift)` in XYZ (the Fourier transform of
 /// the matching functions, evaluated with the Gaussian fit): per lobe
 /// `amp cos(2π (pos·opd + shift)) exp(−var opd²)`, with the cycles reduced to [−½, ½] before
 /// the cosine. `shift_cycles` is the phase shift in cycles.
@@ -350,7 +351,8 @@ fn bb_polarisation(r12: C, r23: C, opd_nm: f32) -> Vec3 {
 }
 
 /// Belcour & Barla 2017 (ACM TOG 36(4), "A Practical Extension to Microfacet Theory for the
-/// Modeling of Varying Iridescence"), §4 eqs. 10–13 as in their supplemental shader: the
+/// Modeling of Varying Iridescence"), as in the authors' supplemental shader (`Airy`,
+/// `evalSensitivity`; restated in Khronos' KHR_materials_iridescence): the
 /// Airy reflectance written as the Fourier series `R(δ) = C0 + 2 Σ_m Cm cos(m (δ + φ))`,
 /// `C0 = R12 + Rs`, `Cm = (Rs − T121) (√(R12 R23))^m`, `Rs = T121² R23 / (1 − R12 R23)`,
 /// `T121 = 1 − R12`, φ the phase of `r21 r23` (0 or π for real amplitudes), each term
@@ -604,12 +606,12 @@ pub fn all() -> Vec<NodeType> {
             .source(
                 "Airy summation of a dielectric film per polarisation with complex Fresnel amplitudes: \
                  r = (r12 + r23 e^{iδ})/(1 + r12 r23 e^{iδ}), δ = 4π n_f d cosθ_f/λ, R = |r|², T = n3 cosθ3/(n1 cosθ1)|t|², \
-                 averaged over s and p (Born & Wolf §7.6.1; Hecht §9.7.1; docs/models/thin_film.md); TIR at either face \
+                 averaged over s and p (Born & Wolf, Principles of Optics §1.6.4, §7.6.1; Fresnel amplitudes Hecht eqs. 4.42–4.45; docs/models/thin_film.md); TIR at either face \
                  through complex cosines (frustrated TIR through the film; R = 1 at a TIR exit). \
                  method spectral (the reference): Σ over 360–830 nm at 1 nm of R(λ) with D65 × CIE 1931 2° → linear sRGB \
                  weights (IEC 61966-2-1), each channel normalised so a flat R = 1 gives (1, 1, 1); tables from \
                  colour-science by nodes/thin_film/gen_cie_tables.py. belcour_barla: Belcour & Barla 2017 (ACM TOG 36(4)) \
-                 eqs. 10–13, the Fourier series of the Airy sum integrated analytically against their Gaussian fit of the \
+                 (their supplemental shader; KHR_materials_iridescence), the Fourier series of the Airy sum integrated analytically against their Gaussian fit of the \
                  XYZ matching functions (m ≤ 3; illuminant E balanced to white; R = 1 beyond the film's critical angle, no \
                  tunnelling), T = 1 − R. rgb3: R at 600.2, 539.1, 453.4 nm (each channel's mean wavelength over its \
                  weight's positive lobe); wrong for films thicker than ~500 nm, where it aliases. cos_theta < 0: light from \
