@@ -39,8 +39,12 @@ pub enum Category {
     Skin,
     /// Physically based rendering (seed 003).
     Pbr,
+    /// The soap bubble (seed 000).
+    Bubble,
     /// Procedural and image textures (noise, checker, ramp).
     Texture,
+    /// Cartoon water and waves (seed 004).
+    Water,
 }
 
 impl Category {
@@ -55,7 +59,9 @@ impl Category {
             Category::Optics => "optics",
             Category::Skin => "skin",
             Category::Pbr => "pbr",
+            Category::Bubble => "bubble",
             Category::Texture => "texture",
+            Category::Water => "water",
         }
     }
 }
