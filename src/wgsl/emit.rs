@@ -1077,5 +1077,7 @@ pub fn fragment_location(a: Attribute) -> u32 {
         Attribute::ScreenUv => 6,
         Attribute::Depth => 7,
         Attribute::Time => 8,
+        Attribute::UvDx => 9,
+        Attribute::UvDy => 10,
     }
 }
