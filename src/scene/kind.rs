@@ -9,6 +9,8 @@ use std::fmt;
 
 pub use super::bubble::BubbleSetup;
 use super::environment::smoothstep;
+use super::lod::WaterLod;
+use super::snell::SnellRefraction;
 
 /// What the scene is. In JSON: `"ball"`, `"water"` or `"bubble"` (all parameters at their
 /// defaults), or `{"ball": {...}}` / `{"water": {...}}` / `{"bubble": {...}}`.
@@ -158,6 +160,14 @@ pub struct WaterSetup {
     pub seabed: Seabed,
     /// Objects standing in or floating on the water (reflected, and refracted below it).
     pub objects: Vec<WaterObject>,
+    /// Quadtree level of detail of the water grid (seed 004 §3.1; [`super::lod`]); left
+    /// out, the uniform `grid`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lod: Option<WaterLod>,
+    /// The refraction map seen through the flat water by Snell's law ([`super::snell`]);
+    /// left out, straight along the camera rays.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refraction: Option<SnellRefraction>,
 }
 
 impl Default for WaterSetup {
@@ -196,6 +206,8 @@ impl Default for WaterSetup {
                     color: [0.45, 0.45, 0.42],
                 }),
             ],
+            lod: None,
+            refraction: None,
         }
     }
 }

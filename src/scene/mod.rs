@@ -71,10 +71,12 @@ mod image;
 mod json;
 mod kind;
 mod light;
+mod lod;
 mod mesh;
 mod objects;
 mod raster;
 mod shade;
+mod snell;
 mod textures;
 mod validate;
 
@@ -91,8 +93,10 @@ pub use kind::{
     WaterObject, WaterSetup,
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
+pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
 pub use raster::sample_offsets;
+pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;
 
 use glam::{Vec2, Vec3};
@@ -211,14 +215,17 @@ impl Scene {
 
     /// The mesh that carries the material: the ball's UV sphere (`segments`), the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
-    /// along `-z`), or the bubble's UV sphere at its centre at the scene's time
-    /// ([`BubbleSetup::center_at`]).
+    /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]), or
+    /// the bubble's UV sphere at its centre at the scene's time ([`BubbleSetup::center_at`]).
     pub fn material_mesh(&self) -> Mesh {
         match &self.kind {
             SceneKind::Ball(b) => {
                 Mesh::uv_sphere(Vec3::from(b.center), b.radius, b.segments[0], b.segments[1])
             }
-            SceneKind::Water(w) => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
+            SceneKind::Water(w) => match &w.lod {
+                Some(lod) => lod.mesh(Vec2::from(w.size), Vec3::from(self.camera.position)),
+                None => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
+            },
             SceneKind::Bubble(b) => Mesh::uv_sphere(
                 b.center_at(self.time),
                 b.radius,

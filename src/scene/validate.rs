@@ -141,6 +141,15 @@ impl Scene {
                 count("kind.water.seabed.grid[0]", s.grid[0], 1)?;
                 count("kind.water.seabed.grid[1]", s.grid[1], 1)?;
                 color("kind.water.seabed.color", s.color)?;
+                if let Some(lod) = &w.lod {
+                    range("kind.water.lod.levels", lod.levels as f32, 0.0, 10.0, true)?;
+                    range("kind.water.lod.block", lod.block as f32, 1.0, 64.0, true)?;
+                    positive("kind.water.lod.split_distance", lod.split_distance)?;
+                }
+                if let Some(r) = &w.refraction {
+                    positive("kind.water.refraction.ior_air", r.ior_air)?;
+                    positive("kind.water.refraction.ior_water", r.ior_water)?;
+                }
                 for (i, obj) in w.objects.iter().enumerate() {
                     let at = |f: &str| format!("kind.water.objects[{i}].{f}");
                     match obj {
