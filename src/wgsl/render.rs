@@ -248,6 +248,9 @@ pub(super) fn emit_entries(
             Attribute::Uv => "v.uv".to_owned(),
             Attribute::ScreenUv => "v.clip.xy / mg_frame.viewport".to_owned(),
             Attribute::Depth => "mg_surface_depth(v.position)".to_owned(),
+            // The fragment's own screen-space derivatives (uniform control flow: the entry's top).
+            Attribute::UvDx => "dpdx(v.uv)".to_owned(),
+            Attribute::UvDy => "dpdy(v.uv)".to_owned(),
             Attribute::Time => continue,
         };
         let _ = writeln!(out, "    g.{} = {e};", a.name());
