@@ -71,6 +71,7 @@ mod kind;
 mod light;
 mod mesh;
 mod objects;
+mod packed;
 mod raster;
 mod shade;
 mod textures;
@@ -81,7 +82,7 @@ pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
 };
 pub use error::SceneError;
-pub use gbuffer::{GBuffer, GBufferFrame};
+pub use gbuffer::{GBuffer, GBufferFrame, cpu_raster_frames};
 pub use image::SceneImage;
 pub use kind::{
     Backdrop, BallSetup, BoxObject, PoleObject, SceneKind, Seabed, SphereObject, WaterObject,
@@ -89,7 +90,8 @@ pub use kind::{
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use mesh::Mesh;
-pub use raster::sample_offsets;
+pub(crate) use packed::{PackedScene, ScenePass};
+pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use textures::SceneTextures;
 
 use glam::{Vec2, Vec3};
