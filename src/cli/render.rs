@@ -207,7 +207,12 @@ pub fn run(args: &Args) -> CliResult {
             let graph = load_graph(file)?;
             let textures = graph_textures(&graph, file, policy)?;
             let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
-            let (scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            let (mut scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            // The scene's own time-dependent parts (the bubble's motion, its backdrop) follow
+            // --time as the material does.
+            if let Some(t) = args.time {
+                scene.time = t;
+            }
             let options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,

@@ -1,15 +1,19 @@
-//! The two kinds of scene and their own parameters: the material ball over a checkered
-//! backdrop, and a water plane over a procedural seabed with objects standing in it.
+//! The kinds of scene and their own parameters: the material ball over a checkered
+//! backdrop, a water plane over a procedural seabed with objects standing in it, and the
+//! soap bubble of seed 000 before its underwater backdrop ([`super::bubble`]).
 
 use glam::Vec3;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+pub use super::bubble::BubbleSetup;
 use super::environment::smoothstep;
+use super::lod::WaterLod;
+use super::snell::SnellRefraction;
 
-/// What the scene is. In JSON: `"ball"` or `"water"` (all parameters at their defaults), or
-/// `{"ball": {...}}` / `{"water": {...}}`.
+/// What the scene is. In JSON: `"ball"`, `"water"` or `"bubble"` (all parameters at their
+/// defaults), or `{"ball": {...}}` / `{"water": {...}}` / `{"bubble": {...}}`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SceneKind {
@@ -17,6 +21,8 @@ pub enum SceneKind {
     Ball(BallSetup),
     /// A water plane over a seabed.
     Water(WaterSetup),
+    /// A soap bubble moving before an underwater backdrop (seed 000).
+    Bubble(BubbleSetup),
 }
 
 impl Default for SceneKind {
@@ -26,16 +32,17 @@ impl Default for SceneKind {
 }
 
 impl SceneKind {
-    /// `"ball"` or `"water"`.
+    /// `"ball"`, `"water"` or `"bubble"`.
     pub fn name(&self) -> &'static str {
         match self {
             SceneKind::Ball(_) => "ball",
             SceneKind::Water(_) => "water",
+            SceneKind::Bubble(_) => "bubble",
         }
     }
 }
 
-const KINDS: &[&str] = &["ball", "water"];
+const KINDS: &[&str] = &["ball", "water", "bubble"];
 
 impl<'de> Deserialize<'de> for SceneKind {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -43,12 +50,13 @@ impl<'de> Deserialize<'de> for SceneKind {
         impl<'de> Visitor<'de> for KindVisitor {
             type Value = SceneKind;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#""ball", "water", {"ball": {...}} or {"water": {...}}"#)
+                f.write_str(r#""ball", "water", "bubble", or {"ball": {...}}, {"water": {...}}, {"bubble": {...}}"#)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<SceneKind, E> {
                 match v {
                     "ball" => Ok(SceneKind::Ball(BallSetup::default())),
                     "water" => Ok(SceneKind::Water(WaterSetup::default())),
+                    "bubble" => Ok(SceneKind::Bubble(BubbleSetup::default())),
                     other => Err(E::unknown_variant(other, KINDS)),
                 }
             }
@@ -59,11 +67,12 @@ impl<'de> Deserialize<'de> for SceneKind {
                 let kind = match key.as_str() {
                     "ball" => SceneKind::Ball(map.next_value()?),
                     "water" => SceneKind::Water(map.next_value()?),
+                    "bubble" => SceneKind::Bubble(map.next_value()?),
                     other => return Err(de::Error::unknown_variant(other, KINDS)),
                 };
                 if let Some(extra) = map.next_key::<String>()? {
                     return Err(de::Error::custom(format!(
-                        "a scene kind has one key (\"ball\" or \"water\"), found also `{extra}`"
+                        "a scene kind has one key (\"ball\", \"water\" or \"bubble\"), found also `{extra}`"
                     )));
                 }
                 Ok(kind)
@@ -151,6 +160,14 @@ pub struct WaterSetup {
     pub seabed: Seabed,
     /// Objects standing in or floating on the water (reflected, and refracted below it).
     pub objects: Vec<WaterObject>,
+    /// Quadtree level of detail of the water grid (seed 004 §3.1; [`super::lod`]); left
+    /// out, the uniform `grid`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lod: Option<WaterLod>,
+    /// The refraction map seen through the flat water by Snell's law ([`super::snell`]);
+    /// left out, straight along the camera rays.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refraction: Option<SnellRefraction>,
 }
 
 impl Default for WaterSetup {
@@ -189,6 +206,8 @@ impl Default for WaterSetup {
                     color: [0.45, 0.45, 0.42],
                 }),
             ],
+            lod: None,
+            refraction: None,
         }
     }
 }

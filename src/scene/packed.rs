@@ -62,12 +62,20 @@ fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
 }
 
 impl Scene {
-    /// Whether the GPU rasteriser can draw this scene: a procedural sky (an image
-    /// environment is looked up by the caller's closure, which the GPU cannot call).
+    /// Whether the GPU rasteriser can draw this scene, or what it cannot draw: an image
+    /// environment (looked up by the caller's closure, which the GPU cannot call), the
+    /// bubble scene (its backdrop shader is not ported yet), the water's Snell refraction
+    /// map (not ported yet).
     pub(crate) fn gpu_supported(&self) -> Result<(), String> {
-        match &self.environment {
-            Environment::Sky(_) => Ok(()),
-            Environment::Image(_) => Err("an image environment".into()),
+        if let Environment::Image(_) = &self.environment {
+            return Err("an image environment".into());
+        }
+        match &self.kind {
+            SceneKind::Bubble(_) => Err("the bubble scene (its backdrop shader)".into()),
+            SceneKind::Water(w) if w.refraction.is_some() => {
+                Err("the water's Snell refraction map".into())
+            }
+            _ => Ok(()),
         }
     }
 
@@ -136,14 +144,22 @@ impl Scene {
                 underwater: obj.underwater,
             });
             let skip = obj.caster.map_or(u32::MAX, |c| c as u32);
-            let words: [f32; 16] = match obj.albedo {
-                Albedo::Constant(c) => {
+            let words: [f32; 16] = match &obj.albedo {
+                // The bubble's unlit backdrop (a scene the GPU rasteriser leaves to the
+                // hybrid path, `gpu_supported`) packs as white.
+                Albedo::Unlit(_) => {
+                    packed.objects.extend([0, skip, first / 3, 0]);
+                    let mut w = [0.0; 16];
+                    w[8..11].copy_from_slice(&[1.0; 3]);
+                    w
+                }
+                &Albedo::Constant(c) => {
                     packed.objects.extend([0, skip, first / 3, 0]);
                     let mut w = [0.0; 16];
                     w[8..11].copy_from_slice(&c.to_array());
                     w
                 }
-                Albedo::Checker {
+                &Albedo::Checker {
                     u,
                     v,
                     v0,
@@ -228,7 +244,7 @@ impl Scene {
                     w.extend([b.0, b.1, b.2, b.3]);
                 }
             }
-            SceneKind::Ball(_) => w.extend([0.0; 24]),
+            SceneKind::Ball(_) | SceneKind::Bubble(_) => w.extend([0.0; 24]),
         }
         debug_assert_eq!(w.len(), 96);
         bytemuck::cast_slice(&w).to_vec()

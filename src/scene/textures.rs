@@ -4,7 +4,8 @@
 //! - `background`: the frame without the material surface (what a bubble lets through);
 //! - `refraction`: for water, the seabed and the submerged parts of objects seen straight
 //!   from the camera with the water surface removed (no bending: a graph distorts the
-//!   lookup itself), with built-in sandy Lambert shading and no depth tint (seed 004's graph
+//!   lookup itself), or with the water setup's `refraction` through the flat water plane by
+//!   Snell's law ([`super::snell`]), with built-in sandy Lambert shading and no depth tint (seed 004's graph
 //!   applies its depth colour `exp(-sqrt(k·depth))` itself); the environment where nothing
 //!   is hit;
 //! - `reflection`: for water, the parts of objects above the water and the sky, seen from
@@ -13,15 +14,17 @@
 //!   mirrored geometry clipped to the water plane, as with the stencil-buffer technique of
 //!   Kilgard, "Improving shadows and reflections via the stencil buffer", NVIDIA 1999:
 //!   exact for the flat plane, an approximation for a displaced one);
-//! - for the ball, `refraction` and `reflection` are copies of `background`.
+//! - for the ball and the bubble, `refraction` and `reflection` are copies of `background`.
 
 use super::Scene;
 use super::environment::EnvLookup;
 use super::image::SceneImage;
 use super::kind::SceneKind;
+use super::mesh::Mesh;
 use super::objects::{ABOVE_WATER, BELOW_WATER, Object};
 use super::raster::{DrawItem, rasterize, sample_offsets};
 use super::shade::{Shading, shade_frame};
+use super::snell::apparent_mesh;
 
 /// The textures of [`Scene::scene_textures`].
 #[derive(Clone, Debug, PartialEq)]
@@ -53,11 +56,14 @@ impl Scene {
         let shading = Shading::new(self, &geometry, image);
         let cam = self.camera.frame(width, height);
         let offsets = sample_offsets(1);
-        let pass = |objects: Vec<&Object>, mirror: bool, clip| {
+        // `drawn`: meshes drawn in place of the objects' own (the Snell view), which are
+        // still the ones shaded.
+        let pass_drawn = |objects: Vec<&Object>, drawn: Option<&[Mesh]>, mirror: bool, clip| {
             let items: Vec<DrawItem> = objects
                 .iter()
-                .map(|o| DrawItem {
-                    mesh: &o.mesh,
+                .enumerate()
+                .map(|(k, o)| DrawItem {
+                    mesh: drawn.map_or(&o.mesh, |d| &d[k]),
                     mirror_y: mirror,
                     clip,
                 })
@@ -69,18 +75,26 @@ impl Scene {
                 data: shade_frame(&frags, &objects, &shading, &cam, &offsets, mirror, 0),
             }
         };
+        let pass =
+            |objects: Vec<&Object>, mirror: bool, clip| pass_drawn(objects, None, mirror, clip);
         let all: Vec<&Object> = geometry.objects.iter().collect();
         let background = pass(all.clone(), false, None);
         match self.kind {
-            SceneKind::Ball(_) => SceneTextures {
+            SceneKind::Ball(_) | SceneKind::Bubble(_) => SceneTextures {
                 refraction: background.clone(),
                 reflection: background.clone(),
                 background,
             },
-            SceneKind::Water(_) => {
+            SceneKind::Water(ref water) => {
                 let above: Vec<&Object> = all.iter().copied().filter(|o| !o.underwater).collect();
+                let snell: Option<Vec<Mesh>> = water.refraction.as_ref().map(|s| {
+                    let eye = glam::Vec3::from(self.camera.position);
+                    all.iter()
+                        .map(|o| apparent_mesh(&o.mesh, eye, s.ior_air, s.ior_water))
+                        .collect()
+                });
                 let (refraction, reflection) = rayon::join(
-                    || pass(all.clone(), false, Some(BELOW_WATER)),
+                    || pass_drawn(all.clone(), snell.as_deref(), false, Some(BELOW_WATER)),
                     || pass(above, true, Some(ABOVE_WATER)),
                 );
                 SceneTextures {

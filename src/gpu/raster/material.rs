@@ -107,7 +107,8 @@ fn mgr_material_fs(
     } else {
         n = n0;
     }
-    let uv = mgr_mesh_uvs[i0] * b0 + mgr_mesh_uvs[i1] * bc.x + mgr_mesh_uvs[i2] * bc.y;
+    let uv0 = mgr_mesh_uvs[i0];
+    let uv = uv0 * b0 + mgr_mesh_uvs[i1] * bc.x + mgr_mesh_uvs[i2] * bc.y;
     let screen_uv = vec2<f32>(xy.x / mgr_frame.width, xy.y / mgr_frame.height) + vec2<f32>(f32(sample) * 0.0);
     var view = mgr_frame.origin - p;
     let vl2 = dot(view, view);
@@ -127,6 +128,11 @@ fn mgr_material_fs(
 "#,
     );
     let has = |a: Attribute| shader.attributes.contains(&a);
+    if has(Attribute::UvDx) || has(Attribute::UvDy) {
+        s.push_str(
+            "    let uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, mgr_mesh_uvs[i1], mgr_mesh_uvs[i2], p);\n",
+        );
+    }
     let call = if shader.attributes.is_empty() {
         "mg_material()"
     } else {
@@ -145,6 +151,8 @@ fn mgr_material_fs(
             Attribute::Depth => "mgr_water_depth(p)".to_owned(),
             Attribute::Light => "light".to_owned(),
             Attribute::LightColor => "light_color".to_owned(),
+            Attribute::UvDx => "uv_d.xy".to_owned(),
+            Attribute::UvDy => "uv_d.zw".to_owned(),
             a => default_literal(*a),
         };
         s.push_str(&format!("    geom.{} = {e};\n", a.name()));

@@ -294,3 +294,43 @@ fn mgr_water_depth(p: vec3<f32>) -> f32 {
 fn mgr_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
+
+// gbuffer.rs uv_derivatives (there in f64): the screen-space derivatives (∂uv/∂x, ∂uv/∂y)
+// per pixel of the uv of the triangle (p0, p1, p2) with uvs (u0, u1, u2) at its point p,
+// from the camera ray and the triangle's plane; (dx, dy) packed in a vec4.
+fn mgr_uv_derivatives(
+    p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
+    u0: vec2<f32>, u1: vec2<f32>, u2: vec2<f32>,
+    p: vec3<f32>,
+) -> vec4<f32> {
+    let f = mgr_frame;
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let du1 = u1 - u0;
+    let du2 = u2 - u0;
+    let n = cross(e1, e2);
+    let d = p - f.origin;
+    let nd = dot(n, d);
+    let g11 = dot(e1, e1);
+    let g12 = dot(e1, e2);
+    let g22 = dot(e2, e2);
+    let det = g11 * g22 - g12 * g12;
+    if (nd == 0.0 || det == 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let s = dot(d, f.forward);
+    let dd = array<vec3<f32>, 2>(
+        f.right * (2.0 * f.tan_half_y * f.aspect / f.width),
+        -f.up * (2.0 * f.tan_half_y / f.height),
+    );
+    var out = array<vec2<f32>, 2>();
+    for (var k = 0; k < 2; k++) {
+        let dp = s * (dd[k] - d * (dot(n, dd[k]) / nd));
+        let r1 = dot(e1, dp);
+        let r2 = dot(e2, dp);
+        let a = (g22 * r1 - g12 * r2) / det;
+        let b = (g11 * r2 - g12 * r1) / det;
+        out[k] = du1 * a + du2 * b;
+    }
+    return vec4<f32>(out[0], out[1]);
+}
