@@ -47,9 +47,12 @@ pub struct Args {
     /// Samples per pixel (stratified, box-filtered).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub samples: u32,
-    /// Evaluate the material on the GPU (wgpu; any adapter, lavapipe included).
-    #[arg(long, conflicts_with = "cpu")]
+    /// Render on the GPU (wgpu render pipelines; any adapter, lavapipe included).
+    #[arg(long, conflicts_with_all = ["cpu", "gpu_compute"])]
     pub gpu: bool,
+    /// Rasterise on the CPU and shade the G-buffer on the GPU (the hybrid path).
+    #[arg(long, conflicts_with = "cpu")]
+    pub gpu_compute: bool,
     /// Evaluate the material on the CPU (the default).
     #[arg(long)]
     pub cpu: bool,
@@ -224,6 +227,8 @@ pub fn run(args: &Args) -> CliResult {
     }
     let backend = if args.gpu {
         matgraph::gpu::Backend::Gpu
+    } else if args.gpu_compute {
+        matgraph::gpu::Backend::GpuCompute
     } else {
         matgraph::gpu::Backend::Cpu
     };
@@ -285,9 +290,14 @@ pub fn run(args: &Args) -> CliResult {
                     scene.time = t;
                 }
                 let start = std::time::Instant::now();
-                let (hdr, _) = render_timed(&graph, &scene, &options)
+                let (hdr, timings) = render_timed(&graph, &scene, &options)
                     .map_err(|e| with_reserve(e, reserve))
                     .map_err(|e| format!("{}: {e}", file.display()))?;
+                if k == 0
+                    && let Some(why) = &timings.fallback
+                {
+                    progress.suspend(|| eprintln!("note: {}: {why}", file.display()));
+                }
                 let elapsed = start.elapsed();
                 let image = hdr.to_srgb8(args.exposure);
                 let still = match (&frames, &target) {
@@ -328,7 +338,11 @@ pub fn run(args: &Args) -> CliResult {
                             image.width,
                             image.height,
                             args.samples,
-                            if args.gpu { "gpu" } else { "cpu" },
+                            match (args.gpu, args.gpu_compute, timings.fallback.is_some()) {
+                                (true, _, false) => "gpu",
+                                (true, _, true) | (_, true, _) => "gpu-compute",
+                                _ => "cpu",
+                            },
                             elapsed.as_secs_f64(),
                             at.unwrap_or_default()
                         )

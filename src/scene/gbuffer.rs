@@ -72,6 +72,22 @@ fn uv_derivatives(mesh: &Mesh, tri: u32, p: Vec3, cam: &CameraFrame) -> (glam::V
 /// Samples per parallel block when filling attribute columns.
 const BLOCK: usize = 4096;
 
+thread_local! {
+    /// Frames this thread has prepared for the CPU rasteriser.
+    static CPU_RASTER_FRAMES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// How many frames the calling thread has rasterised on the CPU so far (G-buffer frames and
+/// scene-texture passes): the proof that `render --gpu` rasterises on the GPU alone.
+pub fn cpu_raster_frames() -> usize {
+    CPU_RASTER_FRAMES.with(|c| c.get())
+}
+
+/// Counts one CPU-rasterised frame of the calling thread.
+pub(crate) fn count_cpu_raster_frame() {
+    CPU_RASTER_FRAMES.with(|c| c.set(c.get() + 1));
+}
+
 /// The material surface's samples of one frame, or of a band of its rows
 /// ([`GBufferFrame::rows`]).
 ///
@@ -228,6 +244,7 @@ impl<'a> GBufferFrame<'a> {
         image: Option<&'a EnvLookup>,
     ) -> GBufferFrame<'a> {
         assert!(spp >= 1, "Scene::gbuffer: spp must be at least 1");
+        count_cpu_raster_frame();
         assert!(
             mesh.is_consistent(),
             "Scene::gbuffer: the material mesh has attribute arrays of different lengths or an index out of range"

@@ -74,6 +74,7 @@ mod light;
 mod lod;
 mod mesh;
 mod objects;
+mod packed;
 mod raster;
 mod shade;
 mod snell;
@@ -86,7 +87,7 @@ pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
 };
 pub use error::SceneError;
-pub use gbuffer::{GBuffer, GBufferFrame};
+pub use gbuffer::{GBuffer, GBufferFrame, cpu_raster_frames};
 pub use image::SceneImage;
 pub use kind::{
     Backdrop, BallSetup, BoxObject, BubbleSetup, PoleObject, SceneKind, Seabed, SphereObject,
@@ -95,7 +96,8 @@ pub use kind::{
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
-pub use raster::sample_offsets;
+pub(crate) use packed::{PackedScene, ScenePass};
+pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;
 
