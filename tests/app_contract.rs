@@ -86,6 +86,10 @@ struct PixelGeometry {
     uv: [f32; 2],
     view: [f32; 3],
     screen_uv: [f32; 2],
+    /// ∂uv/∂x and ∂uv/∂y per pixel (x right, y down), central differences of the f64 rays
+    /// over ±1/128 pixel.
+    uv_dx: [f32; 2],
+    uv_dy: [f32; 2],
     lights: Vec<([f32; 3], [f32; 3])>,
 }
 
@@ -124,6 +128,15 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
             }
             let p = hit(fx + 0.5, fy + 0.5).unwrap();
             let v = (eye - p).normalize();
+            let e = 1.0 / 128.0;
+            let derivative = |(ax, ay): (f64, f64), (bx, by): (f64, f64)| -> [f32; 2] {
+                let (a, b) = (hit(ax, ay).unwrap(), hit(bx, by).unwrap());
+                let k = 1.0 / (2.0 * e * 3.0);
+                [((b.x - a.x) * k) as f32, ((b.z - a.z) * k) as f32]
+            };
+            let (cx, cy) = (fx + 0.5, fy + 0.5);
+            let uv_dx = derivative((cx - e, cy), (cx + e, cy));
+            let uv_dy = derivative((cx, cy - e), (cx, cy + e));
             let lights = setup
                 .lights
                 .iter()
@@ -155,6 +168,8 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
                     ((fx + 0.5) / w as f64) as f32,
                     ((fy + 0.5) / h as f64) as f32,
                 ],
+                uv_dx,
+                uv_dy,
                 lights,
             });
         }
@@ -207,6 +222,12 @@ fn cpu_pixels(
     batch.set_planar(Attribute::Uv, planar2(&|p| p.uv)).unwrap();
     batch
         .set_planar(Attribute::ScreenUv, planar2(&|p| p.screen_uv))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDx, planar2(&|p| p.uv_dx))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDy, planar2(&|p| p.uv_dy))
         .unwrap();
     batch.set_time(setup.time);
     batch.set_textures(Arc::new(textures.clone()));
