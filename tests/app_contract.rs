@@ -86,6 +86,10 @@ struct PixelGeometry {
     uv: [f32; 2],
     view: [f32; 3],
     screen_uv: [f32; 2],
+    /// ∂uv/∂x and ∂uv/∂y per pixel (x right, y down) as the fragment stage's `dpdx(uv)` and
+    /// `dpdy(uv)` give them: differences across the pixel's 2 × 2 quad, from the f64 rays.
+    uv_dx: [f32; 2],
+    uv_dy: [f32; 2],
     lights: Vec<([f32; 3], [f32; 3])>,
 }
 
@@ -109,6 +113,16 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
         let p = a + d * t;
         (t > 0.0 && p.x.abs() <= 1.5 && p.z.abs() <= 1.5).then_some(p)
     };
+    // The plane's point under (px, py) also outside its edges (for the quad differences).
+    let hit_any = |px: f64, py: f64| -> DVec3 {
+        let ndc = |z: f64| {
+            let p = inv * DVec4::new(2.0 * px / w as f64 - 1.0, 1.0 - 2.0 * py / h as f64, z, 1.0);
+            p.truncate() / p.w
+        };
+        let (a, b) = (ndc(0.0), ndc(1.0));
+        let d = b - a;
+        a - d * (a.y / d.y)
+    };
     let mut out = Vec::new();
     for y in 0..h {
         for x in 0..w {
@@ -124,6 +138,16 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
             }
             let p = hit(fx + 0.5, fy + 0.5).unwrap();
             let v = (eye - p).normalize();
+            let derivative = |(ax, ay): (f64, f64), (bx, by): (f64, f64)| -> [f32; 2] {
+                let (a, b) = (hit_any(ax, ay), hit_any(bx, by));
+                [((b.x - a.x) / 3.0) as f32, ((b.z - a.z) / 3.0) as f32]
+            };
+            // The fine derivatives of the 2 × 2 quad (lavapipe's dpdx and dpdy): the uv
+            // difference between the quad's two pixel centres along x on this row, along y
+            // in this column.
+            let (qx, qy) = ((x & !1) as f64 + 0.5, (y & !1) as f64 + 0.5);
+            let uv_dx = derivative((qx, fy + 0.5), (qx + 1.0, fy + 0.5));
+            let uv_dy = derivative((fx + 0.5, qy), (fx + 0.5, qy + 1.0));
             let lights = setup
                 .lights
                 .iter()
@@ -155,6 +179,8 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
                     ((fx + 0.5) / w as f64) as f32,
                     ((fy + 0.5) / h as f64) as f32,
                 ],
+                uv_dx,
+                uv_dy,
                 lights,
             });
         }
@@ -207,6 +233,12 @@ fn cpu_pixels(
     batch.set_planar(Attribute::Uv, planar2(&|p| p.uv)).unwrap();
     batch
         .set_planar(Attribute::ScreenUv, planar2(&|p| p.screen_uv))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDx, planar2(&|p| p.uv_dx))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDy, planar2(&|p| p.uv_dy))
         .unwrap();
     batch.set_time(setup.time);
     batch.set_textures(Arc::new(textures.clone()));
