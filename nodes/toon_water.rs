@@ -144,7 +144,7 @@ fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
 const NORMALIZE_WGSL: &str = r#"
 fn mg_tw_normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let l2 = dot(v, v);
-    if (l2 > 0.0 && l2 <= 3.4028235e38) {
+    if (l2 > 0.0 && l2 <= 0x1.fffffep+127f) {
         return v / sqrt(l2);
     }
     return fallback;
@@ -507,7 +507,7 @@ fn mg_tw_wave(acc: MgTwGerstner, p: vec3<f32>, t: f32, d: vec2<f32>, wavelength:
     let l2 = dot(d, d);
     var dx = 1.0;
     var dz = 0.0;
-    if (l2 > 0.0 && l2 <= 3.4028235e38) {
+    if (l2 > 0.0 && l2 <= 0x1.fffffep+127f) {
         let l = sqrt(l2);
         dx = d.x / l;
         dz = d.y / l;

@@ -1012,7 +1012,7 @@ fn every_bundled_graph_evaluates() {
             .filter(|p| p.extension().is_some_and(|e| e == "json"))
             .collect();
     graphs.sort();
-    assert_eq!(graphs.len(), 11, "{graphs:?}");
+    assert_eq!(graphs.len(), 18, "{graphs:?}");
     for path in &graphs {
         let p = path.to_str().unwrap();
         let graph = matgraph::io::load_graph(path, Registry::builtin()).unwrap();
