@@ -26,7 +26,9 @@ fn waves_at(s: f32) -> Vec<Wave> {
 }
 
 fn normal_error() {
-    println!("## GPU Gems normal vs exact (scene wave set, 200 x 200 points over 80 m x 80 m, t = 0, 5, 10 s)");
+    println!(
+        "## GPU Gems normal vs exact (scene wave set, 200 x 200 points over 80 m x 80 m, t = 0, 5, 10 s)"
+    );
     println!("| Σ Q k a | mean (deg) | max (deg) |");
     println!("|---|---|---|");
     for s in [0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0] {
@@ -50,7 +52,9 @@ fn normal_error() {
 
 fn depth_difference() {
     println!("\n## paper exp(-sqrt(k d)) vs Beer-Lambert exp(-k d), half-lives (2, 12, 90) m");
-    println!("| depth (m) | paper RGB | Beer-Lambert RGB | max abs diff | CIE76 ΔE (linear RGB → Lab) |");
+    println!(
+        "| depth (m) | paper RGB | Beer-Lambert RGB | max abs diff | CIE76 ΔE (linear RGB → Lab) |"
+    );
     println!("|---|---|---|---|---|");
     let h = Vec3::new(2.0, 12.0, 90.0);
     for d in [3.0f32, 35.0, 85.0, 135.0, 156.0, 185.0] {
@@ -95,7 +99,9 @@ fn lod() {
     let size = Vec2::new(80.0, 80.0);
     let eye = Vec3::new(0.0, 3.0, 18.0);
     let uniform_vertices = 257 * 257;
-    println!("| split_distance | vertices | triangles | of uniform | height RMS (mm) | height max (mm) | max within 10 m of the camera (mm) |");
+    println!(
+        "| split_distance | vertices | triangles | of uniform | height RMS (mm) | height max (mm) | max within 10 m of the camera (mm) |"
+    );
     println!("|---|---|---|---|---|---|---|");
     let waves = waves_at(0.59);
     for split in [1.0f32, 1.5, 2.0, 3.0] {
@@ -115,7 +121,11 @@ fn lod() {
             )
         };
         let height = |i: i64, j: i64| {
-            let p = Vec3::new(-40.0 + 80.0 * i as f32 / cells as f32, 0.0, 40.0 - 80.0 * j as f32 / cells as f32);
+            let p = Vec3::new(
+                -40.0 + 80.0 * i as f32 / cells as f32,
+                0.0,
+                40.0 - 80.0 * j as f32 / cells as f32,
+            );
             gerstner(p, 2.0, &waves).offset.y as f64
         };
         let hv: Vec<f64> = mesh
@@ -130,12 +140,21 @@ fn lod() {
         for t in &mesh.indices {
             let v = t.map(|k| key(mesh.positions[k as usize]));
             let h = t.map(|k| hv[k as usize]);
-            let (x0, x1) = (v.iter().map(|p| p.0).min().unwrap(), v.iter().map(|p| p.0).max().unwrap());
-            let (y0, y1) = (v.iter().map(|p| p.1).min().unwrap(), v.iter().map(|p| p.1).max().unwrap());
-            let area = ((v[1].0 - v[0].0) * (v[2].1 - v[0].1) - (v[2].0 - v[0].0) * (v[1].1 - v[0].1)) as f64;
+            let (x0, x1) = (
+                v.iter().map(|p| p.0).min().unwrap(),
+                v.iter().map(|p| p.0).max().unwrap(),
+            );
+            let (y0, y1) = (
+                v.iter().map(|p| p.1).min().unwrap(),
+                v.iter().map(|p| p.1).max().unwrap(),
+            );
+            let area = ((v[1].0 - v[0].0) * (v[2].1 - v[0].1)
+                - (v[2].0 - v[0].0) * (v[1].1 - v[0].1)) as f64;
             for j in y0..=y1 {
                 for i in x0..=x1 {
-                    let w = |a: (i64, i64), b: (i64, i64)| ((b.0 - a.0) * (j - a.1) - (i - a.0) * (b.1 - a.1)) as f64 / area;
+                    let w = |a: (i64, i64), b: (i64, i64)| {
+                        ((b.0 - a.0) * (j - a.1) - (i - a.0) * (b.1 - a.1)) as f64 / area
+                    };
                     let (w0, w1, w2) = (w(v[1], v[2]), w(v[2], v[0]), w(v[0], v[1]));
                     if w0 >= 0.0 && w1 >= 0.0 && w2 >= 0.0 {
                         interp[(j * (cells + 1) + i) as usize] = w0 * h[0] + w1 * h[1] + w2 * h[2];
@@ -150,7 +169,10 @@ fn lod() {
                 assert!(e.is_finite(), "uncovered lattice point ({i}, {j})");
                 sq += e * e;
                 max = max.max(e);
-                let (x, z) = (-40.0 + 80.0 * i as f32 / 256.0, 40.0 - 80.0 * j as f32 / 256.0);
+                let (x, z) = (
+                    -40.0 + 80.0 * i as f32 / 256.0,
+                    40.0 - 80.0 * j as f32 / 256.0,
+                );
                 if ((x - eye.x).powi(2) + (z - eye.z).powi(2)).sqrt() < 10.0 {
                     near = near.max(e);
                 }
@@ -176,14 +198,19 @@ fn cost() {
     use matgraph::render::{RenderOptions, graph_scene, render_timed};
     let runs = 5;
     println!("\n## render cost, 640 x 480, 1 spp, median of {runs} (after one warm-up)");
-    println!("| graph | backend | total (ms) | fps | displace (ms) | gbuffer + maps (ms) | shade (ms) | vs paper's water |");
+    println!(
+        "| graph | backend | total (ms) | fps | displace (ms) | gbuffer + maps (ms) | shade (ms) | vs paper's water |"
+    );
     println!("|---|---|---|---|---|---|---|---|");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
     for backend in [Backend::Cpu, Backend::Gpu] {
         let mut paper_ms = 0.0;
         for name in ["water_toon_day", "water_toon_eden", "water_toon_you"] {
-            let graph = matgraph::io::load_graph(&dir.join(format!("{name}.json")), matgraph::Registry::builtin())
-                .expect("bundled graph");
+            let graph = matgraph::io::load_graph(
+                &dir.join(format!("{name}.json")),
+                matgraph::Registry::builtin(),
+            )
+            .expect("bundled graph");
             let scene = graph_scene(&graph).unwrap().unwrap();
             let options = RenderOptions {
                 width: 640,

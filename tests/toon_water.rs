@@ -137,7 +137,7 @@ fn exact_normal_matches_a_finite_difference_of_the_offset() {
             lambda,
             amp,
             0.0,
-            rng.f32(0.0, 6.28),
+            rng.f32(0.0, std::f32::consts::TAU),
         ));
     }
     let k_a: f32 = random
@@ -157,8 +157,8 @@ fn exact_normal_matches_a_finite_difference_of_the_offset() {
             worst = worst.max(angle(got, want));
             let p = surface_f64(set, x as f64, z as f64, t as f64);
             let off = [p[0] - x as f64, p[1], p[2] - z as f64];
-            for c in 0..3 {
-                worst_offset = worst_offset.max((g.offset[c] as f64 - off[c]).abs());
+            for (c, want) in off.iter().enumerate() {
+                worst_offset = worst_offset.max((g.offset[c] as f64 - want).abs());
             }
         }
     }
