@@ -54,6 +54,12 @@ fn main() -> Result<(), Box<dyn Error>> {
                 "storage array<vec2<u32>>: textures {:?} in this order",
                 shader.textures
             ),
+            Binding::Frame => "uniform MgFrame: camera, viewport, time, light count".into(),
+            Binding::Lights => "storage array<MgLight>: the lights".into(),
+            Binding::Sampler(wrap, filter) => format!("sampler: {wrap:?} wrap, {filter:?} filter"),
+            Binding::Texture(k) => {
+                format!("texture_2d<f32>: {:?}", shader.textures.get(*k as usize))
+            }
         };
         println!("// binding {binding}: {what}");
     }

@@ -15,7 +15,13 @@ fn identity_variants(t: NodeType) -> NodeType {
 
 /// The input-family node types.
 pub fn all() -> Vec<NodeType> {
-    vec![constant(), parameter(), geometry(), time()]
+    vec![
+        constant(),
+        parameter(),
+        geometry(),
+        time(),
+        uv_derivatives(),
+    ]
 }
 
 fn constant() -> NodeType {
@@ -103,4 +109,24 @@ fn time() -> NodeType {
     .output(Out::float("time").unit("s").doc("Time in seconds."))
     .attributes(&[Attribute::Time])
     .compute(|| 0.0f32)
+}
+
+fn uv_derivatives() -> NodeType {
+    NodeType::new(
+        "uv_derivatives",
+        Category::Geometry,
+        "Screen-space derivatives of the surface uv, per pixel.",
+    )
+    .source(
+        "uv_dx = ∂uv/∂x and uv_dy = ∂uv/∂y, x the pixel column growing to the right and y the \
+         pixel row growing downwards (WGSL framebuffer coordinates), in uv units per pixel: what \
+         dpdx(uv) and dpdy(uv) estimate in a fragment shader. The CPU G-buffer computes them \
+         exactly at each sample from the camera ray and the plane of the triangle hit \
+         (crate::node::Attribute::UvDx). Feed them to mip_level to choose a mip level the same \
+         way on every path.",
+    )
+    .output(Out::vec2("uv_dx").doc("∂uv/∂x: uv change per pixel to the right."))
+    .output(Out::vec2("uv_dy").doc("∂uv/∂y: uv change per pixel downwards."))
+    .attributes(&[Attribute::UvDx, Attribute::UvDy])
+    .compute(|| (Vec2::ZERO, Vec2::ZERO))
 }

@@ -253,7 +253,8 @@ fn length_rescaled<T: Vector>(v: T, l: f32) -> f32 {
         l
     }
 }
-fn normalize<T: Vector>(v: T) -> T {
+/// `v / |v|`, rescaled where the squares overflow or underflow; 0 for a zero vector.
+pub fn normalize<T: Vector>(v: T) -> T {
     let l = v.dot_(v).sqrt();
     if l.is_finite() && l >= SCALE_BELOW {
         v * T::splat(1.0 / l)

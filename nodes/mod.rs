@@ -1,13 +1,18 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod bubble;
 pub mod image;
 pub mod input;
 pub mod math;
+pub mod math_scalar;
+pub mod math_vector;
 pub mod optics;
 pub mod pbr;
 pub mod skin;
+pub mod sunshine;
 pub mod texture;
+pub mod thin_film;
 pub mod toon_water;
 
 use crate::node::NodeType;
@@ -17,11 +22,16 @@ pub fn all() -> Vec<NodeType> {
     let mut v = Vec::new();
     v.extend(input::all());
     v.extend(math::all());
+    v.extend(math_scalar::all());
+    v.extend(math_vector::all());
     v.extend(optics::all());
+    v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());
+    v.extend(sunshine::all());
     v.extend(toon_water::all());
     v
 }

@@ -15,6 +15,7 @@ pub mod graph;
 pub mod image_io;
 pub mod io;
 pub mod kernel;
+pub mod material;
 pub mod node;
 pub mod plan;
 pub mod pretty;

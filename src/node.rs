@@ -39,6 +39,8 @@ pub enum Category {
     Skin,
     /// Physically based rendering (seed 003).
     Pbr,
+    /// The soap bubble (seed 000).
+    Bubble,
     /// Procedural and image textures (noise, checker, ramp).
     Texture,
     /// Cartoon water and waves (seed 004).
@@ -57,6 +59,7 @@ impl Category {
             Category::Optics => "optics",
             Category::Skin => "skin",
             Category::Pbr => "pbr",
+            Category::Bubble => "bubble",
             Category::Texture => "texture",
             Category::Water => "water",
         }
@@ -328,10 +331,26 @@ pub enum Attribute {
     Depth,
     /// Time in seconds; the same for every sample of a batch.
     Time,
+    /// Screen-space derivative of [`Attribute::Uv`] along the pixel x axis: `∂uv/∂x`, in uv
+    /// units per pixel, where x is the framebuffer column coordinate in pixels, growing to the
+    /// right (WGSL framebuffer coordinates, `@builtin(position).x`). It is what WGSL's
+    /// `dpdx(uv)` estimates in a fragment shader (a difference across the 2 × 2 quad; WGSL
+    /// "Derivative Built-in Functions" section), taken here exactly at the sample: the CPU
+    /// G-buffer computes it analytically from the camera and the plane of the triangle (see
+    /// `scene::GBuffer`). Its sign follows uv: on the water plane (u along +x) a camera
+    /// looking towards −z sees `∂u/∂x > 0`. (0, 0) when the caller supplies none.
+    UvDx,
+    /// Screen-space derivative of [`Attribute::Uv`] along the pixel y axis: `∂uv/∂y`, in uv
+    /// units per pixel, where y is the framebuffer row coordinate in pixels, growing
+    /// **downwards** (top-left origin, as `@builtin(position).y` in WGSL and as
+    /// [`Attribute::ScreenUv`]). What `dpdy(uv)` estimates in a fragment shader; computed
+    /// exactly at the sample on the CPU. On the water plane seen from above (v along −z, the
+    /// far side at the top of the image) `∂v/∂y < 0`. (0, 0) when the caller supplies none.
+    UvDy,
 }
 
 /// Every attribute, in declaration order.
-pub const ALL_ATTRIBUTES: [Attribute; 9] = [
+pub const ALL_ATTRIBUTES: [Attribute; 11] = [
     Attribute::Position,
     Attribute::Normal,
     Attribute::View,
@@ -341,6 +360,8 @@ pub const ALL_ATTRIBUTES: [Attribute; 9] = [
     Attribute::ScreenUv,
     Attribute::Depth,
     Attribute::Time,
+    Attribute::UvDx,
+    Attribute::UvDy,
 ];
 
 impl Attribute {
@@ -356,6 +377,8 @@ impl Attribute {
             Attribute::ScreenUv => "screen_uv",
             Attribute::Depth => "depth",
             Attribute::Time => "time",
+            Attribute::UvDx => "uv_dx",
+            Attribute::UvDy => "uv_dy",
         }
     }
     /// Parses a name written by [`Attribute::name`].
@@ -365,7 +388,9 @@ impl Attribute {
     /// The attribute's type.
     pub const fn ty(self) -> SocketType {
         match self {
-            Attribute::Uv | Attribute::ScreenUv => SocketType::Vec2,
+            Attribute::Uv | Attribute::ScreenUv | Attribute::UvDx | Attribute::UvDy => {
+                SocketType::Vec2
+            }
             Attribute::LightColor => SocketType::Color,
             Attribute::Time | Attribute::Depth => SocketType::Float,
             _ => SocketType::Vec3,
@@ -377,7 +402,7 @@ impl Attribute {
     }
     /// The value used when the caller supplies none: the origin, a +z normal, view and
     /// light straight above (normal incidence), uv and screen uv (0.5, 0.5), white light,
-    /// depth 0, time 0.
+    /// depth 0, time 0, uv derivatives (0, 0).
     pub const fn default_value(self) -> Value {
         match self {
             Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
@@ -385,6 +410,7 @@ impl Attribute {
             Attribute::Uv | Attribute::ScreenUv => Value::vec2([0.5, 0.5]),
             Attribute::LightColor => Value::color([1.0, 1.0, 1.0]),
             Attribute::Depth | Attribute::Time => Value::float(0.0),
+            Attribute::UvDx | Attribute::UvDy => Value::vec2([0.0, 0.0]),
         }
     }
 }

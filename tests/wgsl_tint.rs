@@ -1,6 +1,6 @@
 //! Tint, the WGSL compiler of Chrome, Edge and every Dawn-based app (an implementation
 //! independent of naga), on every bundled graph's module for both entry points (parameters as
-//! uniforms and baked), through
+//! uniforms and baked) and on every node type's parity harness (each generic type), through
 //! `tests/tint/check.mjs` (Dawn's node bindings, `npm ci --prefix tests/tint`). Without node or
 //! the package each test prints `SKIPPED ...`; with `MATGRAPH_REQUIRE_TOOLS` set (CI sets it)
 //! it fails instead.
@@ -9,8 +9,9 @@ mod common;
 use common::tint::{Diagnostic, Tint};
 use common::{bundled_graphs, print_warning, tool_or_skip};
 
-use matgraph::wgsl::{Entry, WgslOptions, generate};
-use matgraph::{PlanOptions, Registry};
+use matgraph::node::Evaluation;
+use matgraph::wgsl::{Entry, ShaderError, WgslOptions, generate, node_harness};
+use matgraph::{PlanOptions, Registry, SocketType};
 use std::path::PathBuf;
 
 /// The errors among `diagnostics`, after printing the warnings so that they show.
@@ -72,6 +73,93 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
     assert!(
         report.is_empty(),
         "Tint rejects {} of {} modules:\n{}",
+        report.len(),
+        files.len(),
+        report.join("\n")
+    );
+}
+
+/// Every node type's WGSL, in the harness the parity suite runs (one module per node and
+/// generic type): nodes no bundled graph uses are compiled by Tint too.
+#[test]
+fn tint_accepts_every_node_harness() {
+    const TEST: &str = "tint_accepts_every_node_harness";
+    let Some(tint) = tool_or_skip(TEST, Tint::find()) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for t in Registry::builtin().types() {
+        if t.evaluation() != Evaluation::Compute {
+            continue;
+        }
+        let generics = if t.is_generic() {
+            t.generic_types()
+                .into_iter()
+                .filter(|g| *g != SocketType::Color)
+                .collect()
+        } else {
+            vec![SocketType::Float]
+        };
+        for g in generics {
+            let m = match node_harness(t, g) {
+                Ok(m) => m,
+                Err(ShaderError::MissingWgsl { .. }) => continue, // gpu_parity reports these
+                Err(e) => panic!("{} ({g}): {e}", t.name()),
+            };
+            let file = dir.path().join(format!("{}.{g}.wgsl", t.name()));
+            std::fs::write(&file, &m.source).unwrap();
+            files.push(file);
+        }
+    }
+    assert!(files.len() > 50, "only {} harnesses", files.len());
+    let found = errors(TEST, tint.check(&files).unwrap_or_else(|e| panic!("{e}")));
+    let report: Vec<String> = found.iter().map(|d| d.to_string()).collect();
+    assert!(
+        report.is_empty(),
+        "Tint rejects {} of {} node harnesses:\n{}",
+        report.len(),
+        files.len(),
+        report.join("\n")
+    );
+}
+
+/// The app contract's modules (docs/integration.md): every bundled graph's render module
+/// (Tint compiles it and Dawn builds a render pipeline from its own `mg_vertex` and
+/// `mg_fragment` at WebGPU's default limits) and library module, in both texture modes. A
+/// binding count over a default per-stage limit fails here: the contract must fit them.
+#[test]
+fn tint_accepts_every_bundled_graph_as_a_material_at_default_limits() {
+    const TEST: &str = "tint_accepts_every_bundled_graph_as_a_material_at_default_limits";
+    use matgraph::material::{Material, MaterialOptions};
+    use matgraph::wgsl::TextureMode;
+    let Some(tint) = checker(TEST) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for mode in [TextureMode::Hardware, TextureMode::Exact] {
+            let m = Material::new(
+                &graph,
+                &MaterialOptions {
+                    textures: mode,
+                    ..MaterialOptions::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            for (kind, source) in [("render", m.wgsl()), ("library", m.library_wgsl())] {
+                let name = format!("{}.{kind}.{}.wgsl", graph.name, mode.name());
+                files.push(write(&dir, &name, source));
+            }
+        }
+    }
+    let found = tint.check(&files).unwrap_or_else(|e| panic!("{e}"));
+    let report: Vec<String> = found.iter().map(|d| d.to_string()).collect();
+    assert!(
+        report.is_empty(),
+        "Tint/Dawn report {} problems in {} modules:\n{}",
         report.len(),
         files.len(),
         report.join("\n")

@@ -72,6 +72,11 @@ impl GpuPlan {
                     Binding::TextureTexels | Binding::TextureLevels | Binding::TextureTable => {
                         wgpu::BufferBindingType::Storage { read_only: true }
                     }
+                    // Only the render and library modules bind these; a compute module never does.
+                    Binding::Frame
+                    | Binding::Lights
+                    | Binding::Sampler(..)
+                    | Binding::Texture(_) => wgpu::BufferBindingType::Storage { read_only: true },
                 };
                 (*b, ty)
             })
@@ -306,6 +311,12 @@ impl GpuPlan {
                     Binding::TextureTexels => &textures?[0],
                     Binding::TextureLevels => &textures?[1],
                     Binding::TextureTable => &textures?[2],
+                    Binding::Frame
+                    | Binding::Lights
+                    | Binding::Sampler(..)
+                    | Binding::Texture(_) => {
+                        return None;
+                    }
                 };
                 Some(wgpu::BindGroupEntry {
                     binding: *binding,

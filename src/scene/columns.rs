@@ -19,7 +19,7 @@ impl Scene {
     pub fn water_depth(&self, p: Vec3) -> f32 {
         match &self.kind {
             SceneKind::Water(w) => (p.y + w.seabed_depth(p.x, p.z)).max(0.0),
-            SceneKind::Ball(_) => 0.0,
+            SceneKind::Ball(_) | SceneKind::Bubble(_) => 0.0,
         }
     }
 

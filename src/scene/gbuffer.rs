@@ -20,8 +20,73 @@ use super::shade::{Prepared, Shading, shade_frame};
 use crate::exec::SampleBatch;
 use crate::node::Attribute;
 
+/// The screen-space derivatives `(∂uv/∂x, ∂uv/∂y)` of the uv of triangle `tri` of `mesh` at
+/// its point `p`, per pixel (x to the right, y downwards; see [`Attribute::UvDx`]), exact for
+/// the flat triangle: analytic, from the camera ray and the triangle's plane, in f64.
+///
+/// The ray through pixel coordinates (px, py) is `o + s·D` with
+/// `D = forward + right·(2px/w − 1)·tan(fov/2)·aspect + up·(1 − 2py/h)·tan(fov/2)`; it meets
+/// the plane `n·(x − P0) = 0` at `s = n·(P0 − o)/(n·D)`, so with `d = p − o = s·D` and
+/// `s = d·forward` (since `D·forward = 1`), `∂p/∂px = s·(D_x − d·(n·D_x)/(n·d))` where
+/// `D_x = ∂D/∂px = right·2·tan(fov/2)·aspect/w` (and `D_y = −up·2·tan(fov/2)/h`). A step `δp`
+/// in the plane is `a·e1 + b·e2` over the edges `e1 = P1 − P0`, `e2 = P2 − P0` (solved with
+/// their Gram matrix) and moves uv by `a·(uv1 − uv0) + b·(uv2 − uv0)`.
+///
+/// Analytic rather than differences of neighbouring samples: it is defined at every sample,
+/// also where the neighbour is another object or off the surface's edge, does not depend on
+/// the sample pattern, and is what `dpdx`/`dpdy` approximate (they difference the 2 × 2
+/// pixel quad, first-order accurate). A degenerate or edge-on triangle (never rasterised)
+/// gives (0, 0).
+fn uv_derivatives(mesh: &Mesh, tri: u32, p: Vec3, cam: &CameraFrame) -> (glam::Vec2, glam::Vec2) {
+    use glam::{DVec2, DVec3};
+    let [i0, i1, i2] = mesh.indices[tri as usize].map(|i| i as usize);
+    let at = |i: usize| mesh.positions[i].as_dvec3();
+    let (p0, p1, p2) = (at(i0), at(i1), at(i2));
+    let (e1, e2) = (p1 - p0, p2 - p0);
+    let (du1, du2) = (
+        (mesh.uvs[i1] - mesh.uvs[i0]).as_dvec2(),
+        (mesh.uvs[i2] - mesh.uvs[i0]).as_dvec2(),
+    );
+    let n = e1.cross(e2);
+    let d = p.as_dvec3() - cam.origin.as_dvec3();
+    let nd = n.dot(d);
+    let (g11, g12, g22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = g11 * g22 - g12 * g12;
+    if nd == 0.0 || det == 0.0 {
+        return (glam::Vec2::ZERO, glam::Vec2::ZERO);
+    }
+    let s = d.dot(cam.forward.as_dvec3());
+    let tan = cam.tan_half_y as f64;
+    let dx = cam.right.as_dvec3() * (2.0 * tan * cam.aspect as f64 / cam.width as f64);
+    let dy = -cam.up.as_dvec3() * (2.0 * tan / cam.height as f64);
+    let duv = |dd: DVec3| -> DVec2 {
+        let dp = s * (dd - d * (n.dot(dd) / nd));
+        let (r1, r2) = (e1.dot(dp), e2.dot(dp));
+        let a = (g22 * r1 - g12 * r2) / det;
+        let b = (g11 * r2 - g12 * r1) / det;
+        du1 * a + du2 * b
+    };
+    (duv(dx).as_vec2(), duv(dy).as_vec2())
+}
+
 /// Samples per parallel block when filling attribute columns.
 const BLOCK: usize = 4096;
+
+thread_local! {
+    /// Frames this thread has prepared for the CPU rasteriser.
+    static CPU_RASTER_FRAMES: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// How many frames the calling thread has rasterised on the CPU so far (G-buffer frames and
+/// scene-texture passes): the proof that `render --gpu` rasterises on the GPU alone.
+pub fn cpu_raster_frames() -> usize {
+    CPU_RASTER_FRAMES.with(|c| c.get())
+}
+
+/// Counts one CPU-rasterised frame of the calling thread.
+pub(crate) fn count_cpu_raster_frame() {
+    CPU_RASTER_FRAMES.with(|c| c.set(c.get() + 1));
+}
 
 /// The material surface's samples of one frame, or of a band of its rows
 /// ([`GBufferFrame::rows`]).
@@ -55,7 +120,8 @@ pub struct GBuffer {
     /// `screen_uv` (`((x + jx) / width, (y + jy) / height)`), `depth` (water: vertical
     /// distance from the point down to the seabed, ≥ 0; ball: 0), `light` and `light_color`
     /// of the scene's first light (with shadows of the non-material objects; `+y` and black
-    /// when the scene has no light) and `time`.
+    /// when the scene has no light), `uv_dx` and `uv_dy` (∂uv per pixel along x and y,
+    /// computed analytically from the camera and the triangle's plane) and `time`.
     pub batch: SampleBatch,
     /// Linear radiance of every sample of the grid with the material surface removed
     /// (built-in shading of the backdrop, seabed and objects, and the environment).
@@ -178,6 +244,7 @@ impl<'a> GBufferFrame<'a> {
         image: Option<&'a EnvLookup>,
     ) -> GBufferFrame<'a> {
         assert!(spp >= 1, "Scene::gbuffer: spp must be at least 1");
+        count_cpu_raster_frame();
         assert!(
             mesh.is_consistent(),
             "Scene::gbuffer: the material mesh has attribute arrays of different lengths or an index out of range"
@@ -298,6 +365,8 @@ impl GBufferFrame<'_> {
             Attribute::Depth,
             Attribute::Light,
             Attribute::LightColor,
+            Attribute::UvDx,
+            Attribute::UvDy,
         ];
         let mut columns: Vec<Vec<f32>> = attrs
             .iter()
@@ -334,6 +403,7 @@ impl GBufferFrame<'_> {
                         Some(light) => light_at(light, casters, p),
                         None => (Vec3::Y, Vec3::ZERO),
                     };
+                    let (uv_dx, uv_dy) = uv_derivatives(mesh, f.tri, p, cam);
                     let values = [
                         p.x,
                         p.y,
@@ -355,6 +425,10 @@ impl GBufferFrame<'_> {
                         lc.x,
                         lc.y,
                         lc.z,
+                        uv_dx.x,
+                        uv_dx.y,
+                        uv_dy.x,
+                        uv_dy.y,
                     ];
                     for (col, v) in cols.iter_mut().zip(values) {
                         col[k] = v;

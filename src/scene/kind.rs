@@ -1,17 +1,19 @@
-//! The two kinds of scene and their own parameters: the material ball over a checkered
-//! backdrop, and a water plane over a procedural seabed with objects standing in it.
+//! The kinds of scene and their own parameters: the material ball over a checkered
+//! backdrop, a water plane over a procedural seabed with objects standing in it, and the
+//! soap bubble of seed 000 before its underwater backdrop ([`super::bubble`]).
 
 use glam::Vec3;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+pub use super::bubble::BubbleSetup;
 use super::environment::smoothstep;
 use super::lod::WaterLod;
 use super::snell::SnellRefraction;
 
-/// What the scene is. In JSON: `"ball"` or `"water"` (all parameters at their defaults), or
-/// `{"ball": {...}}` / `{"water": {...}}`.
+/// What the scene is. In JSON: `"ball"`, `"water"` or `"bubble"` (all parameters at their
+/// defaults), or `{"ball": {...}}` / `{"water": {...}}` / `{"bubble": {...}}`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SceneKind {
@@ -19,6 +21,8 @@ pub enum SceneKind {
     Ball(BallSetup),
     /// A water plane over a seabed.
     Water(WaterSetup),
+    /// A soap bubble moving before an underwater backdrop (seed 000).
+    Bubble(BubbleSetup),
 }
 
 impl Default for SceneKind {
@@ -28,16 +32,17 @@ impl Default for SceneKind {
 }
 
 impl SceneKind {
-    /// `"ball"` or `"water"`.
+    /// `"ball"`, `"water"` or `"bubble"`.
     pub fn name(&self) -> &'static str {
         match self {
             SceneKind::Ball(_) => "ball",
             SceneKind::Water(_) => "water",
+            SceneKind::Bubble(_) => "bubble",
         }
     }
 }
 
-const KINDS: &[&str] = &["ball", "water"];
+const KINDS: &[&str] = &["ball", "water", "bubble"];
 
 impl<'de> Deserialize<'de> for SceneKind {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -45,12 +50,13 @@ impl<'de> Deserialize<'de> for SceneKind {
         impl<'de> Visitor<'de> for KindVisitor {
             type Value = SceneKind;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#""ball", "water", {"ball": {...}} or {"water": {...}}"#)
+                f.write_str(r#""ball", "water", "bubble", or {"ball": {...}}, {"water": {...}}, {"bubble": {...}}"#)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<SceneKind, E> {
                 match v {
                     "ball" => Ok(SceneKind::Ball(BallSetup::default())),
                     "water" => Ok(SceneKind::Water(WaterSetup::default())),
+                    "bubble" => Ok(SceneKind::Bubble(BubbleSetup::default())),
                     other => Err(E::unknown_variant(other, KINDS)),
                 }
             }
@@ -61,11 +67,12 @@ impl<'de> Deserialize<'de> for SceneKind {
                 let kind = match key.as_str() {
                     "ball" => SceneKind::Ball(map.next_value()?),
                     "water" => SceneKind::Water(map.next_value()?),
+                    "bubble" => SceneKind::Bubble(map.next_value()?),
                     other => return Err(de::Error::unknown_variant(other, KINDS)),
                 };
                 if let Some(extra) = map.next_key::<String>()? {
                     return Err(de::Error::custom(format!(
-                        "a scene kind has one key (\"ball\" or \"water\"), found also `{extra}`"
+                        "a scene kind has one key (\"ball\", \"water\" or \"bubble\"), found also `{extra}`"
                     )));
                 }
                 Ok(kind)
@@ -242,7 +249,7 @@ impl Default for Seabed {
 
 /// The bumps of the seabed: `(amplitude, k_x, k_z, phase)` of each sine, wave numbers in
 /// rad/m (wavelengths of about 10 to 45 m).
-const BUMPS: [(f32, f32, f32, f32); 4] = [
+pub(crate) const BUMPS: [(f32, f32, f32, f32); 4] = [
     (1.0, 0.16, 0.09, 0.3),
     (0.7, -0.07, 0.21, 1.7),
     (0.45, 0.33, -0.27, 4.1),
@@ -251,6 +258,13 @@ const BUMPS: [(f32, f32, f32, f32); 4] = [
 
 /// Phase step per seed and bump index: the golden angle in radians.
 const SEED_PHASE: f32 = 2.399_963;
+
+/// The phase each bump gets from the seabed's seed: `seed · 2.399963 · (i + 1)` mod 2π.
+pub(crate) fn seed_phases(seed: u32) -> [f32; 4] {
+    std::array::from_fn(|i| {
+        (seed as f32 * SEED_PHASE * (i + 1) as f32).rem_euclid(std::f32::consts::TAU)
+    })
+}
 
 impl WaterSetup {
     /// Depth of the seabed below the water plane at `(x, z)`, metres:
@@ -267,9 +281,9 @@ impl WaterSetup {
     pub fn seabed_depth(&self, x: f32, z: f32) -> f32 {
         let s = &self.seabed;
         let (mut sum, mut norm) = (0.0, 0.0);
+        let phases = seed_phases(s.seed);
         for (i, (a, kx, kz, phase)) in BUMPS.iter().enumerate() {
-            let seed_phase =
-                (s.seed as f32 * SEED_PHASE * (i + 1) as f32).rem_euclid(std::f32::consts::TAU);
+            let seed_phase = phases[i];
             sum += a * (kx * x + kz * z + phase + seed_phase).sin();
             norm += a;
         }

@@ -15,8 +15,9 @@
 //! }
 //! ```
 //!
-//! - `kind`: `"ball"` or `"water"`, or `{"ball": {...}}` / `{"water": {...}}` with the
-//!   kind's parameters ([`BallSetup`], [`WaterSetup`]);
+//! - `kind`: `"ball"`, `"water"` or `"bubble"`, or `{"ball": {...}}` / `{"water": {...}}` /
+//!   `{"bubble": {...}}` with the kind's parameters ([`BallSetup`], [`WaterSetup`],
+//!   [`BubbleSetup`]);
 //! - `camera`: [`Camera`]; fields left out take the kind's default camera's;
 //! - `lights`: a list of [`Light`]s or preset names (`sunrise`, `day`, `sunset`, `night`);
 //!   left out, the kind's default lights ([`Scene::default_lights`]);
@@ -60,6 +61,7 @@
 //! # Ok::<(), matgraph::scene::SceneError>(())
 //! ```
 
+mod bubble;
 mod camera;
 mod columns;
 mod environment;
@@ -72,27 +74,30 @@ mod light;
 mod lod;
 mod mesh;
 mod objects;
+mod packed;
 mod raster;
 mod shade;
 mod snell;
 mod textures;
 mod validate;
 
+pub use bubble::{BubbleBackdrop, BubbleMaps, MAP_SIZE as BUBBLE_MAP_SIZE, bubble_maps};
 pub use camera::{Camera, CameraFrame, DEFAULT_NEAR};
 pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
 };
 pub use error::SceneError;
-pub use gbuffer::{GBuffer, GBufferFrame};
+pub use gbuffer::{GBuffer, GBufferFrame, cpu_raster_frames};
 pub use image::SceneImage;
 pub use kind::{
-    Backdrop, BallSetup, BoxObject, PoleObject, SceneKind, Seabed, SphereObject, WaterObject,
-    WaterSetup,
+    Backdrop, BallSetup, BoxObject, BubbleSetup, PoleObject, SceneKind, Seabed, SphereObject,
+    WaterObject, WaterSetup,
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
-pub use raster::sample_offsets;
+pub(crate) use packed::{PackedScene, ScenePass};
+pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;
 
@@ -100,7 +105,7 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// The names of the scene presets.
-pub const SCENE_PRESETS: [&str; 2] = ["ball", "water"];
+pub const SCENE_PRESETS: [&str; 3] = ["ball", "water", "bubble"];
 
 /// A scene: what is in it, seen by which camera, under which lights and sky, at what time.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -137,18 +142,21 @@ impl Scene {
         }
     }
 
-    /// The preset scene `"ball"` or `"water"` (every parameter at its default), or `None`.
+    /// The preset scene `"ball"`, `"water"` or `"bubble"` (every parameter at its default),
+    /// or `None`.
     pub fn preset(name: &str) -> Option<Scene> {
         match name {
             "ball" => Some(Scene::for_kind(SceneKind::Ball(BallSetup::default()))),
             "water" => Some(Scene::for_kind(SceneKind::Water(WaterSetup::default()))),
+            "bubble" => Some(Scene::for_kind(SceneKind::Bubble(BubbleSetup::default()))),
             _ => None,
         }
     }
 
     /// The default camera of a kind: ball, from `center + (0, 0.6, 5) · radius` (for the
     /// default ball, `(0, 1.6, 5)`) at the ball's centre with a 35° field of view; water,
-    /// from `(0, 3, 18)` (3 m above the water) at the origin with 50°.
+    /// from `(0, 3, 18)` (3 m above the water) at the origin with 50°; bubble, from
+    /// `(0, 0, 7)` at the origin with 40°.
     pub fn default_camera(kind: &SceneKind) -> Camera {
         match kind {
             SceneKind::Ball(b) => Camera {
@@ -161,6 +169,12 @@ impl Scene {
                 position: [0.0, 3.0, 18.0],
                 target: [0.0, 0.0, 0.0],
                 fov_y_deg: 50.0,
+                near: DEFAULT_NEAR,
+            },
+            SceneKind::Bubble(_) => Camera {
+                position: [0.0, 0.0, 7.0],
+                target: [0.0, 0.0, 0.0],
+                fov_y_deg: 40.0,
                 near: DEFAULT_NEAR,
             },
         }
@@ -179,23 +193,32 @@ impl Scene {
                     intensity: 3.0,
                 }),
             ],
-            SceneKind::Water(_) => vec![day],
+            SceneKind::Water(_) | SceneKind::Bubble(_) => vec![day],
         }
     }
 
     /// The default environment of a kind: the `day` sky; for water its ground colour is a
-    /// far-sea blue (0.03, 0.09, 0.14), seen past the far edge of the water plane.
+    /// far-sea blue (0.03, 0.09, 0.14), seen past the far edge of the water plane; for the
+    /// bubble it is a sky seen from under water (zenith (0.3, 0.65, 0.75), horizon
+    /// (0.08, 0.3, 0.4), ground (0.01, 0.05, 0.09)), what the bubble reflects.
     pub fn default_environment(kind: &SceneKind) -> Environment {
         let mut sky = Sky::default();
-        if let SceneKind::Water(_) = kind {
-            sky.ground_color = [0.03, 0.09, 0.14];
+        match kind {
+            SceneKind::Water(_) => sky.ground_color = [0.03, 0.09, 0.14],
+            SceneKind::Bubble(_) => {
+                sky.zenith_color = [0.3, 0.65, 0.75];
+                sky.horizon_color = [0.08, 0.3, 0.4];
+                sky.ground_color = [0.01, 0.05, 0.09];
+            }
+            SceneKind::Ball(_) => {}
         }
         Environment::Sky(sky)
     }
 
-    /// The mesh that carries the material: the ball's UV sphere (`segments`), or the water
+    /// The mesh that carries the material: the ball's UV sphere (`segments`), the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
-    /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]).
+    /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]), or
+    /// the bubble's UV sphere at its centre at the scene's time ([`BubbleSetup::center_at`]).
     pub fn material_mesh(&self) -> Mesh {
         match &self.kind {
             SceneKind::Ball(b) => {
@@ -205,6 +228,12 @@ impl Scene {
                 Some(lod) => lod.mesh(Vec2::from(w.size), Vec3::from(self.camera.position)),
                 None => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),
             },
+            SceneKind::Bubble(b) => Mesh::uv_sphere(
+                b.center_at(self.time),
+                b.radius,
+                b.segments[0],
+                b.segments[1],
+            ),
         }
     }
 

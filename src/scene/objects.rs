@@ -2,13 +2,15 @@
 //! shading, and analytic shapes that cast shadows.
 
 use glam::{Vec2, Vec3, Vec4};
+use std::sync::Arc;
 
 use super::Scene;
+use super::bubble::BackdropShader;
 use super::kind::{SceneKind, WaterObject};
 use super::mesh::Mesh;
 
 /// Albedo of a built-in surface.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Albedo {
     /// One colour.
     Constant(Vec3),
@@ -21,6 +23,9 @@ pub(crate) enum Albedo {
         size: f32,
         colors: [Vec3; 2],
     },
+    /// No albedo: an unlit surface with radiance of its own (the bubble scene's backdrop),
+    /// which built-in shading returns as it is.
+    Unlit(Arc<BackdropShader>),
 }
 
 impl Albedo {
@@ -40,6 +45,7 @@ impl Albedo {
                 let b = floor_i64((p.dot(v) - v0) / size);
                 colors[(a + b).rem_euclid(2) as usize]
             }
+            Albedo::Unlit(_) => Vec3::ONE,
         }
     }
 }
@@ -230,6 +236,7 @@ impl Scene {
                     }),
                 }
             }
+            SceneKind::Bubble(bubble) => super::bubble::geometry(bubble, self.time),
             SceneKind::Water(water) => {
                 let [sx, sz] = water.size;
                 let sand = Albedo::Constant(Vec3::from(water.seabed.color));
@@ -240,7 +247,7 @@ impl Scene {
                         water.seabed.grid,
                         |x, z| water.seabed_height(x, z),
                     ),
-                    albedo: sand,
+                    albedo: sand.clone(),
                     underwater: true,
                     caster: None,
                 }];

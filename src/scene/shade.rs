@@ -111,6 +111,9 @@ impl<'a> Shading<'a> {
     /// Radiance leaving a point `p` with normal `n` of built-in surface `obj` towards `eye`.
     #[inline]
     pub(crate) fn surface(&self, obj: &Object, p: Vec3, n: Vec3, eye: Vec3) -> Vec3 {
+        if let super::objects::Albedo::Unlit(backdrop) = &obj.albedo {
+            return backdrop.radiance(p);
+        }
         let albedo = obj.albedo.at(p);
         let n = if n.dot(eye - p) < 0.0 { -n } else { n };
         let mut e = self.ambient.eval(n);

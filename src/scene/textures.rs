@@ -14,7 +14,7 @@
 //!   mirrored geometry clipped to the water plane, as with the stencil-buffer technique of
 //!   Kilgard, "Improving shadows and reflections via the stencil buffer", NVIDIA 1999:
 //!   exact for the flat plane, an approximation for a displaced one);
-//! - for the ball, `refraction` and `reflection` are copies of `background`.
+//! - for the ball and the bubble, `refraction` and `reflection` are copies of `background`.
 
 use super::Scene;
 use super::environment::EnvLookup;
@@ -51,6 +51,7 @@ impl Scene {
         height: u32,
         image: Option<&EnvLookup>,
     ) -> SceneTextures {
+        super::gbuffer::count_cpu_raster_frame();
         let geometry = self.geometry();
         let shading = Shading::new(self, &geometry, image);
         let cam = self.camera.frame(width, height);
@@ -79,7 +80,7 @@ impl Scene {
         let all: Vec<&Object> = geometry.objects.iter().collect();
         let background = pass(all.clone(), false, None);
         match self.kind {
-            SceneKind::Ball(_) => SceneTextures {
+            SceneKind::Ball(_) | SceneKind::Bubble(_) => SceneTextures {
                 refraction: background.clone(),
                 reflection: background.clone(),
                 background,

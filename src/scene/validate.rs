@@ -96,6 +96,33 @@ impl Scene {
                 color("kind.ball.backdrop.colors[0]", d.colors[0])?;
                 color("kind.ball.backdrop.colors[1]", d.colors[1])?;
             }
+            SceneKind::Bubble(b) => {
+                finite3("kind.bubble.start", b.start)?;
+                finite3("kind.bubble.target", b.target)?;
+                non_negative("kind.bubble.rate", b.rate)?;
+                positive("kind.bubble.radius", b.radius)?;
+                count("kind.bubble.segments[0]", b.segments[0], 3)?;
+                count("kind.bubble.segments[1]", b.segments[1], 2)?;
+                let d = &b.backdrop;
+                finite("kind.bubble.backdrop.z", d.z)?;
+                positive("kind.bubble.backdrop.size[0]", d.size[0])?;
+                positive("kind.bubble.backdrop.size[1]", d.size[1])?;
+                non_negative("kind.bubble.backdrop.intensity_a", d.intensity_a)?;
+                non_negative("kind.bubble.backdrop.intensity_b", d.intensity_b)?;
+                range("kind.bubble.backdrop.mix", d.mix, 0.0, 1.0, true)?;
+                range("kind.bubble.backdrop.amount", d.amount, 0.0, 1.0, true)?;
+                positive("kind.bubble.backdrop.tiles", d.tiles)?;
+                for (k, v) in [d.velocity_a, d.velocity_b].iter().enumerate() {
+                    let name = ["velocity_a", "velocity_b"][k];
+                    finite(&format!("kind.bubble.backdrop.{name}[0]"), v[0])?;
+                    finite(&format!("kind.bubble.backdrop.{name}[1]"), v[1])?;
+                }
+                nonzero("kind.bubble.backdrop.light", d.light)?;
+                color("kind.bubble.backdrop.tint", d.tint)?;
+                non_negative("kind.bubble.backdrop.strength", d.strength)?;
+                non_negative("kind.bubble.backdrop.sharpness", d.sharpness)?;
+                range("kind.bubble.backdrop.opacity", d.opacity, 0.0, 1.0, true)?;
+            }
             SceneKind::Water(w) => {
                 positive("kind.water.size[0]", w.size[0])?;
                 positive("kind.water.size[1]", w.size[1])?;

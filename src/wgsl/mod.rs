@@ -3,13 +3,17 @@
 //!
 //! A generated module holds, in order: the uniform struct of the material's parameters, the
 //! geometry and output structs, the helper and node functions the graph uses (each once), the
-//! material function `mg_material` that calls them in plan order, and one entry point
-//! (`mg_compute` for batch evaluation, `mg_fragment` for rendering). Generation is
-//! deterministic: the same graph and options give the same bytes.
+//! material function `mg_material` that calls them in plan order, and the entry points
+//! (`mg_compute` for batch evaluation, `mg_fragment` for a per-pixel preview, none for the
+//! [`Entry::Library`] an app calls from its own shader, or `mg_vertex` and `mg_fragment` with
+//! the light loop for [`Entry::Render`], the app contract of [`crate::material`]). Generation
+//! is deterministic: the same graph and options give the same bytes.
 
 mod emit;
+mod hardware;
 mod harness;
 mod layout;
+pub mod render;
 mod targets;
 mod validate;
 
@@ -22,6 +26,36 @@ use crate::node::Attribute;
 use crate::plan::{EvalError, Plan, PlanOptions};
 use crate::types::SocketType;
 
+/// How a module reads the textures its graph samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TextureMode {
+    /// Three read-only storage buffers of f32 texels and tables, filtered by WGSL code that
+    /// repeats the CPU's arithmetic step for step ([`crate::texture::SAMPLE_WGSL`]): bit for
+    /// bit the CPU's result. Used by the compute path and the parity tests.
+    #[default]
+    Exact,
+    /// One `texture_2d<f32>` per texture with every mip level, and one sampler per
+    /// (wrap, filter) pair the graph uses, read with `textureSampleLevel`: the GPU's own
+    /// filtering, within the bound stated in docs/integration.md of the CPU.
+    Hardware,
+}
+
+impl TextureMode {
+    /// The mode's name in the contract JSON and on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            TextureMode::Exact => "exact",
+            TextureMode::Hardware => "hardware",
+        }
+    }
+    /// Parses a name written by [`TextureMode::name`].
+    pub fn from_name(name: &str) -> Option<TextureMode> {
+        [TextureMode::Exact, TextureMode::Hardware]
+            .into_iter()
+            .find(|m| m.name() == name)
+    }
+}
+
 /// The entry point a module is generated for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Entry {
@@ -30,21 +64,57 @@ pub enum Entry {
     Compute,
     /// `mg_fragment`: evaluates the material per pixel from interpolated geometry.
     Fragment,
+    /// No entry point: `mg_material(geom: MgGeometry) -> MgOutputs` and its bindings (group 0:
+    /// parameters at 0, textures from 3), for an app's own shader to call.
+    Library(TextureMode),
+    /// `mg_vertex` (displacement on the GPU, normals rebuilt) and `mg_fragment` (the light
+    /// loop, premultiplied colour and alpha): see [`render`] and docs/integration.md.
+    Render(TextureMode),
 }
 
 impl Entry {
-    /// The entry point's function name.
+    /// The entry point's function name (the fragment entry of [`Entry::Render`], the material
+    /// function of [`Entry::Library`]).
     pub const fn function(self) -> &'static str {
         match self {
             Entry::Compute => "mg_compute",
-            Entry::Fragment => "mg_fragment",
+            Entry::Fragment | Entry::Render(_) => "mg_fragment",
+            Entry::Library(_) => "mg_material",
         }
     }
-    /// The naga shader stage.
+    /// The naga shader stage of [`Entry::function`].
     pub fn stage(self) -> naga::ShaderStage {
         match self {
             Entry::Compute => naga::ShaderStage::Compute,
-            Entry::Fragment => naga::ShaderStage::Fragment,
+            _ => naga::ShaderStage::Fragment,
+        }
+    }
+    /// Every entry point of the module, with its stage.
+    pub fn entry_points(self) -> Vec<(&'static str, naga::ShaderStage)> {
+        match self {
+            Entry::Compute => vec![("mg_compute", naga::ShaderStage::Compute)],
+            Entry::Fragment => vec![("mg_fragment", naga::ShaderStage::Fragment)],
+            Entry::Library(_) => Vec::new(),
+            Entry::Render(_) => vec![
+                ("mg_vertex", naga::ShaderStage::Vertex),
+                ("mg_fragment", naga::ShaderStage::Fragment),
+            ],
+        }
+    }
+    /// How the module reads textures.
+    pub const fn texture_mode(self) -> TextureMode {
+        match self {
+            Entry::Library(m) | Entry::Render(m) => m,
+            _ => TextureMode::Exact,
+        }
+    }
+    /// A short name for headers and file names: `compute`, `fragment`, `library`, `render`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Entry::Compute => "compute",
+            Entry::Fragment => "fragment",
+            Entry::Library(_) => "library",
+            Entry::Render(_) => "render",
         }
     }
 }
@@ -61,7 +131,7 @@ pub struct WgslOptions {
 /// Threads per compute workgroup.
 pub const WORKGROUP_SIZE: u32 = 64;
 
-/// A resource the compute entry binds (all in bind group 0).
+/// A resource a module binds (all in bind group 0).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Binding {
     /// The material's parameters (`MgParams`, uniform).
@@ -78,6 +148,33 @@ pub enum Binding {
     TextureLevels,
     /// `mg_textures`: the texture table, in the order of [`ShaderModule::textures`].
     TextureTable,
+    /// `mg_frame`: the render entries' per-draw uniform (`MgFrame`, see [`render`]).
+    Frame,
+    /// `mg_lights`: the render entries' lights (read-only storage `array<MgLight>`).
+    Lights,
+    /// `mg_sampler_WRAP_FILTER`: a sampler of the hardware texture mode.
+    Sampler(crate::texture::Wrap, crate::texture::Filter),
+    /// `mg_tex_K`: texture slot `K` (`texture_2d<f32>`) of the hardware texture mode.
+    Texture(u32),
+}
+
+impl Binding {
+    /// The WGSL variable bound.
+    pub fn variable(&self) -> String {
+        match self {
+            Binding::Params => "mg_params".into(),
+            Binding::Dispatch => "mg_dispatch".into(),
+            Binding::Attribute(a) => format!("mg_{}", a.name()),
+            Binding::Output => "mg_out".into(),
+            Binding::TextureTexels => "mg_texels".into(),
+            Binding::TextureLevels => "mg_levels".into(),
+            Binding::TextureTable => "mg_textures".into(),
+            Binding::Frame => "mg_frame".into(),
+            Binding::Lights => "mg_lights".into(),
+            Binding::Sampler(w, f) => format!("mg_sampler_{}_{}", w.name(), f.name()),
+            Binding::Texture(k) => format!("mg_tex_{k}"),
+        }
+    }
 }
 
 /// One output of a generated module, as laid out in the compute output buffer.
@@ -87,6 +184,8 @@ pub struct ShaderOutput {
     pub name: String,
     /// Its type.
     pub ty: SocketType,
+    /// Its member in `MgOutputs` (the name made a unique WGSL identifier).
+    pub field: String,
     /// First column in the planar output buffer (column `c` of sample `i` is at
     /// `(column + c) * count + i`).
     pub column: u32,

@@ -56,6 +56,14 @@ pub(super) fn translate(m: &ShaderModule, target: Target) -> Result<Vec<u8>, Sha
     };
     let entry = m.entry.function().to_owned();
     let stage = m.entry.stage();
+    // Modules with several entry points (or none) are written whole where the backend can;
+    // GLSL holds one stage, the fragment one of a render module.
+    let single = matches!(m.entry, super::Entry::Compute | super::Entry::Fragment);
+    if target == Target::Glsl && matches!(m.entry, super::Entry::Library(_)) {
+        return Err(err(
+            "GLSL needs an entry point; a library module has none".into()
+        ));
+    }
     match target {
         Target::Wgsl => Ok(m.source.clone().into_bytes()),
         Target::SpirV => {
@@ -73,7 +81,7 @@ pub(super) fn translate(m: &ShaderModule, target: Target) -> Result<Vec<u8>, Sha
                 shader_stage: stage,
                 entry_point: entry,
             };
-            let words = spv::write_vec(&m.module, &m.info, &options, Some(&pipeline))
+            let words = spv::write_vec(&m.module, &m.info, &options, single.then_some(&pipeline))
                 .map_err(|e| err(e.to_string()))?;
             Ok(words.iter().flat_map(|w| w.to_le_bytes()).collect())
         }
@@ -108,7 +116,7 @@ pub(super) fn translate(m: &ShaderModule, target: Target) -> Result<Vec<u8>, Sha
                 ..msl::Options::default()
             };
             let pipeline = msl::PipelineOptions {
-                entry_point: Some((stage, entry)),
+                entry_point: single.then_some((stage, entry)),
                 ..msl::PipelineOptions::default()
             };
             let (text, _) = msl::write_string(&m.module, &m.info, &options, &pipeline)
@@ -119,7 +127,7 @@ pub(super) fn translate(m: &ShaderModule, target: Target) -> Result<Vec<u8>, Sha
             use naga::back::hlsl;
             let options = hlsl::Options::default();
             let pipeline = hlsl::PipelineOptions {
-                entry_point: Some((stage, entry)),
+                entry_point: single.then_some((stage, entry)),
             };
             let mut text = String::new();
             hlsl::Writer::new(&mut text, &options, &pipeline)

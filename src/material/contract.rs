@@ -1,0 +1,482 @@
+//! The contract as JSON (`matgraph wgsl FILE --contract out.json`): everything an app in
+//! another language needs to bind the render module. Schema `matgraph-contract/1`, specified
+//! in docs/integration.md; deterministic (fields in declaration order, no maps).
+
+use super::Material;
+use super::layout::{StageCounts, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type};
+use crate::wgsl::render::{
+    FRAME_BINDING, FRAME_SIZE, LIGHT_DIRECTIONAL, LIGHT_MIN_DISTANCE, LIGHT_POINT, LIGHT_STRIDE,
+    LIGHTS_BINDING, NORMAL_STEP, PARAMS_BINDING,
+};
+use crate::wgsl::{Binding, UniformSource, wgsl_type};
+use serde::{Deserialize, Serialize};
+
+/// The schema name written in every contract.
+pub const CONTRACT_SCHEMA: &str = "matgraph-contract/1";
+
+/// The contract of one material (see docs/integration.md for every field).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Contract {
+    /// Always [`CONTRACT_SCHEMA`].
+    pub schema: String,
+    /// The graph's name.
+    pub graph: String,
+    /// `hardware` or `exact`.
+    pub texture_mode: String,
+    /// Entry point names.
+    pub entry_points: EntryPoints,
+    /// The one vertex buffer of `mg_vertex`.
+    pub vertex_buffer: VertexBuffer,
+    /// The colour target `mg_fragment` writes.
+    pub color_target: ColorTarget,
+    /// Members of `MgGeometry` (the attributes the graph reads), in order.
+    pub geometry: Vec<Member>,
+    /// Members of `MgOutputs` of the render module, with their roles.
+    pub outputs: Vec<Output>,
+    /// The bindings, all in group 0.
+    pub bindings: Vec<BindingEntry>,
+    /// `MgParams`, the parameter block (binding 0).
+    pub parameters: Block,
+    /// `MgFrame`, the per-draw uniform (binding 1).
+    pub frame: Block,
+    /// `MgLight`, one record of the lights buffer (binding 2).
+    pub lights: Lights,
+    /// The textures, in slot order.
+    pub textures: Vec<Texture>,
+    /// Per-stage binding counts (all bindings are visible to both stages).
+    pub per_stage: PerStage,
+    /// The normal rebuild's relative step (m per m of |position|∞, at least 1 m).
+    pub normal_step: f32,
+    /// The hook functions an app may replace.
+    pub hooks: Vec<String>,
+}
+
+/// Entry point names.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EntryPoints {
+    /// The vertex entry.
+    pub vertex: String,
+    /// The fragment entry.
+    pub fragment: String,
+    /// The material function.
+    pub material: String,
+}
+
+/// A vertex buffer layout.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VertexBuffer {
+    /// Bytes per vertex.
+    pub array_stride: u64,
+    /// `vertex`.
+    pub step_mode: String,
+    /// The attributes.
+    pub attributes: Vec<VertexAttribute>,
+}
+
+/// One vertex attribute.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VertexAttribute {
+    /// What it holds.
+    pub name: String,
+    /// `@location`.
+    pub shader_location: u32,
+    /// WebGPU vertex format.
+    pub format: String,
+    /// Byte offset in the vertex.
+    pub offset: u64,
+}
+
+/// The colour target.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColorTarget {
+    /// `@location` of the output.
+    pub location: u32,
+    /// What the output holds.
+    pub holds: String,
+    /// Blend factors for colour: `[src, dst]`, operation add.
+    pub blend_color: [String; 2],
+    /// Blend factors for alpha: `[src, dst]`, operation add.
+    pub blend_alpha: [String; 2],
+}
+
+/// A struct member.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Member {
+    /// Member name.
+    pub name: String,
+    /// WGSL type.
+    pub wgsl_type: String,
+}
+
+/// An output of the render module.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    /// The graph output's name.
+    pub name: String,
+    /// Its `MgOutputs` member.
+    pub member: String,
+    /// WGSL type.
+    pub wgsl_type: String,
+    /// `color`, `emission`, `alpha` or `displacement`.
+    pub role: String,
+}
+
+/// One binding of group 0.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BindingEntry {
+    /// Always 0.
+    pub group: u32,
+    /// Binding number.
+    pub binding: u32,
+    /// The WGSL variable.
+    pub name: String,
+    /// `uniform-buffer`, `read-only-storage-buffer`, `filtering-sampler` or `texture-2d-float`.
+    pub kind: String,
+    /// `["vertex", "fragment"]`.
+    pub visibility: Vec<String>,
+    /// Smallest buffer size in bytes (uniforms), else absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_binding_size: Option<u64>,
+    /// A sampler's address mode (`repeat`, `clamp-to-edge`, `mirror-repeat`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub address_mode: Option<String>,
+    /// A sampler's mag, min and mipmap filter (`linear` or `nearest`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filter: Option<String>,
+    /// A texture binding's slot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture_slot: Option<u32>,
+}
+
+/// A uniform struct's layout.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Block {
+    /// Its binding (absent: the module has no such block).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub binding: Option<u32>,
+    /// Size in bytes (the buffer must hold at least this, rounded up to 16).
+    pub size: u32,
+    /// Members in order.
+    pub members: Vec<BlockMember>,
+}
+
+/// A member of a uniform struct.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BlockMember {
+    /// Member name.
+    pub name: String,
+    /// WGSL type (bools are `u32` 0 or 1).
+    pub wgsl_type: String,
+    /// Byte offset.
+    pub offset: u32,
+    /// `parameter` (set by name), `fixed` (the file's value), `time`, or `frame`/`light`.
+    pub source: String,
+    /// The parameter name, for `parameter` members.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parameter: Option<String>,
+    /// The value written when the app sets none (parameter blocks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub default: Option<serde_json::Value>,
+}
+
+/// The lights buffer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lights {
+    /// Its binding.
+    pub binding: u32,
+    /// Bytes per record.
+    pub stride: u32,
+    /// Members of a record.
+    pub members: Vec<BlockMember>,
+    /// `kind` of a directional light.
+    pub directional: u32,
+    /// `kind` of a point light.
+    pub point: u32,
+    /// Distance (m) below which a point light's 1/d² falloff is clamped.
+    pub min_distance: f32,
+}
+
+/// A texture slot.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Texture {
+    /// Slot index.
+    pub slot: u32,
+    /// The key: the graph's path, a chain's paths joined by `|`, or `scene:NAME`.
+    pub name: String,
+    /// `file` or `scene`.
+    pub source: String,
+    /// Format of the hardware mode (`rgba8unorm-srgb`, `rgba16float`, `rgba32float`).
+    pub format: String,
+    /// Binding of its texture (hardware mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub binding: Option<u32>,
+    /// Width of level 0, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<u32>,
+    /// Height of level 0, when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<u32>,
+    /// Mip levels (all uploaded), when known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mip_levels: Option<u32>,
+}
+
+/// Per-stage binding counts.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PerStage {
+    /// Uniform buffers (WebGPU default limit 12).
+    pub uniform_buffers: u32,
+    /// Storage buffers (limit 8).
+    pub storage_buffers: u32,
+    /// Sampled textures (limit 16).
+    pub sampled_textures: u32,
+    /// Samplers (limit 16).
+    pub samplers: u32,
+}
+
+impl Contract {
+    /// Pretty JSON, two-space indent, newline-terminated: the same bytes for the same input.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a contract serialises");
+        s.push('\n');
+        s
+    }
+
+    /// Parses a contract written by [`Contract::to_json`].
+    pub fn from_json(text: &str) -> Result<Contract, serde_json::Error> {
+        serde_json::from_str(text)
+    }
+}
+
+fn member(name: &str, wgsl_type: &str, offset: u32, source: &str) -> BlockMember {
+    BlockMember {
+        name: name.into(),
+        wgsl_type: wgsl_type.into(),
+        offset,
+        source: source.into(),
+        parameter: None,
+        default: None,
+    }
+}
+
+pub(super) fn build(m: &Material) -> Contract {
+    let render = &m.render;
+    let roles = m.roles;
+    let role_of = |k: usize| {
+        [
+            (roles.color, "color"),
+            (roles.emission, "emission"),
+            (roles.alpha, "alpha"),
+            (roles.displacement, "displacement"),
+        ]
+        .into_iter()
+        .find(|(r, _)| *r == Some(k))
+        .map(|(_, n)| n)
+        .unwrap_or("none")
+    };
+    let mut bindings: Vec<&(u32, Binding)> = render.bindings.iter().collect();
+    bindings.sort_by_key(|(b, _)| *b);
+    let bindings = bindings
+        .into_iter()
+        .map(|(b, k)| {
+            let kind = match binding_type(render, k) {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    ..
+                } => "uniform-buffer",
+                wgpu::BindingType::Buffer { .. } => "read-only-storage-buffer",
+                wgpu::BindingType::Sampler(_) => "filtering-sampler",
+                _ => "texture-2d-float",
+            };
+            let min_binding_size = match k {
+                Binding::Params => Some((render.uniforms.size as u64).next_multiple_of(16).max(16)),
+                Binding::Frame => Some(FRAME_SIZE as u64),
+                _ => None,
+            };
+            let (address_mode, filter) = match k {
+                Binding::Sampler(w, f) => (
+                    Some(
+                        match w {
+                            crate::texture::Wrap::Repeat => "repeat",
+                            crate::texture::Wrap::Clamp => "clamp-to-edge",
+                            crate::texture::Wrap::Mirror => "mirror-repeat",
+                        }
+                        .to_owned(),
+                    ),
+                    Some(
+                        match f {
+                            crate::texture::Filter::Nearest => "nearest",
+                            crate::texture::Filter::Bilinear => "linear",
+                        }
+                        .to_owned(),
+                    ),
+                ),
+                _ => (None, None),
+            };
+            BindingEntry {
+                group: 0,
+                binding: *b,
+                name: k.variable(),
+                kind: kind.into(),
+                visibility: vec!["vertex".into(), "fragment".into()],
+                min_binding_size,
+                address_mode,
+                filter,
+                texture_slot: match k {
+                    Binding::Texture(s) => Some(*s),
+                    _ => None,
+                },
+            }
+        })
+        .collect();
+    let parameters = Block {
+        binding: m.has_params().then_some(PARAMS_BINDING),
+        size: render.uniforms.size,
+        members: render
+            .uniforms
+            .fields
+            .iter()
+            .map(|f| {
+                let ty = match f.ty {
+                    crate::types::SocketType::Bool => "u32",
+                    t => wgsl_type(t),
+                };
+                let (source, parameter) = match &f.source {
+                    UniformSource::Parameter(p) => ("parameter", Some(p.clone())),
+                    UniformSource::Fixed => ("fixed", None),
+                    UniformSource::Time => ("time", None),
+                };
+                BlockMember {
+                    name: f.field.clone(),
+                    wgsl_type: ty.into(),
+                    offset: f.offset,
+                    source: source.into(),
+                    parameter,
+                    default: (!matches!(f.source, UniformSource::Time))
+                        .then(|| f.default.to_json()),
+                }
+            })
+            .collect(),
+    };
+    let frame = Block {
+        binding: Some(FRAME_BINDING),
+        size: FRAME_SIZE,
+        members: vec![
+            member("view_proj", "mat4x4<f32>", 0, "frame"),
+            member("model", "mat4x4<f32>", 64, "frame"),
+            member("normal_model", "mat4x4<f32>", 128, "frame"),
+            member("camera_position", "vec3<f32>", 192, "frame"),
+            member("light_count", "u32", 204, "frame"),
+            member("viewport", "vec2<f32>", 208, "frame"),
+        ],
+    };
+    let lights = Lights {
+        binding: LIGHTS_BINDING,
+        stride: LIGHT_STRIDE,
+        members: vec![
+            member("vector", "vec3<f32>", 0, "light"),
+            member("kind", "u32", 12, "light"),
+            member("color", "vec3<f32>", 16, "light"),
+        ],
+        directional: LIGHT_DIRECTIONAL,
+        point: LIGHT_POINT,
+        min_distance: LIGHT_MIN_DISTANCE,
+    };
+    let counts = StageCounts::of(render);
+    Contract {
+        schema: CONTRACT_SCHEMA.into(),
+        graph: m.graph.clone(),
+        texture_mode: m.options.textures.name().into(),
+        entry_points: EntryPoints {
+            vertex: "mg_vertex".into(),
+            fragment: "mg_fragment".into(),
+            material: "mg_material".into(),
+        },
+        vertex_buffer: VertexBuffer {
+            array_stride: VERTEX_STRIDE,
+            step_mode: "vertex".into(),
+            attributes: ["position", "normal", "uv"]
+                .iter()
+                .zip(VERTEX_ATTRIBUTES)
+                .map(|(name, a)| VertexAttribute {
+                    name: (*name).into(),
+                    shader_location: a.shader_location,
+                    format: match a.format {
+                        wgpu::VertexFormat::Float32x2 => "float32x2",
+                        _ => "float32x3",
+                    }
+                    .into(),
+                    offset: a.offset,
+                })
+                .collect(),
+        },
+        color_target: ColorTarget {
+            location: 0,
+            holds: "premultiplied linear radiance (rgb = alpha * radiance) and alpha".into(),
+            blend_color: ["one".into(), "one-minus-src-alpha".into()],
+            blend_alpha: ["one".into(), "one-minus-src-alpha".into()],
+        },
+        geometry: render
+            .attributes
+            .iter()
+            .map(|a| Member {
+                name: a.name().into(),
+                wgsl_type: wgsl_type(a.ty()).into(),
+            })
+            .collect(),
+        outputs: render
+            .outputs
+            .iter()
+            .enumerate()
+            .map(|(k, o)| Output {
+                name: o.name.clone(),
+                member: o.field.clone(),
+                wgsl_type: wgsl_type(o.ty).into(),
+                role: role_of(k).into(),
+            })
+            .collect(),
+        bindings,
+        parameters,
+        frame,
+        lights,
+        textures: m
+            .textures
+            .iter()
+            .map(|t| Texture {
+                slot: t.slot,
+                name: t.name.clone(),
+                source: match t.source {
+                    super::TextureSource::File => "file",
+                    super::TextureSource::Scene => "scene",
+                }
+                .into(),
+                format: super::format_name(t.format).into(),
+                binding: t.binding,
+                width: t.size.map(|s| s.0),
+                height: t.size.map(|s| s.1),
+                mip_levels: t.size.map(|s| s.2),
+            })
+            .collect(),
+        per_stage: PerStage {
+            uniform_buffers: counts.uniform_buffers,
+            storage_buffers: counts.storage_buffers,
+            sampled_textures: counts.sampled_textures,
+            samplers: counts.samplers,
+        },
+        normal_step: NORMAL_STEP,
+        hooks: vec!["mg_light_visibility".into(), "mg_surface_depth".into()],
+    }
+}
