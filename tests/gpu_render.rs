@@ -95,6 +95,10 @@ fn assert_parity(name: &str, spp: u32, cpu: &HdrImage, gpu: &HdrImage, mask: &[b
     assert!(edges <= 0.01, "{name} at {spp} spp: edge mask {edges}");
 }
 
+/// Bundled graphs whose scene the GPU rasteriser leaves to the hybrid path, and the words
+/// of the note it gives.
+const FALLS_BACK: &[(&str, &str)] = &[("bubble", "the bubble scene")];
+
 #[test]
 fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
     if gpu_context("every_bundled_graph_renders_alike_on_the_gpu_rasteriser").is_none() {
@@ -116,7 +120,15 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
                 &options(&graph, Some(&path), spp, Backend::Gpu),
             )
             .unwrap();
-            assert_eq!(t.fallback, None, "{}: fell back", graph.name);
+            match FALLS_BACK.iter().find(|(n, _)| *n == graph.name) {
+                Some((_, why)) => assert!(
+                    t.fallback.as_deref().is_some_and(|f| f.contains(why)),
+                    "{}: {:?}",
+                    graph.name,
+                    t.fallback
+                ),
+                None => assert_eq!(t.fallback, None, "{}: fell back", graph.name),
+            }
             let mask = edge_mask(&scene, &scene.material_mesh());
             assert_parity(&graph.name, spp, &cpu, &gpu, &mask);
         }

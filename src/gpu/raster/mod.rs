@@ -327,6 +327,8 @@ struct SceneGpu {
     lights: wgpu::Buffer,
     casters: wgpu::Buffer,
     objects_group: wgpu::BindGroup,
+    /// The refraction pass's group, drawing the Snell-refracted positions, when on.
+    refracted_group: Option<wgpu::BindGroup>,
     index: wgpu::Buffer,
     objects: wgpu::RenderPipeline,
     sky: wgpu::RenderPipeline,
@@ -359,6 +361,7 @@ impl SceneGpu {
                 (1, f, Kind::Storage),
                 (2, f, Kind::Storage),
                 (3, f, Kind::Storage),
+                (4, wgpu::ShaderStages::VERTEX_FRAGMENT, Kind::Storage),
             ],
         );
         let positions = storage(
@@ -375,16 +378,24 @@ impl SceneGpu {
             80,
         );
         let index = index_buffer(s, &packed.indices);
-        let objects_group = bind(
-            s,
-            &objects_layout,
-            &[
-                positions.as_entire_binding(),
-                normals.as_entire_binding(),
-                table.as_entire_binding(),
-                index.as_entire_binding(),
-            ],
-        );
+        let group = |drawn: &wgpu::Buffer| {
+            bind(
+                s,
+                &objects_layout,
+                &[
+                    positions.as_entire_binding(),
+                    normals.as_entire_binding(),
+                    table.as_entire_binding(),
+                    index.as_entire_binding(),
+                    drawn.as_entire_binding(),
+                ],
+            )
+        };
+        let objects_group = group(&positions);
+        let refracted_group = packed
+            .refracted
+            .as_ref()
+            .map(|r| group(&storage(s, "mgr refracted", bytemuck::cast_slice(r), 16)));
         let source = format!(
             "enable primitive_index;\n{}\n{}",
             include_str!("scene.wgsl"),
@@ -418,6 +429,7 @@ impl SceneGpu {
             lights,
             casters,
             objects_group,
+            refracted_group,
             index,
             objects,
             sky,
@@ -470,7 +482,11 @@ impl SceneGpu {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_bind_group(0, &self.objects_group, &[]);
+        let group = match (pass, &self.refracted_group) {
+            (ScenePass::Refraction, Some(g)) => g,
+            _ => &self.objects_group,
+        };
+        rp.set_bind_group(0, group, &[]);
         rp.set_bind_group(1, frame, &[]);
         rp.set_pipeline(&self.sky);
         rp.draw(0..3, 0..1);
