@@ -1,5 +1,6 @@
 //! The GPU rasteriser (`render --gpu`) against the CPU reference renderer: every bundled
-//! graph at 1 and 4 samples per pixel, a displaced graph (displacement and normals on the
+//! graph at 4 samples per pixel (at 1, tests/render.rs compares them with no mask), a
+//! displaced graph at 1 and 4 (displacement and normals on the
 //! GPU), the proof that the GPU path does not use the CPU rasteriser, determinism, and the
 //! sample counts it draws or falls back from.
 //!
@@ -95,15 +96,22 @@ fn assert_parity(name: &str, spp: u32, cpu: &HdrImage, gpu: &HdrImage, mask: &[b
     assert!(edges <= 0.01, "{name} at {spp} spp: edge mask {edges}");
 }
 
+/// Bundled graphs whose scene the GPU rasteriser leaves to the hybrid path, and the words
+/// of the note it gives.
+const FALLS_BACK: &[(&str, &str)] = &[("bubble", "the bubble scene")];
+
 #[test]
 fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
     if gpu_context("every_bundled_graph_renders_alike_on_the_gpu_rasteriser").is_none() {
         return;
     }
+    // Masks by scene (many graphs share one).
+    let mut masks: std::collections::HashMap<String, Vec<bool>> = Default::default();
     for path in bundled_graphs() {
         let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
         let scene = scene_of(&graph);
-        for spp in [1, 4] {
+        // 1 sample per pixel is covered at 128² without a mask by tests/render.rs.
+        for spp in [4] {
             let (cpu, _) = render_timed(
                 &graph,
                 &scene,
@@ -116,9 +124,20 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
                 &options(&graph, Some(&path), spp, Backend::Gpu),
             )
             .unwrap();
-            assert_eq!(t.fallback, None, "{}: fell back", graph.name);
-            let mask = edge_mask(&scene, &scene.material_mesh());
-            assert_parity(&graph.name, spp, &cpu, &gpu, &mask);
+            match FALLS_BACK.iter().find(|(n, _)| *n == graph.name) {
+                Some((_, why)) => assert!(
+                    t.fallback.as_deref().is_some_and(|f| f.contains(why)),
+                    "{}: {:?}",
+                    graph.name,
+                    t.fallback
+                ),
+                None => assert_eq!(t.fallback, None, "{}: fell back", graph.name),
+            }
+            let key = serde_json::to_string(&scene).unwrap();
+            let mask = masks
+                .entry(key)
+                .or_insert_with(|| edge_mask(&scene, &scene.material_mesh()));
+            assert_parity(&graph.name, spp, &cpu, &gpu, mask);
         }
     }
 }

@@ -313,39 +313,49 @@ const BB_XYZ_TO_RGB: [[f32; 3]; 3] = [
     [0.061217755, -0.22420866, 1.1617086],
 ];
 
-/// Belcour & Barla's sensitivity `S(opd, shift)` in XYZ (the Fourier transform of
-/// the matching functions, evaluated with the Gaussian fit): per lobe
-/// `amp cos(2π (pos·opd + shift)) exp(−var opd²)`, with the cycles reduced to [−½, ½] before
-/// the cosine. `shift_cycles` is the phase shift in cycles.
+/// Belcour & Barla's sensitivity `S(m·opd, 0)` in XYZ for m = 0…3 (the Fourier transform of
+/// the matching functions, evaluated with their Gaussian fit): per lobe
+/// `amp cos(2π m pos·opd) exp(−var (m·opd)²)`. One cosine and one exponential per lobe: the
+/// cycles `pos·opd` are reduced to [−½, ½] before the cosine, `cos(m x)` follows by Chebyshev's
+/// recurrence (`cos 2x = 2c² − 1`, `cos 3x = c (4c² − 3)`), and `exp(−var (m opd)²) = e^{m²}`.
+/// A phase shift φ = π multiplies harmonic m by (−1)^m, which the caller applies.
 #[inline]
-fn bb_sensitivity(opd_nm: f32, shift_cycles: f32) -> Vec3 {
+fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
     let o2 = opd_nm * opd_nm;
     let lobe = |k: usize| {
-        let cycles = BB_POS_NM[k] * opd_nm + shift_cycles;
-        let f = cycles - (cycles + 0.5).floor();
-        BB_AMP[k] * (TAU * f).cos() * (-BB_VAR_NM[k] * o2).exp()
+        let cycles = BB_POS_NM[k] * opd_nm;
+        let c = (TAU * (cycles - (cycles + 0.5).floor())).cos();
+        let c2 = 2.0 * (c * c) - 1.0;
+        let c3 = c * (4.0 * (c * c) - 3.0);
+        let e = (-BB_VAR_NM[k] * o2).exp();
+        let e4 = (e * e) * (e * e);
+        let a = BB_AMP[k];
+        [a, a * c * e, a * c2 * e4, a * c3 * (e4 * e4 * e)]
     };
-    Vec3::new(lobe(0) + lobe(3), lobe(1), lobe(2))
+    let (x, x2, y, z) = (lobe(0), lobe(3), lobe(1), lobe(2));
+    [0, 1, 2, 3].map(|m| Vec3::new(x[m] + x2[m], y[m], z[m]))
 }
 
-/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm S(m·opd, m φ)` in XYZ.
+/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm (±1)^m S(m·opd)` in XYZ.
 #[inline]
-fn bb_polarisation(r12: C, r23: C, opd_nm: f32) -> Vec3 {
+fn bb_polarisation(r12: C, r23: C, s: &[Vec3; 4]) -> Vec3 {
     let big_r12 = r12.norm2();
     let big_r23 = r23.norm2();
     let t121 = 1.0 - big_r12;
     let r123 = big_r12 * big_r23;
     let rs = t121 * t121 * big_r23 / (1.0 - r123);
     let c0 = big_r12 + rs;
-    let root = r123.sqrt();
-    // φ = arg(r21 r23) = arg(−r12 r23): π when r12 r23 > 0 (half a cycle per order).
-    let shift = if r12.re * r23.re > 0.0 { 0.5 } else { 0.0 };
+    // φ = arg(r21 r23) = arg(−r12 r23): π when r12 r23 > 0, so harmonic m turns by (−1)^m.
+    let root = if r12.re * r23.re > 0.0 {
+        -r123.sqrt()
+    } else {
+        r123.sqrt()
+    };
     let mut cm = rs - t121;
-    let mut xyz = c0 * bb_sensitivity(0.0, 0.0);
-    for m in 1..=3 {
-        let mf = m as f32;
+    let mut xyz = c0 * s[0];
+    for sm in &s[1..] {
         cm *= root;
-        xyz += 2.0 * cm * bb_sensitivity(mf * opd_nm, mf * shift);
+        xyz += (2.0 * cm) * *sm;
     }
     xyz
 }
@@ -366,9 +376,10 @@ pub fn belcour_barla(film: &Film) -> Vec3 {
     if film.opd.im != 0.0 {
         return Vec3::ONE;
     }
+    let s = bb_sensitivities(film.opd.re);
     let mut xyz = Vec3::ZERO;
-    xyz += bb_polarisation(film.r12[0], film.r23[0], film.opd.re);
-    xyz += bb_polarisation(film.r12[1], film.r23[1], film.opd.re);
+    xyz += bb_polarisation(film.r12[0], film.r23[0], &s);
+    xyz += bb_polarisation(film.r12[1], film.r23[1], &s);
     let xyz = 0.5 * xyz;
     Vec3::new(
         Vec3::from(BB_XYZ_TO_RGB[0]).dot(xyz),
@@ -523,43 +534,56 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
 
 /// WGSL of [`belcour_barla`] and its sensitivity: the same steps and constants.
 const BELCOUR_BARLA_WGSL: &str = r#"
-fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32, shift: f32) -> f32 {
-    let cycles = pos * opd_nm + shift;
-    let f = cycles - floor(cycles + 0.5);
-    return amp * cos(6.28318530717958648 * f) * exp(-var_nm * o2);
+struct MgTfBbS {
+    s0: vec3<f32>,
+    s1: vec3<f32>,
+    s2: vec3<f32>,
+    s3: vec3<f32>,
 }
-fn mg_tf_bb_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
+fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32) -> vec4<f32> {
+    let cycles = pos * opd_nm;
+    let c = cos(6.28318530717958648 * (cycles - floor(cycles + 0.5)));
+    let c2 = 2.0 * (c * c) - 1.0;
+    let c3 = c * (4.0 * (c * c) - 3.0);
+    let e = exp(-var_nm * o2);
+    let e4 = (e * e) * (e * e);
+    return vec4<f32>(amp, amp * c * e, amp * c2 * e4, amp * c3 * (e4 * e4 * e));
+}
+fn mg_tf_bb_sensitivities(opd_nm: f32) -> MgTfBbS {
     let o2 = opd_nm * opd_nm;
-    let x = mg_tf_bb_lobe(0.84659, 0.001681, 1.708547e-7, opd_nm, o2, shift) + mg_tf_bb_lobe(0.15386831, 0.0022399, 1.7876617e-7, opd_nm, o2, shift);
-    let y = mg_tf_bb_lobe(1.0002219, 0.0017953, 3.6733088e-7, opd_nm, o2, shift);
-    let z = mg_tf_bb_lobe(1.0011225, 0.0022084, 2.6103525e-7, opd_nm, o2, shift);
-    return vec3<f32>(x, y, z);
+    let x = mg_tf_bb_lobe(0.84659, 0.001681, 1.708547e-7, opd_nm, o2);
+    let x2 = mg_tf_bb_lobe(0.15386831, 0.0022399, 1.7876617e-7, opd_nm, o2);
+    let y = mg_tf_bb_lobe(1.0002219, 0.0017953, 3.6733088e-7, opd_nm, o2);
+    let z = mg_tf_bb_lobe(1.0011225, 0.0022084, 2.6103525e-7, opd_nm, o2);
+    let xs = x + x2;
+    return MgTfBbS(vec3<f32>(xs.x, y.x, z.x), vec3<f32>(xs.y, y.y, z.y), vec3<f32>(xs.z, y.z, z.z), vec3<f32>(xs.w, y.w, z.w));
 }
-fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, opd: f32) -> vec3<f32> {
+fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, s: MgTfBbS) -> vec3<f32> {
     let big_r12 = mg_tf_norm2(r12);
     let big_r23 = mg_tf_norm2(r23);
     let t121 = 1.0 - big_r12;
     let r123 = big_r12 * big_r23;
     let rs = t121 * t121 * big_r23 / (1.0 - r123);
     let c0 = big_r12 + rs;
-    let root = sqrt(r123);
-    let shift = select(0.0, 0.5, r12.x * r23.x > 0.0);
+    let root = select(sqrt(r123), -sqrt(r123), r12.x * r23.x > 0.0);
     var cm = rs - t121;
-    var xyz = c0 * mg_tf_bb_sensitivity(0.0, 0.0);
-    for (var m = 1; m <= 3; m++) {
-        let mf = f32(m);
-        cm *= root;
-        xyz += 2.0 * cm * mg_tf_bb_sensitivity(mf * opd, mf * shift);
-    }
+    var xyz = c0 * s.s0;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s1;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s2;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s3;
     return xyz;
 }
 fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
     if (f.opd.y != 0.0) {
         return vec3<f32>(1.0);
     }
+    let s = mg_tf_bb_sensitivities(f.opd.x);
     var xyz = vec3<f32>(0.0);
-    xyz += mg_tf_bb_pol(f.r12s, f.r23s, f.opd.x);
-    xyz += mg_tf_bb_pol(f.r12p, f.r23p, f.opd.x);
+    xyz += mg_tf_bb_pol(f.r12s, f.r23s, s);
+    xyz += mg_tf_bb_pol(f.r12p, f.r23p, s);
     xyz = 0.5 * xyz;
     return vec3<f32>(
         dot(vec3<f32>(2.688437, -1.2752778, -0.41364397), xyz),

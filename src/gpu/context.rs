@@ -90,6 +90,7 @@ impl GpuContext {
             uncaptured,
             lost,
             pipelines: AtomicUsize::new(0),
+            cache: Mutex::new(Default::default()),
         });
         Ok(GpuContext {
             _instance: instance,

@@ -47,6 +47,10 @@ pub(crate) struct PackedScene {
     pub positions: Vec<[f32; 4]>,
     /// Built-in vertex normals (xyz, the object index as bits).
     pub normals: Vec<[f32; 4]>,
+    /// Where the refraction pass draws the vertices, when the water's Snell refraction is
+    /// on: each at its `snell::apparent_position` from the eye, as the CPU pass draws
+    /// `snell::apparent_mesh` (shading keeps `positions`).
+    pub refracted: Option<Vec<[f32; 4]>>,
     /// Triangles of the built-in surfaces, in drawing order.
     pub indices: Vec<u32>,
     /// Each surface's triangles.
@@ -64,17 +68,13 @@ fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
 impl Scene {
     /// Whether the GPU rasteriser can draw this scene, or what it cannot draw: an image
     /// environment (looked up by the caller's closure, which the GPU cannot call), the
-    /// bubble scene (its backdrop shader is not ported yet), the water's Snell refraction
-    /// map (not ported yet).
+    /// bubble scene (its backdrop shader is not ported yet).
     pub(crate) fn gpu_supported(&self) -> Result<(), String> {
         if let Environment::Image(_) = &self.environment {
             return Err("an image environment".into());
         }
         match &self.kind {
             SceneKind::Bubble(_) => Err("the bubble scene (its backdrop shader)".into()),
-            SceneKind::Water(w) if w.refraction.is_some() => {
-                Err("the water's Snell refraction map".into())
-            }
             _ => Ok(()),
         }
     }
@@ -119,6 +119,7 @@ impl Scene {
             casters,
             positions: Vec::new(),
             normals: Vec::new(),
+            refracted: None,
             indices: Vec::new(),
             ranges: Vec::new(),
             objects: Vec::new(),
@@ -176,6 +177,17 @@ impl Scene {
                 }
             };
             packed.objects.extend(bits(&words));
+        }
+        if let SceneKind::Water(w) = &self.kind
+            && let Some(snell) = &w.refraction
+        {
+            let eye = Vec3::from(self.camera.position);
+            let mut drawn = Vec::with_capacity(packed.positions.len());
+            for obj in &geometry.objects {
+                let m = super::snell::apparent_mesh(&obj.mesh, eye, snell.ior_air, snell.ior_water);
+                drawn.extend(m.positions.iter().map(|p| p.extend(1.0).to_array()));
+            }
+            packed.refracted = Some(drawn);
         }
         packed
     }

@@ -250,9 +250,11 @@ pub(super) fn emit_entries(
             Attribute::Uv => "v.uv".to_owned(),
             Attribute::ScreenUv => "v.clip.xy / mg_frame.viewport".to_owned(),
             Attribute::Depth => "mg_surface_depth(v.position)".to_owned(),
-            // The fragment's own screen-space derivatives (uniform control flow: the entry's top).
-            Attribute::UvDx => "dpdx(v.uv)".to_owned(),
-            Attribute::UvDy => "dpdy(v.uv)".to_owned(),
+            // The fine derivatives (the difference across the pixel's 2 × 2 quad along its row,
+            // column): the same on every GPU, where `dpdx` may be coarse or fine. Uniform control
+            // flow: the entry's top.
+            Attribute::UvDx => "dpdxFine(v.uv)".to_owned(),
+            Attribute::UvDy => "dpdyFine(v.uv)".to_owned(),
             Attribute::Time => continue,
         };
         let _ = writeln!(out, "    g.{} = {e};", a.name());

@@ -28,6 +28,7 @@ use crate::scene::{Mesh, PackedScene, Scene, ScenePass};
 use crate::texture::TextureSet;
 use crate::types::SocketType;
 use crate::wgsl::{self, Binding, Entry, WgslOptions};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
@@ -110,6 +111,21 @@ pub(crate) fn unsupported(ctx: &GpuContext, w: u32, h: u32, spp: u32) -> Option<
         ));
     }
     None
+}
+
+/// The value cached on the device under `key`, made by `make` the first time.
+fn cached<T: Send + Sync + 'static>(
+    s: &DeviceState,
+    key: &str,
+    make: impl FnOnce() -> T,
+) -> Arc<T> {
+    let mut cache = s.cache.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(v) = cache.get(key).and_then(|v| v.clone().downcast::<T>().ok()) {
+        return v;
+    }
+    let v = Arc::new(make());
+    cache.insert(key.to_owned(), v.clone());
+    v
 }
 
 /// A storage buffer holding `bytes` (padded to at least `min` bytes).
@@ -323,66 +339,50 @@ fn target(
 /// pipelines of the built-in surfaces and the sky.
 struct SceneGpu {
     packed: PackedScene,
-    scene_layout: wgpu::BindGroupLayout,
+    pipes: Arc<ScenePipelines>,
     lights: wgpu::Buffer,
     casters: wgpu::Buffer,
     objects_group: wgpu::BindGroup,
+    /// The refraction pass's group, drawing the Snell-refracted positions, when on.
+    refracted_group: Option<wgpu::BindGroup>,
     index: wgpu::Buffer,
+}
+
+/// The layouts and pipelines of the scene passes at one sample count.
+struct ScenePipelines {
+    scene_layout: wgpu::BindGroupLayout,
+    objects_layout: wgpu::BindGroupLayout,
     objects: wgpu::RenderPipeline,
     sky: wgpu::RenderPipeline,
 }
 
-const ALL: wgpu::ShaderStages =
-    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
-const FC: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+/// The group-1 layout of `scene.wgsl`.
+fn scene_layout(s: &DeviceState) -> wgpu::BindGroupLayout {
+    layout(
+        s,
+        "mgr scene",
+        &[
+            (0, ALL, Kind::Uniform),
+            (1, FC, Kind::Storage),
+            (2, FC, Kind::Storage),
+        ],
+    )
+}
 
-impl SceneGpu {
-    fn new(s: &DeviceState, scene: &Scene, spp: u32) -> SceneGpu {
-        let packed = scene.packed();
-        let scene_layout = layout(
-            s,
-            "mgr scene",
-            &[
-                (0, ALL, Kind::Uniform),
-                (1, FC, Kind::Storage),
-                (2, FC, Kind::Storage),
-            ],
-        );
-        let lights = storage(s, "mgr lights", bytemuck::cast_slice(&packed.lights), 48);
-        let casters = storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48);
+impl ScenePipelines {
+    fn new(s: &DeviceState, spp: u32) -> ScenePipelines {
+        let scene_layout = scene_layout(s);
         let f = wgpu::ShaderStages::FRAGMENT;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let objects_layout = layout(
             s,
             "mgr objects",
             &[
-                (0, wgpu::ShaderStages::VERTEX_FRAGMENT, Kind::Storage),
+                (0, vf, Kind::Storage),
                 (1, f, Kind::Storage),
                 (2, f, Kind::Storage),
                 (3, f, Kind::Storage),
-            ],
-        );
-        let positions = storage(
-            s,
-            "mgr positions",
-            bytemuck::cast_slice(&packed.positions),
-            16,
-        );
-        let normals = storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16);
-        let table = storage(
-            s,
-            "mgr object table",
-            bytemuck::cast_slice(&packed.objects),
-            80,
-        );
-        let index = index_buffer(s, &packed.indices);
-        let objects_group = bind(
-            s,
-            &objects_layout,
-            &[
-                positions.as_entire_binding(),
-                normals.as_entire_binding(),
-                table.as_entire_binding(),
-                index.as_entire_binding(),
+                (4, vf, Kind::Storage),
             ],
         );
         let source = format!(
@@ -412,15 +412,65 @@ impl SceneGpu {
             spp,
             false,
         );
+        ScenePipelines {
+            scene_layout,
+            objects_layout,
+            objects,
+            sky,
+        }
+    }
+}
+
+const ALL: wgpu::ShaderStages =
+    wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+const FC: wgpu::ShaderStages = wgpu::ShaderStages::FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+
+impl SceneGpu {
+    fn new(s: &DeviceState, scene: &Scene, spp: u32) -> SceneGpu {
+        let packed = scene.packed();
+        let pipes = cached(s, &format!("scene/{spp}"), || ScenePipelines::new(s, spp));
+        let lights = storage(s, "mgr lights", bytemuck::cast_slice(&packed.lights), 48);
+        let casters = storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48);
+        let positions = storage(
+            s,
+            "mgr positions",
+            bytemuck::cast_slice(&packed.positions),
+            16,
+        );
+        let normals = storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16);
+        let table = storage(
+            s,
+            "mgr object table",
+            bytemuck::cast_slice(&packed.objects),
+            80,
+        );
+        let index = index_buffer(s, &packed.indices);
+        let group = |drawn: &wgpu::Buffer| {
+            bind(
+                s,
+                &pipes.objects_layout,
+                &[
+                    positions.as_entire_binding(),
+                    normals.as_entire_binding(),
+                    table.as_entire_binding(),
+                    index.as_entire_binding(),
+                    drawn.as_entire_binding(),
+                ],
+            )
+        };
+        let objects_group = group(&positions);
+        let refracted_group = packed
+            .refracted
+            .as_ref()
+            .map(|r| group(&storage(s, "mgr refracted", bytemuck::cast_slice(r), 16)));
         SceneGpu {
             packed,
-            scene_layout,
+            pipes,
             lights,
             casters,
             objects_group,
+            refracted_group,
             index,
-            objects,
-            sky,
         }
     }
 
@@ -429,7 +479,7 @@ impl SceneGpu {
         let u = uniform(s, "mgr frame", frame);
         bind(
             s,
-            &self.scene_layout,
+            &self.pipes.scene_layout,
             &[
                 u.as_entire_binding(),
                 self.lights.as_entire_binding(),
@@ -470,11 +520,15 @@ impl SceneGpu {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_bind_group(0, &self.objects_group, &[]);
+        let group = match (pass, &self.refracted_group) {
+            (ScenePass::Refraction, Some(g)) => g,
+            _ => &self.objects_group,
+        };
+        rp.set_bind_group(0, group, &[]);
         rp.set_bind_group(1, frame, &[]);
-        rp.set_pipeline(&self.sky);
+        rp.set_pipeline(&self.pipes.sky);
         rp.draw(0..3, 0..1);
-        rp.set_pipeline(&self.objects);
+        rp.set_pipeline(&self.pipes.objects);
         rp.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
         for (k, r) in self.packed.ranges.iter().enumerate() {
             // The reflection shows what stands above the water only.
@@ -555,26 +609,30 @@ fn resolve(
     } else {
         "texture_2d<f32>"
     };
-    let source = include_str!("resolve.wgsl").replace("MGR_TEXTURE", texture);
-    let m = module(s, "mgr resolve", &source);
-    let c = wgpu::ShaderStages::COMPUTE;
-    let l = layout(
-        s,
-        "mgr resolve",
-        &[
-            (0, c, Kind::Texture { multisampled: ms }),
-            (1, c, Kind::Texture { multisampled: ms }),
-            (2, c, Kind::StorageRw),
-            (3, c, Kind::Uniform),
-        ],
-    );
-    let p = compute_pipeline(
-        s,
-        "mgr resolve",
-        &m,
-        "mgr_resolve_main",
-        &pipeline_layout(s, &[&l]),
-    );
+    let pipes = cached(s, &format!("resolve/{ms}"), || {
+        let source = include_str!("resolve.wgsl").replace("MGR_TEXTURE", texture);
+        let m = module(s, "mgr resolve", &source);
+        let c = wgpu::ShaderStages::COMPUTE;
+        let l = layout(
+            s,
+            "mgr resolve",
+            &[
+                (0, c, Kind::Texture { multisampled: ms }),
+                (1, c, Kind::Texture { multisampled: ms }),
+                (2, c, Kind::StorageRw),
+                (3, c, Kind::Uniform),
+            ],
+        );
+        let p = compute_pipeline(
+            s,
+            "mgr resolve",
+            &m,
+            "mgr_resolve_main",
+            &pipeline_layout(s, &[&l]),
+        );
+        (l, p)
+    });
+    let (l, p) = (&pipes.0, &pipes.1);
     let order = crate::scene::standard_sample_order(spp).unwrap_or_else(|| (0..spp).collect());
     let mut words = vec![w, h, spp, 0];
     words.extend(order);
@@ -587,7 +645,7 @@ fn resolve(
     );
     let g = bind(
         s,
-        &l,
+        l,
         &[
             wgpu::BindingResource::TextureView(scene),
             wgpu::BindingResource::TextureView(material),
@@ -596,7 +654,7 @@ fn resolve(
         ],
     );
     let mut cp = enc.begin_compute_pass(&Default::default());
-    cp.set_pipeline(&p);
+    cp.set_pipeline(p);
     cp.set_bind_group(0, &g, &[]);
     cp.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     drop(cp);
@@ -667,30 +725,21 @@ pub(crate) fn render_environment(
     let s = &*ctx.state;
     s.scoped("drawing the environment map on the GPU", || {
         let packed = scene.packed();
-        let scene_layout = layout(
-            s,
-            "mgr scene",
-            &[
-                (0, ALL, Kind::Uniform),
-                (1, FC, Kind::Storage),
-                (2, FC, Kind::Storage),
-            ],
-        );
         let c = wgpu::ShaderStages::COMPUTE;
-        let l = layout(s, "mgr environment", &[(0, c, Kind::StorageRw)]);
-        let source = format!(
-            "{}\n{}",
-            include_str!("scene.wgsl"),
-            include_str!("envmap.wgsl")
-        );
-        let m = module(s, "mgr environment", &source);
-        let p = compute_pipeline(
-            s,
-            "mgr environment",
-            &m,
-            "mgr_environment",
-            &pipeline_layout(s, &[&l, &scene_layout]),
-        );
+        let pipes = cached(s, "environment", || {
+            let scene_layout = scene_layout(s);
+            let l = layout(s, "mgr environment", &[(0, c, Kind::StorageRw)]);
+            let source = format!(
+                "{}\n{}",
+                include_str!("scene.wgsl"),
+                include_str!("envmap.wgsl")
+            );
+            let m = module(s, "mgr environment", &source);
+            let pl = pipeline_layout(s, &[&l, &scene_layout]);
+            let p = compute_pipeline(s, "mgr environment", &m, "mgr_environment", &pl);
+            (scene_layout, l, p)
+        });
+        let (scene_layout, l, p) = (&pipes.0, &pipes.1, &pipes.2);
         let u = uniform(
             s,
             "mgr frame",
@@ -700,7 +749,7 @@ pub(crate) fn render_environment(
         let casters = storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48);
         let g1 = bind(
             s,
-            &scene_layout,
+            scene_layout,
             &[
                 u.as_entire_binding(),
                 lights.as_entire_binding(),
@@ -713,11 +762,11 @@ pub(crate) fn render_environment(
             bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let g0 = bind(s, &l, &[out.as_entire_binding()]);
+        let g0 = bind(s, l, &[out.as_entire_binding()]);
         let mut enc = s.device.create_command_encoder(&Default::default());
         {
             let mut cp = enc.begin_compute_pass(&Default::default());
-            cp.set_pipeline(&p);
+            cp.set_pipeline(p);
             cp.set_bind_group(0, &g0, &[]);
             cp.set_bind_group(1, &g1, &[]);
             cp.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
@@ -755,16 +804,12 @@ fn generated(graph: &Graph, outputs: Vec<String>) -> Result<wgsl::ShaderModule, 
     .map_err(shader_error)
 }
 
-/// The material's group 0: its parameters and its packed textures, as the generated
-/// module declares them.
-fn material_group(
+/// The layout of the material's group 0, as the generated module declares it.
+fn material_layout(
     s: &DeviceState,
     shader: &wgsl::ShaderModule,
-    params: &ParamValues,
-    time: f32,
-    textures: &TextureSet,
     visibility: wgpu::ShaderStages,
-) -> Result<(wgpu::BindGroupLayout, wgpu::BindGroup), EvalError> {
+) -> wgpu::BindGroupLayout {
     let entries: Vec<(u32, wgpu::ShaderStages, Kind)> = shader
         .bindings
         .iter()
@@ -776,7 +821,18 @@ fn material_group(
             (*b, visibility, kind)
         })
         .collect();
-    let l = layout(s, "mgr material", &entries);
+    layout(s, "mgr material", &entries)
+}
+
+/// The material's group 0 on layout `l`: its parameters and its packed textures.
+fn material_group(
+    s: &DeviceState,
+    shader: &wgsl::ShaderModule,
+    l: &wgpu::BindGroupLayout,
+    params: &ParamValues,
+    time: f32,
+    textures: &TextureSet,
+) -> Result<wgpu::BindGroup, EvalError> {
     let pack = if shader.textures.is_empty() {
         None
     } else {
@@ -828,12 +884,11 @@ fn material_group(
             resource: buf.as_entire_binding(),
         })
         .collect();
-    let g = s.device.create_bind_group(&wgpu::BindGroupDescriptor {
+    Ok(s.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("mgr material"),
-        layout: &l,
+        layout: l,
         entries: &entries,
-    });
-    Ok((l, g))
+    }))
 }
 
 /// The field name of output `name` in a generated module.
@@ -879,37 +934,35 @@ pub(crate) fn render_frame(
         };
         let fs_source = material::fragment_source(&shader, &roles);
         let gpu = SceneGpu::new(s, scene, spp);
-        let (mat_layout, mat_group) = material_group(
-            s,
-            &shader,
-            m.params,
-            m.time,
-            m.textures,
-            wgpu::ShaderStages::FRAGMENT,
-        )?;
-        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-        let mesh_layout = layout(
-            s,
-            "mgr mesh",
-            &[
-                (0, vf, Kind::Storage),
-                (1, vf, Kind::Storage),
-                (2, vf, Kind::Storage),
-                (3, vf, Kind::Storage),
-            ],
-        );
-        let fm = module(s, "mgr material", &fs_source);
-        let pl = pipeline_layout(s, &[&mat_layout, &gpu.scene_layout, &mesh_layout]);
-        let surface = render_pipeline(
-            s,
-            "mgr material",
-            &fm,
-            "mgr_material_vs",
-            "mgr_material_fs",
-            &pl,
-            spp,
-            true,
-        );
+        let pipes = cached(s, &format!("material/{spp}/{fs_source}"), || {
+            let mat_layout = material_layout(s, &shader, wgpu::ShaderStages::FRAGMENT);
+            let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+            let mesh_layout = layout(
+                s,
+                "mgr mesh",
+                &[
+                    (0, vf, Kind::Storage),
+                    (1, vf, Kind::Storage),
+                    (2, vf, Kind::Storage),
+                    (3, vf, Kind::Storage),
+                ],
+            );
+            let fm = module(s, "mgr material", &fs_source);
+            let pl = pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout, &mesh_layout]);
+            let surface = render_pipeline(
+                s,
+                "mgr material",
+                &fm,
+                "mgr_material_vs",
+                "mgr_material_fs",
+                &pl,
+                spp,
+                true,
+            );
+            (mat_layout, mesh_layout, surface)
+        });
+        let (mat_layout, mesh_layout, surface) = (&pipes.0, &pipes.1, &pipes.2);
+        let mat_group = material_group(s, &shader, mat_layout, m.params, m.time, m.textures)?;
         t.compile = start.elapsed();
 
         // Buffers.
@@ -963,7 +1016,8 @@ pub(crate) fn render_frame(
                 let src = material::displacement_source(&dshader, &field);
                 let dm = module(s, "mgr displacement", &src);
                 let c = wgpu::ShaderStages::COMPUTE;
-                let (dl, dg) = material_group(s, &dshader, m.params, m.time, m.textures, c)?;
+                let dl = material_layout(s, &dshader, c);
+                let dg = material_group(s, &dshader, &dl, m.params, m.time, m.textures)?;
                 let vl = layout(
                     s,
                     "mgr displace io",
@@ -1064,7 +1118,7 @@ pub(crate) fn render_frame(
         };
         let mesh_group = bind(
             s,
-            &mesh_layout,
+            mesh_layout,
             &[
                 positions_buf.as_entire_binding(),
                 final_normals.as_entire_binding(),
@@ -1106,7 +1160,7 @@ pub(crate) fn render_frame(
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            rp.set_pipeline(&surface);
+            rp.set_pipeline(surface);
             rp.set_bind_group(0, &mat_group, &[]);
             rp.set_bind_group(1, &frame, &[]);
             rp.set_bind_group(2, &mesh_group, &[]);

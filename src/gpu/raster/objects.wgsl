@@ -18,6 +18,9 @@ struct MgrObject {
 @group(0) @binding(1) var<storage, read> mgr_normals: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> mgr_objects: array<MgrObject>;
 @group(0) @binding(3) var<storage, read> mgr_indices: array<u32>;
+// Where the vertices are drawn: mgr_positions, or in the Snell refraction pass their
+// apparent positions (snell.rs apparent_mesh); shading keeps mgr_positions.
+@group(0) @binding(4) var<storage, read> mgr_drawn: array<vec4<f32>>;
 
 struct MgrSurface {
     @builtin(position) clip: vec4<f32>,
@@ -27,7 +30,7 @@ struct MgrSurface {
 // One instance per object: instance_index is the object.
 @vertex
 fn mgr_object_vs(@builtin(vertex_index) k: u32, @builtin(instance_index) object: u32) -> MgrSurface {
-    var q = mgr_positions[k].xyz;
+    var q = mgr_drawn[k].xyz;
     // DrawItem mirror_y: the geometry drawn mirrored about y = 0, shaded where it is.
     if (mgr_frame.mirror != 0.0) {
         q.y = -q.y;
@@ -85,11 +88,15 @@ fn mgr_object_fs(
     if (f.mirror != 0.0) {
         m.y = -1.0;
     }
-    let bc = mgr_barycentrics(p0 * m, p1 * m, p2 * m, s.clip.xy);
+    let d0 = mgr_drawn[i0].xyz;
+    let d1 = mgr_drawn[i1].xyz;
+    let d2 = mgr_drawn[i2].xyz;
+    let bc = mgr_barycentrics(d0 * m, d1 * m, d2 * m, s.clip.xy);
     let b0 = 1.0 - bc.x - bc.y;
     let p = p0 * b0 + p1 * bc.x + p2 * bc.y;
-    // Clipping to a world plane (raster.rs DrawItem clip), per sample.
-    if (f.counts.w != 0u && dot(f.clip.xyz, p) + f.clip.w < 0.0) {
+    // Clipping the drawn triangle to a world plane (raster.rs DrawItem clip), per sample.
+    let drawn = d0 * b0 + d1 * bc.x + d2 * bc.y;
+    if (f.counts.w != 0u && dot(f.clip.xyz, drawn) + f.clip.w < 0.0) {
         discard;
     }
     let n0 = mgr_normals[i0].xyz;
