@@ -434,7 +434,7 @@ fn lod_and_snell_fields_are_opt_in_and_checked() {
     use matgraph::scene::{Scene, SceneKind};
     let water = |s: &Scene| match &s.kind {
         SceneKind::Water(w) => w.clone(),
-        SceneKind::Ball(_) => panic!("not water"),
+        _ => panic!("not water"),
     };
     // Left out, today's scene: the uniform 256 × 256 grid and the straight refraction map.
     let plain = Scene::preset("water").unwrap();
