@@ -299,7 +299,7 @@ pub fn rgb3(film: &Film) -> (Vec3, Vec3) {
 /// Belcour & Barla's Gaussian fit of the CIE 1931 XYZ matching functions in wavenumber
 /// (their supplemental code, `evalSensitivity`), per lobe (x̄, ȳ, z̄, x̄'s second lobe):
 /// amplitude `val √(2π var) / 1.0685e-7`.
-const BB_AMP: [f32; 4] = [0.84659, 1.0002219, 1.0011225, 0.15386831];
+const BB_AMP: [f32; 4] = [0.84659, 1.0002219, 1.0011225, 0.1538683];
 /// The lobes' centres `pos` × 1e-9: cycles per nm of optical path difference.
 const BB_POS_NM: [f32; 4] = [0.001681, 0.0017953, 0.0022084, 0.0022399];
 /// The lobes' widths `var (2π · 1e-9)²`: the exponent per nm² of optical path difference.
@@ -552,7 +552,7 @@ fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32) -> vec4<
 fn mg_tf_bb_sensitivities(opd_nm: f32) -> MgTfBbS {
     let o2 = opd_nm * opd_nm;
     let x = mg_tf_bb_lobe(0.84659, 0.001681, 1.708547e-7, opd_nm, o2);
-    let x2 = mg_tf_bb_lobe(0.15386831, 0.0022399, 1.7876617e-7, opd_nm, o2);
+    let x2 = mg_tf_bb_lobe(0.1538683, 0.0022399, 1.7876617e-7, opd_nm, o2);
     let y = mg_tf_bb_lobe(1.0002219, 0.0017953, 3.6733088e-7, opd_nm, o2);
     let z = mg_tf_bb_lobe(1.0011225, 0.0022084, 2.6103525e-7, opd_nm, o2);
     let xs = x + x2;
