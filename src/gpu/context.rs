@@ -57,7 +57,11 @@ impl GpuContext {
         let info = adapter.get_info();
         let desc = wgpu::DeviceDescriptor {
             label: Some("matgraph"),
-            required_features: wgpu::Features::empty(),
+            // Rgba32Float multisampling for the GPU rasteriser, where the adapter has it.
+            // and the primitive index its fragment stages rebuild barycentrics from.
+            required_features: adapter.features()
+                & (wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+                    | wgpu::Features::PRIMITIVE_INDEX),
             required_limits: adapter.limits(),
             ..Default::default()
         };
@@ -86,6 +90,7 @@ impl GpuContext {
             uncaptured,
             lost,
             pipelines: AtomicUsize::new(0),
+            cache: Mutex::new(Default::default()),
         });
         Ok(GpuContext {
             _instance: instance,
@@ -116,6 +121,19 @@ impl GpuContext {
             "{} ({:?}, {:?}, {} {})",
             i.name, i.device_type, i.backend, i.driver, i.driver_info
         )
+    }
+
+    /// What the adapter supports for `format` (sample counts, usages).
+    pub(super) fn format_features(
+        &self,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::TextureFormatFeatures {
+        self.adapter.get_texture_format_features(format)
+    }
+
+    /// The device's features.
+    pub fn features(&self) -> wgpu::Features {
+        self.state.device.features()
     }
 
     /// The device's limits.

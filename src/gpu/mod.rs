@@ -11,6 +11,7 @@ mod context;
 mod device;
 mod harness;
 mod plan;
+pub mod raster;
 
 pub use context::GpuContext;
 pub use device::dispatch_shape;
@@ -27,8 +28,13 @@ pub enum Backend {
     /// The batched CPU executor ([`Plan`]).
     #[default]
     Cpu,
-    /// Generated WGSL run by wgpu ([`GpuPlan`] on [`GpuContext::shared`]).
+    /// Generated WGSL run by wgpu ([`GpuPlan`] on [`GpuContext::shared`]). A render draws
+    /// the whole frame with wgpu render pipelines ([`raster`]).
     Gpu,
+    /// As [`Backend::Gpu`] for evaluators; a render rasterises on the CPU and shades the
+    /// G-buffer with the compute pipeline (the hybrid path, kept for comparison and as the
+    /// fallback of the GPU rasteriser).
+    GpuCompute,
 }
 
 /// Compiles `graph` for `backend`; the evaluators agree to within float rounding.
@@ -39,7 +45,9 @@ pub fn compile(
 ) -> Result<Box<dyn Evaluator>, EvalError> {
     Ok(match backend {
         Backend::Cpu => Box::new(Plan::compile(graph, options)?),
-        Backend::Gpu => Box::new(GpuPlan::compile(GpuContext::shared()?, graph, options)?),
+        Backend::Gpu | Backend::GpuCompute => {
+            Box::new(GpuPlan::compile(GpuContext::shared()?, graph, options)?)
+        }
     })
 }
 

@@ -19,6 +19,8 @@
 //! [`RenderOptions::memory_budget`] ([`plan_memory`]); a banded render equals the one-band
 //! render bit for bit.
 
+pub mod frames;
+mod gpu;
 pub mod sheet;
 pub mod tonemap;
 
@@ -227,7 +229,7 @@ pub fn plan_memory(
 }
 
 /// Wall-clock time of each stage of a render.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct RenderTimings {
     /// Compiling the material (CPU plan or GPU pipeline).
     pub compile: Duration,
@@ -239,6 +241,15 @@ pub struct RenderTimings {
     pub shade: Duration,
     /// Compositing and resolving the samples.
     pub resolve: Duration,
+    /// GPU rasteriser: creating and filling buffers and textures.
+    pub upload: Duration,
+    /// GPU rasteriser: the passes, submitted and waited for.
+    pub draw: Duration,
+    /// GPU rasteriser: reading the image back.
+    pub readback: Duration,
+    /// Why a `Backend::Gpu` render fell back to the hybrid path (CPU rasteriser, GPU
+    /// shading), when it did: one line for the user.
+    pub fallback: Option<String>,
 }
 
 /// A rendered linear HDR image.
@@ -543,6 +554,21 @@ pub fn render_timed(
     )?;
     for (name, value) in &options.parameters {
         params.set(name, *value)?;
+    }
+
+    if options.backend == Backend::Gpu {
+        let ctx = crate::gpu::GpuContext::shared()?;
+        match gpu::unsupported(ctx, scene, options) {
+            None => {
+                let image = gpu::render(ctx, graph, scene, options, &roles, &params, time, &mut t)?;
+                return Ok((image, t));
+            }
+            Some(why) => {
+                t.fallback = Some(format!(
+                    "the GPU rasteriser cannot draw {why}: rasterising on the CPU, shading on the GPU"
+                ))
+            }
+        }
     }
 
     let start = Instant::now();

@@ -249,7 +249,7 @@ impl Default for Seabed {
 
 /// The bumps of the seabed: `(amplitude, k_x, k_z, phase)` of each sine, wave numbers in
 /// rad/m (wavelengths of about 10 to 45 m).
-const BUMPS: [(f32, f32, f32, f32); 4] = [
+pub(crate) const BUMPS: [(f32, f32, f32, f32); 4] = [
     (1.0, 0.16, 0.09, 0.3),
     (0.7, -0.07, 0.21, 1.7),
     (0.45, 0.33, -0.27, 4.1),
@@ -258,6 +258,13 @@ const BUMPS: [(f32, f32, f32, f32); 4] = [
 
 /// Phase step per seed and bump index: the golden angle in radians.
 const SEED_PHASE: f32 = 2.399_963;
+
+/// The phase each bump gets from the seabed's seed: `seed · 2.399963 · (i + 1)` mod 2π.
+pub(crate) fn seed_phases(seed: u32) -> [f32; 4] {
+    std::array::from_fn(|i| {
+        (seed as f32 * SEED_PHASE * (i + 1) as f32).rem_euclid(std::f32::consts::TAU)
+    })
+}
 
 impl WaterSetup {
     /// Depth of the seabed below the water plane at `(x, z)`, metres:
@@ -274,9 +281,9 @@ impl WaterSetup {
     pub fn seabed_depth(&self, x: f32, z: f32) -> f32 {
         let s = &self.seabed;
         let (mut sum, mut norm) = (0.0, 0.0);
+        let phases = seed_phases(s.seed);
         for (i, (a, kx, kz, phase)) in BUMPS.iter().enumerate() {
-            let seed_phase =
-                (s.seed as f32 * SEED_PHASE * (i + 1) as f32).rem_euclid(std::f32::consts::TAU);
+            let seed_phase = phases[i];
             sum += a * (kx * x + kz * z + phase + seed_phase).sin();
             norm += a;
         }

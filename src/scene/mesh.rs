@@ -282,6 +282,34 @@ impl Mesh {
         m
     }
 
+    /// What [`Mesh::displaced`] sums its normals over, for doing it elsewhere (the GPU): per
+    /// vertex its weld group's smallest vertex index, and per group (indexed by that vertex,
+    /// CSR: `starts[g]..starts[g + 1]` into `triangles`) the triangles touching the group, in
+    /// the order and with the multiplicity in which [`Mesh::displaced`] adds their faces.
+    pub fn normal_adjacency(&self) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+        let groups = weld_groups(&self.positions);
+        let mut counts = vec![0u32; self.positions.len() + 1];
+        for t in &self.indices {
+            for &v in t {
+                counts[groups[v as usize] as usize + 1] += 1;
+            }
+        }
+        for i in 1..counts.len() {
+            counts[i] += counts[i - 1];
+        }
+        let starts = counts.clone();
+        let mut next = counts;
+        let mut triangles = vec![0u32; *starts.last().unwrap_or(&0) as usize];
+        for (k, t) in self.indices.iter().enumerate() {
+            for &v in t {
+                let g = groups[v as usize] as usize;
+                triangles[next[g] as usize] = k as u32;
+                next[g] += 1;
+            }
+        }
+        (groups, starts, triangles)
+    }
+
     /// Recomputes the normals in place as [`Mesh::displaced`] does.
     pub fn recompute_normals(&mut self) {
         let groups = weld_groups(&self.positions);

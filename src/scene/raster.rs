@@ -23,13 +23,57 @@ pub(crate) const BAND_ROWS: usize = 8;
 /// Tolerance of the inside test on normalised barycentrics.
 const EDGE_EPS: f64 = 1e-9;
 
+/// Sample counts whose pattern is the standard multisample pattern of Vulkan, D3D and
+/// WebGPU, so that the GPU rasteriser's MSAA samples the same points.
+pub const STANDARD_SAMPLE_COUNTS: [u32; 4] = [1, 2, 4, 8];
+
+/// The standard multisample patterns (Vulkan "standard sample locations", the D3D11
+/// patterns, WebGPU's 4-sample pattern) in sixteenths of a pixel, in the hardware's sample
+/// order.
+const STANDARD_PATTERNS: [&[[u8; 2]]; 4] = [
+    &[[8, 8]],
+    &[[12, 12], [4, 4]],
+    &[[6, 2], [14, 6], [2, 10], [10, 14]],
+    &[
+        [9, 5],
+        [7, 11],
+        [13, 9],
+        [5, 3],
+        [3, 13],
+        [1, 7],
+        [11, 15],
+        [15, 1],
+    ],
+];
+
+/// For a standard sample count ([`STANDARD_SAMPLE_COUNTS`]), the hardware sample index of
+/// each of [`sample_offsets`]'s samples, in order.
+pub fn standard_sample_order(spp: u32) -> Option<Vec<u32>> {
+    let k = STANDARD_SAMPLE_COUNTS.iter().position(|&c| c == spp)?;
+    let mut order: Vec<u32> = (0..spp).collect();
+    order.sort_by_key(|&i| STANDARD_PATTERNS[k][i as usize][0]);
+    Some(order)
+}
+
 /// The sub-pixel sample offsets of `spp` samples per pixel (each in [0, 1)²), the same in
-/// every pixel: Hammersley points shifted by half a stratum,
+/// every pixel. For 1, 2, 4 and 8 samples, the standard multisample pattern
+/// ([`STANDARD_SAMPLE_COUNTS`]) sorted by x, so that the GPU rasteriser's MSAA samples the
+/// same points (all four are n-rooks patterns, one sample per column and per row stratum;
+/// 1 is the pixel centre); for other counts, Hammersley points shifted by half a stratum,
 /// `((s + 0.5) / spp, frac(φ₂(s) + 0.5 / spp))` for `s = 0..spp`, with `φ₂` the base-2
-/// radical inverse (Hammersley and Handscomb, "Monte Carlo Methods", 1964). One sample per
-/// column stratum; for powers of two also one per row stratum (an n-rooks pattern);
-/// `spp = 1` is the pixel centre.
+/// radical inverse (Hammersley and Handscomb, "Monte Carlo Methods", 1964): one sample per
+/// column stratum, and for powers of two also one per row stratum.
 pub fn sample_offsets(spp: u32) -> Vec<[f32; 2]> {
+    if let Some(order) = standard_sample_order(spp) {
+        let k = STANDARD_SAMPLE_COUNTS
+            .iter()
+            .position(|&c| c == spp)
+            .unwrap_or(0);
+        return order
+            .iter()
+            .map(|&i| STANDARD_PATTERNS[k][i as usize].map(|v| v as f32 / 16.0))
+            .collect();
+    }
     (0..spp)
         .map(|s| {
             let jx = (s as f64 + 0.5) / spp as f64;

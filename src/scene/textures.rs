@@ -51,6 +51,7 @@ impl Scene {
         height: u32,
         image: Option<&EnvLookup>,
     ) -> SceneTextures {
+        super::gbuffer::count_cpu_raster_frame();
         let geometry = self.geometry();
         let shading = Shading::new(self, &geometry, image);
         let cam = self.camera.frame(width, height);

@@ -1,0 +1,88 @@
+//! Times `render` of every bundled graph at 1024² on the three paths: the CPU renderer on
+//! 2 threads, the hybrid path (CPU rasteriser, GPU compute shading: `--gpu-compute`) and the
+//! GPU rasteriser (`--gpu`, per stage: compile, upload, draw, readback). Prints a Markdown
+//! table (best of `--runs`, default 3) for docs/benchmarks.md.
+//!
+//! `cargo run --release --example gpu_render_stages [-- --size 1024 --runs 3]`
+
+use matgraph::gpu::Backend;
+use matgraph::render::{RenderOptions, RenderTimings, render_timed};
+use matgraph::scene::Scene;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let arg = |name: &str, default: u32| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let (size, runs) = (arg("--size", 1024), arg("--runs", 3).max(1));
+    let ctx = matgraph::gpu::GpuContext::shared().expect("a GPU adapter");
+    println!(
+        "{size}² at 1 spp on {}; best of {runs}; times in ms\n",
+        ctx.describe()
+    );
+    println!(
+        "| graph | CPU, 2 threads | hybrid (`--gpu-compute`) | GPU total | compile | upload | draw | readback |"
+    );
+    println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    for path in files {
+        let graph = matgraph::io::load_graph(&path, matgraph::Registry::builtin()).unwrap();
+        let scene = matgraph::render::graph_scene(&graph)
+            .unwrap()
+            .unwrap_or_else(|| Scene::preset("ball").unwrap());
+        let textures = Arc::new(matgraph::image_io::load_graph_textures(&graph, &path).unwrap());
+        let options = |backend| RenderOptions {
+            width: size,
+            height: size,
+            backend,
+            textures: Some(textures.clone()),
+            ..RenderOptions::default()
+        };
+        let best = |backend: Backend, in_pool: bool| -> (Duration, RenderTimings) {
+            let o = options(backend);
+            (0..runs)
+                .map(|_| {
+                    let start = Instant::now();
+                    let (_, t) = if in_pool {
+                        pool.install(|| render_timed(&graph, &scene, &o).unwrap())
+                    } else {
+                        render_timed(&graph, &scene, &o).unwrap()
+                    };
+                    (start.elapsed(), t)
+                })
+                .min_by_key(|(d, _)| *d)
+                .unwrap()
+        };
+        let (cpu, _) = best(Backend::Cpu, true);
+        let (hybrid, _) = best(Backend::GpuCompute, false);
+        let (gpu, t) = best(Backend::Gpu, false);
+        println!(
+            "| {} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} | {:.0} |",
+            graph.name,
+            ms(cpu),
+            ms(hybrid),
+            ms(gpu),
+            ms(t.compile),
+            ms(t.upload),
+            ms(t.draw),
+            ms(t.readback)
+        );
+    }
+}

@@ -1,0 +1,264 @@
+//! The scene as flat data for the GPU rasteriser (`crate::gpu::raster`): the frame uniform
+//! of its `scene.wgsl`, the prepared lights, the shadow casters, the built-in surfaces'
+//! vertices and albedos. Each field mirrors a CPU structure of this module, so the GPU
+//! shades with the same numbers.
+
+use glam::{Vec3, Vec4};
+
+use super::Scene;
+use super::environment::{AmbientCube, Environment};
+use super::kind::SceneKind;
+use super::objects::{ABOVE_WATER, Albedo, BELOW_WATER, Geometry, Shape};
+use super::shade::Prepared;
+
+/// Which picture of the scene a pass draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ScenePass {
+    /// Everything but the material surface (the frame's background, `scene:background`).
+    Background,
+    /// `scene:refraction`: below the water plane (the water scene; else the background).
+    Refraction,
+    /// `scene:reflection`: above the water, mirrored about it (else the background).
+    Reflection,
+}
+
+/// One built-in surface's triangles in [`PackedScene::indices`].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ObjectRange {
+    /// Its index range.
+    pub indices: std::ops::Range<u32>,
+    /// Whether it lies wholly below the water plane.
+    pub underwater: bool,
+}
+
+/// The scene's data in the layouts of `src/gpu/raster/scene.wgsl` and `objects.wgsl`.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct PackedScene {
+    /// `MgrLight` per light (12 words each).
+    pub lights: Vec<u32>,
+    /// `MgrCaster` per caster (12 words each): the scene's own casters first, then the
+    /// material's (the undisplaced ball).
+    pub casters: Vec<u32>,
+    /// The scene's own casters (those that shadow the material's light).
+    pub own_casters: u32,
+    /// All casters.
+    pub all_casters: u32,
+    /// Built-in vertex positions (xyz, 1).
+    pub positions: Vec<[f32; 4]>,
+    /// Built-in vertex normals (xyz, the object index as bits).
+    pub normals: Vec<[f32; 4]>,
+    /// Where the refraction pass draws the vertices, when the water's Snell refraction is
+    /// on: each at its `snell::apparent_position` from the eye, as the CPU pass draws
+    /// `snell::apparent_mesh` (shading keeps `positions`).
+    pub refracted: Option<Vec<[f32; 4]>>,
+    /// Triangles of the built-in surfaces, in drawing order.
+    pub indices: Vec<u32>,
+    /// Each surface's triangles.
+    pub ranges: Vec<ObjectRange>,
+    /// `MgrObject` per surface (20 words each).
+    pub objects: Vec<u32>,
+    /// The ambient cube of built-in shading.
+    pub ambient: AmbientCube,
+}
+
+fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
+    v.iter().map(|x| x.to_bits())
+}
+
+impl Scene {
+    /// Whether the GPU rasteriser can draw this scene, or what it cannot draw: an image
+    /// environment (looked up by the caller's closure, which the GPU cannot call), the
+    /// bubble scene (its backdrop shader is not ported yet).
+    pub(crate) fn gpu_supported(&self) -> Result<(), String> {
+        if let Environment::Image(_) = &self.environment {
+            return Err("an image environment".into());
+        }
+        match &self.kind {
+            SceneKind::Bubble(_) => Err("the bubble scene (its backdrop shader)".into()),
+            _ => Ok(()),
+        }
+    }
+
+    /// The scene packed for the GPU rasteriser.
+    pub(crate) fn packed(&self) -> PackedScene {
+        let geometry: Geometry = self.geometry();
+        let sun = self.sun_direction();
+        let env = &self.environment;
+        let ambient = AmbientCube::from_radiance(|d| env.ambient_radiance(d, sun, None));
+        let mut lights = Vec::new();
+        for light in &self.lights {
+            let (kind, a, b) = match Prepared::new(light) {
+                Prepared::Directional { l, radiance } => (0u32, l, radiance),
+                Prepared::Point { position, radiance } => (1, position, radiance),
+            };
+            lights.extend([kind, 0, 0, 0]);
+            lights.extend(bits(&[a.x, a.y, a.z, 0.0, b.x, b.y, b.z, 0.0]));
+        }
+        let mut casters = Vec::new();
+        let own = geometry.casters.len() as u32;
+        for s in geometry.casters.iter().chain(&geometry.material_caster) {
+            let (kind, a, b) = match *s {
+                Shape::Sphere { center, radius } => (0u32, center.extend(radius), Vec4::ZERO),
+                Shape::Aabb { min, max } => (1, min.extend(0.0), max.extend(0.0)),
+                Shape::Cylinder {
+                    x,
+                    z,
+                    radius,
+                    y0,
+                    y1,
+                } => (2, Vec4::new(x, z, radius, y0), Vec4::new(y1, 0.0, 0.0, 0.0)),
+            };
+            casters.extend([kind, 0, 0, 0]);
+            casters.extend(bits(&a.to_array()));
+            casters.extend(bits(&b.to_array()));
+        }
+        let mut packed = PackedScene {
+            lights,
+            own_casters: own,
+            all_casters: casters.len() as u32 / 12,
+            casters,
+            positions: Vec::new(),
+            normals: Vec::new(),
+            refracted: None,
+            indices: Vec::new(),
+            ranges: Vec::new(),
+            objects: Vec::new(),
+            ambient,
+        };
+        for (k, obj) in geometry.objects.iter().enumerate() {
+            let base = packed.positions.len() as u32;
+            let first = packed.indices.len() as u32;
+            let m = &obj.mesh;
+            packed
+                .positions
+                .extend(m.positions.iter().map(|p| p.extend(1.0).to_array()));
+            packed.normals.extend(
+                m.normals
+                    .iter()
+                    .map(|n| [n.x, n.y, n.z, f32::from_bits(k as u32)]),
+            );
+            packed
+                .indices
+                .extend(m.indices.iter().flat_map(|t| t.map(|i| i + base)));
+            packed.ranges.push(ObjectRange {
+                indices: first..packed.indices.len() as u32,
+                underwater: obj.underwater,
+            });
+            let skip = obj.caster.map_or(u32::MAX, |c| c as u32);
+            let words: [f32; 16] = match &obj.albedo {
+                // The bubble's unlit backdrop (a scene the GPU rasteriser leaves to the
+                // hybrid path, `gpu_supported`) packs as white.
+                Albedo::Unlit(_) => {
+                    packed.objects.extend([0, skip, first / 3, 0]);
+                    let mut w = [0.0; 16];
+                    w[8..11].copy_from_slice(&[1.0; 3]);
+                    w
+                }
+                &Albedo::Constant(c) => {
+                    packed.objects.extend([0, skip, first / 3, 0]);
+                    let mut w = [0.0; 16];
+                    w[8..11].copy_from_slice(&c.to_array());
+                    w
+                }
+                &Albedo::Checker {
+                    u,
+                    v,
+                    v0,
+                    size,
+                    colors,
+                } => {
+                    packed.objects.extend([1, skip, first / 3, 0]);
+                    let mut w = [0.0; 16];
+                    w[..4].copy_from_slice(&u.extend(v0).to_array());
+                    w[4..8].copy_from_slice(&v.extend(size).to_array());
+                    w[8..11].copy_from_slice(&colors[0].to_array());
+                    w[12..15].copy_from_slice(&colors[1].to_array());
+                    w
+                }
+            };
+            packed.objects.extend(bits(&words));
+        }
+        if let SceneKind::Water(w) = &self.kind
+            && let Some(snell) = &w.refraction
+        {
+            let eye = Vec3::from(self.camera.position);
+            let mut drawn = Vec::with_capacity(packed.positions.len());
+            for obj in &geometry.objects {
+                let m = super::snell::apparent_mesh(&obj.mesh, eye, snell.ior_air, snell.ior_water);
+                drawn.extend(m.positions.iter().map(|p| p.extend(1.0).to_array()));
+            }
+            packed.refracted = Some(drawn);
+        }
+        packed
+    }
+
+    /// The `MgrFrame` uniform (384 bytes) of a `width × height` pass: the camera, the sky,
+    /// the ambient cube, the counts and, for `pass`, the mirror and the clip plane.
+    pub(crate) fn frame_uniform(
+        &self,
+        packed: &PackedScene,
+        width: u32,
+        height: u32,
+        pass: ScenePass,
+    ) -> Vec<u8> {
+        let cam = self.camera.frame(width, height);
+        let water = matches!(self.kind, SceneKind::Water(_));
+        let (mirror, clip) = match (pass, water) {
+            (ScenePass::Refraction, true) => (false, Some(BELOW_WATER)),
+            (ScenePass::Reflection, true) => (true, Some(ABOVE_WATER)),
+            _ => (false, None),
+        };
+        let eye = if mirror {
+            cam.origin * Vec3::new(1.0, -1.0, 1.0)
+        } else {
+            cam.origin
+        };
+        let sky = match &self.environment {
+            Environment::Sky(s) => *s,
+            Environment::Image(_) => super::Sky::default(),
+        };
+        let sun = self.sun_direction();
+        let mut w: Vec<f32> = Vec::with_capacity(96);
+        let mut put = |v: Vec3, s: f32| w.extend([v.x, v.y, v.z, s]);
+        put(cam.origin, cam.near);
+        put(cam.right, cam.tan_half_y);
+        put(cam.up, cam.aspect);
+        put(cam.forward, width as f32);
+        put(eye, height as f32);
+        put(sun, sky.sun_radius_deg.to_radians().cos());
+        put(Vec3::from(sky.zenith_color), sky.sun_intensity);
+        put(Vec3::from(sky.horizon_color), sky.halo);
+        put(Vec3::from(sky.ground_color), if mirror { 1.0 } else { 0.0 });
+        put(Vec3::from(sky.sun_color), if water { 1.0 } else { 0.0 });
+        let c = clip.unwrap_or(Vec4::ZERO);
+        put(c.truncate(), c.w);
+        for f in packed.ambient.faces {
+            put(f, 0.0);
+        }
+        let counts = [
+            packed.lights.len() as u32 / 12,
+            packed.all_casters,
+            packed.own_casters,
+            clip.is_some() as u32,
+        ];
+        w.extend(counts.map(f32::from_bits));
+        match &self.kind {
+            SceneKind::Water(wa) => {
+                let s = &wa.seabed;
+                w.extend([
+                    s.depth_min,
+                    s.depth_max,
+                    s.slope.clamp(0.0, 1.0),
+                    wa.size[1].max(f32::MIN_POSITIVE),
+                ]);
+                w.extend(super::kind::seed_phases(s.seed));
+                for b in super::kind::BUMPS {
+                    w.extend([b.0, b.1, b.2, b.3]);
+                }
+            }
+            SceneKind::Ball(_) | SceneKind::Bubble(_) => w.extend([0.0; 24]),
+        }
+        debug_assert_eq!(w.len(), 96);
+        bytemuck::cast_slice(&w).to_vec()
+    }
+}
