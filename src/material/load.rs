@@ -20,7 +20,7 @@ pub enum LoadError {
         /// The graph file.
         file: std::path::PathBuf,
         /// Why.
-        source: super::MaterialError,
+        source: Box<super::MaterialError>,
     },
 }
 
@@ -37,7 +37,7 @@ impl Material {
         let mut material =
             Material::new(&graph, options).map_err(|source| LoadError::Material {
                 file: path.to_owned(),
-                source,
+                source: Box::new(source),
             })?;
         material.bind_textures(&textures);
         Ok((material, textures))

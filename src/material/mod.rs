@@ -79,7 +79,7 @@ pub enum MaterialError {
         /// The graph.
         graph: String,
         /// What failed.
-        source: ShaderError,
+        source: Box<ShaderError>,
     },
     /// An output with a role has a type the role cannot take.
     #[error("graph '{graph}': output '{output}' is {ty}, expected {expected}")]
@@ -146,7 +146,7 @@ impl Material {
             ShaderError::Plan(EvalError::NoOutputs) => MaterialError::NoOutputs(name.clone()),
             source => MaterialError::Shader {
                 graph: name.clone(),
-                source,
+                source: Box::new(source),
             },
         };
         let outputs: Vec<(String, SocketType)> = graph
@@ -248,10 +248,10 @@ impl Material {
         let source = self.render.source.replace(DEFAULT_HOOKS_WGSL, hooks);
         let module = naga::front::wgsl::parse_str(&source).map_err(|e| MaterialError::Shader {
             graph: self.graph.clone(),
-            source: ShaderError::Naga {
+            source: Box::new(ShaderError::Naga {
                 node: None,
                 message: e.emit_to_string(&source),
-            },
+            }),
         })?;
         naga::valid::Validator::new(
             naga::valid::ValidationFlags::all(),
@@ -260,10 +260,10 @@ impl Material {
         .validate(&module)
         .map_err(|e| MaterialError::Shader {
             graph: self.graph.clone(),
-            source: ShaderError::Naga {
+            source: Box::new(ShaderError::Naga {
                 node: None,
                 message: e.emit_to_string(&source),
-            },
+            }),
         })?;
         Ok(source)
     }
