@@ -79,9 +79,7 @@ pub(crate) fn rewire(
     let follow = |node: &str, input: &str, link: &str, errors: &mut Vec<GraphError>| {
         let (mut link, mut hopped) = (link, false);
         for _ in 0..=picks.len() {
-            let Some((id, output)) = link.split_once('.') else {
-                return None;
-            };
+            let (id, output) = link.split_once('.')?;
             let Some(next) = picks.get(id) else {
                 return hopped.then(|| link.to_owned());
             };
