@@ -52,6 +52,10 @@ pub struct GraphDocument<N = NodeDocument> {
     /// The parameter nodes exposed to the caller (material settings).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parameters: Vec<ParameterDocument>,
+    /// Named choices between alternative implementations, resolved at compile time by the
+    /// `switch` nodes that name them (see [`crate::variant`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub variants: BTreeMap<String, VariantDocument>,
     /// The scene the graph is previewed in: a preset name (`"ball"`, `"water"`) or a scene
     /// object (see `matgraph::scene`); `matgraph render --scene` overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -73,6 +77,9 @@ pub struct NodeDocument {
     /// the inputs when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub data_type: Option<String>,
+    /// For `switch` nodes: the variant whose choice picks the input passed on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
     /// Input values and links by input name; absent inputs take their defaults.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     #[schemars(with = "BTreeMap<String, InputSchema>")]
@@ -155,6 +162,20 @@ pub struct ParameterDocument {
     /// The group it is shown in (for example "sebum", "epidermis", "dermis").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub group: Option<String>,
+}
+
+/// One declared variant: a named choice between alternative implementations.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VariantDocument {
+    /// The choices, in the order the author wrote them.
+    #[schemars(length(min = 1))]
+    pub choices: Vec<String>,
+    /// The choice used when none is selected; one of `choices`.
+    pub default: String,
+    /// What the variant trades (speed against error, a model against its reference).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub doc: String,
 }
 
 /// Schema of one input entry: a literal or a link.

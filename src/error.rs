@@ -233,6 +233,55 @@ pub enum GraphError {
         /// What is wrong.
         message: String,
     },
+    /// A declared variant that is malformed (no choices, a repeated choice, a default not
+    /// among its choices).
+    #[error("variant '{variant}': {field}: {message}{}", did_you_mean(.suggestion))]
+    BadVariant {
+        /// The variant's name.
+        variant: String,
+        /// The field at fault (`choices`, `default`).
+        field: String,
+        /// What is wrong.
+        message: String,
+        /// The nearest choice, for a default not among them.
+        suggestion: Option<String>,
+    },
+    /// A `switch` node naming a variant the graph does not declare (or none), or a `variant`
+    /// field on a node that is not a switch.
+    #[error("node '{node}': variant: {message}{}", did_you_mean(.suggestion))]
+    BadSwitch {
+        /// The node.
+        node: String,
+        /// What is wrong.
+        message: String,
+        /// The nearest declared variant.
+        suggestion: Option<String>,
+    },
+    /// A `switch` input that is missing, not a link, not one of the variant's choices, or
+    /// whose type differs from the other choices'.
+    #[error("node '{node}': input '{input}': {message}{}", did_you_mean(.suggestion))]
+    BadSwitchInput {
+        /// The switch node.
+        node: String,
+        /// The input (a choice's name).
+        input: String,
+        /// What is wrong.
+        message: String,
+        /// The nearest choice, for an input that is not one.
+        suggestion: Option<String>,
+    },
+    /// A variant selection (`--variant NAME=CHOICE`) naming an unknown variant or choice.
+    #[error("--variant {variant}={choice}: {message}{}", did_you_mean(.suggestion))]
+    BadSelection {
+        /// The variant named.
+        variant: String,
+        /// The choice named.
+        choice: String,
+        /// What is wrong.
+        message: String,
+        /// The nearest variant or choice.
+        suggestion: Option<String>,
+    },
 }
 
 fn at_node(node: &Option<String>) -> String {
@@ -280,7 +329,9 @@ impl GraphError {
             | BadLink { node, .. }
             | MissingNode { node, .. }
             | MissingOutput { node, .. }
-            | TypeMismatch { node, .. } => Some(node),
+            | TypeMismatch { node, .. }
+            | BadSwitch { node, .. }
+            | BadSwitchInput { node, .. } => Some(node),
             Cycle { nodes } => nodes.first().map(String::as_str),
             _ => None,
         }

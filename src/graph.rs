@@ -144,6 +144,8 @@ pub struct Graph {
     parameters: Vec<GraphParameter>,
     /// The preview scene from the file, as written (checked by the renderer).
     pub scene: Option<serde_json::Value>,
+    /// The variants and switches as written, when the file has any.
+    written: Option<Arc<crate::variant::Written>>,
 }
 
 impl Graph {
@@ -153,16 +155,133 @@ impl Graph {
         Graph::from_document(&doc, registry)
     }
 
-    /// Validates a document; returns every problem found.
+    /// Validates a document, its variants at their defaults; returns every problem found.
     pub fn from_document(
         doc: &GraphDocument,
         registry: &Registry,
     ) -> Result<Graph, Vec<GraphError>> {
-        Builder {
+        Graph::with_variants(doc, registry, &[])
+    }
+
+    /// Validates a document with each variant named in `selection` at the given choice (the
+    /// others at their defaults; see [`crate::variant`]). Every switch is resolved by
+    /// rewiring its consumers to the chosen source, so the unchosen branches reach no output
+    /// and plans and shaders leave them out; they are still validated, and the graph saves
+    /// as written, variants and switches included.
+    pub fn with_variants(
+        doc: &GraphDocument,
+        registry: &Registry,
+        selection: &crate::variant::Selection,
+    ) -> Result<Graph, Vec<GraphError>> {
+        let builder = || Builder {
             registry,
             errors: Vec::new(),
+        };
+        let plain = doc.variants.is_empty()
+            && selection.is_empty()
+            && doc
+                .nodes
+                .iter()
+                .all(|n| n.node_type != crate::variant::SWITCH && n.variant.is_none());
+        if plain {
+            return builder().build(doc);
         }
-        .build(doc)
+        let (rewired, written) = crate::variant::rewire(doc, selection)?;
+        let mut graph = builder().build(&rewired)?;
+        let errors = graph.check_switches(&written);
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        graph.written = Some(Arc::new(written));
+        Ok(graph)
+    }
+
+    /// The same graph file resolved at another selection of variant choices.
+    pub fn select(
+        &self,
+        registry: &Registry,
+        selection: &crate::variant::Selection,
+    ) -> Result<Graph, Vec<GraphError>> {
+        Graph::with_variants(&self.to_document(), registry, selection)
+    }
+
+    /// The declared variants, by name.
+    pub fn variants(&self) -> BTreeMap<String, crate::document::VariantDocument> {
+        self.written
+            .as_ref()
+            .map(|w| w.variants.clone())
+            .unwrap_or_default()
+    }
+
+    /// The choice made for each declared variant.
+    pub fn variant_choices(&self) -> BTreeMap<String, String> {
+        self.written
+            .as_ref()
+            .map(|w| w.chosen.clone())
+            .unwrap_or_default()
+    }
+
+    /// Every switch input must link to an existing output whose type is that of the
+    /// switch's first choice (a switch input linking a switch has that switch's type).
+    fn check_switches(&self, w: &crate::variant::Written) -> Vec<GraphError> {
+        let by_id: HashMap<&str, &NodeDocument> =
+            w.switches.iter().map(|(_, n)| (n.id.as_str(), n)).collect();
+        let chosen_link = |n: &NodeDocument| -> Option<String> {
+            let c = w.chosen.get(n.variant.as_deref()?)?;
+            n.inputs.get(c)?.get("link")?.as_str().map(str::to_owned)
+        };
+        let mut errors = Vec::new();
+        for (_, n) in &w.switches {
+            let Some(v) = n.variant.as_ref().and_then(|v| w.variants.get(v)) else {
+                continue;
+            };
+            let mut first: Option<(&str, SocketType)> = None;
+            for c in &v.choices {
+                let Some(mut link) = n
+                    .inputs
+                    .get(c)
+                    .and_then(|j| j.get("link"))
+                    .and_then(|l| l.as_str())
+                    .map(str::to_owned)
+                else {
+                    continue;
+                };
+                for _ in 0..=by_id.len() {
+                    match link.split_once('.').and_then(|(id, _)| by_id.get(id)) {
+                        Some(inner) => match chosen_link(inner) {
+                            Some(l) => link = l,
+                            None => break,
+                        },
+                        None => break,
+                    }
+                }
+                let Some(r) = self.output_ref(&link) else {
+                    errors.push(GraphError::BadSwitchInput {
+                        node: n.id.clone(),
+                        input: c.clone(),
+                        message: format!("link to a missing node or output '{link}'"),
+                        suggestion: None,
+                    });
+                    continue;
+                };
+                let ty = self.output_type(r);
+                match first {
+                    None => first = Some((c, ty)),
+                    Some((fc, ft)) if ft != ty => errors.push(GraphError::BadSwitchInput {
+                        node: n.id.clone(),
+                        input: c.clone(),
+                        message: format!(
+                            "type {} differs from the type {} of choice '{fc}': every choice of a switch has one type",
+                            ty.name(),
+                            ft.name()
+                        ),
+                        suggestion: None,
+                    }),
+                    Some(_) => {}
+                }
+            }
+        }
+        errors
     }
 
     /// The nodes, in file order.
@@ -219,16 +338,30 @@ impl Graph {
                     };
                     inputs.insert(decl.name.to_owned(), json);
                 }
+                if let Some(w) = &self.written {
+                    for (input, json) in inputs.iter_mut() {
+                        if let Some(l) = w.links.get(&(n.id.clone(), input.clone())) {
+                            *json = serde_json::json!({ "link": l });
+                        }
+                    }
+                }
                 NodeDocument {
                     id: n.id.clone(),
                     node_type: n.node_type.name().to_owned(),
                     data_type: n.data_type.map(|t| t.name().to_owned()),
+                    variant: None,
                     inputs,
                     texture: n.texture.clone(),
                     position: n.position,
                 }
             })
-            .collect();
+            .collect::<Vec<_>>();
+        let mut nodes = nodes;
+        if let Some(w) = &self.written {
+            for (i, s) in &w.switches {
+                nodes.insert((*i).min(nodes.len()), s.clone());
+            }
+        }
         GraphDocument {
             version: FORMAT_VERSION,
             name: self.name.clone(),
@@ -237,9 +370,14 @@ impl Graph {
             outputs: self
                 .outputs
                 .iter()
-                .map(|o| OutputDocument {
+                .enumerate()
+                .map(|(k, o)| OutputDocument {
                     name: o.name.clone(),
-                    from: self.output_name(o.source),
+                    from: self
+                        .written
+                        .as_ref()
+                        .and_then(|w| w.outputs.get(&k).cloned())
+                        .unwrap_or_else(|| self.output_name(o.source)),
                 })
                 .collect(),
             parameters: self
@@ -252,6 +390,11 @@ impl Graph {
                     group: p.group.clone(),
                 })
                 .collect(),
+            variants: self
+                .written
+                .as_ref()
+                .map(|w| w.variants.clone())
+                .unwrap_or_default(),
             scene: self.scene.clone(),
         }
     }
@@ -380,6 +523,7 @@ impl Builder<'_> {
             outputs,
             parameters,
             scene: doc.scene.clone(),
+            written: None,
         })
     }
 
@@ -910,7 +1054,7 @@ fn describe_json(json: &serde_json::Value) -> String {
     }
 }
 
-fn valid_id(id: &str) -> bool {
+pub(crate) fn valid_id(id: &str) -> bool {
     !id.is_empty()
         && id
             .chars()
@@ -1091,12 +1235,14 @@ impl Graph {
                 id: id.to_owned(),
                 node_type: type_name.to_owned(),
                 data_type: None,
+                variant: None,
                 inputs,
                 texture: None,
                 position: None,
             }],
             outputs,
             parameters: Vec::new(),
+            variants: BTreeMap::new(),
             scene: None,
         };
         Graph::from_document(&doc, registry)

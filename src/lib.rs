@@ -27,6 +27,7 @@ pub mod scene;
 pub mod texture;
 pub mod types;
 pub mod value;
+pub mod variant;
 pub mod wgsl;
 
 /// The node library (the repository's `nodes/` folder).

@@ -363,7 +363,7 @@ fn unknown_top_level_field() {
     check(
         "{\n  \"version\": 1,\n  \"name\": \"g\",\n  \"colour\": 1,\n  \"nodes\": []\n}",
         "g.json: unknown field `colour`, expected one of `version`, `name`, `doc`, `nodes`, \
-         `outputs`, `parameters`, `scene` at line 4, column 10",
+         `outputs`, `parameters`, `variants`, `scene` at line 4, column 10",
     );
 }
 
@@ -374,7 +374,7 @@ fn unknown_field_inside_a_node_names_the_node() {
          {\"id\": \"geo\", \"type\": \"geometry\"},\n    \
          {\"id\": \"fr\", \"type\": \"fresnel_dielectric\", \"colour\": 1}\n  ]\n}",
         "g.json: node 'fr': unknown field `colour`, expected one of `id`, `type`, `data_type`, \
-         `inputs`, `texture`, `position` at line 6, column 55",
+         `variant`, `inputs`, `texture`, `position` at line 6, column 55",
     );
 }
 

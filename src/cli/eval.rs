@@ -25,6 +25,9 @@ pub struct Args {
     /// Set an input, parameter or attribute: NODE.INPUT=VALUE, NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
+    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
+    #[arg(long = "variant", value_name = "NAME=CHOICE")]
+    pub variants: Vec<String>,
     /// Outputs to print (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -142,8 +145,13 @@ pub fn run(args: &Args) -> CliResult {
                 params.push((name.to_owned(), value));
             }
         }
+        let selection = args
+            .variants
+            .iter()
+            .map(|s| super::split_variant(s))
+            .collect::<Result<Vec<_>, _>>()?;
         (
-            Graph::from_document(&doc, registry()).map_err(wrap)?,
+            Graph::with_variants(&doc, registry(), &selection).map_err(wrap)?,
             path.to_owned(),
         )
     };

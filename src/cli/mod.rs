@@ -53,16 +53,33 @@ pub fn read_graph_text(path: &Path) -> Result<String, String> {
     matgraph::io::read_text(path).map_err(|e| e.to_string())
 }
 
-/// Reads and validates a graph file; every message names the file.
-pub fn load_graph(path: &Path) -> Result<Graph, String> {
+/// Reads and validates a graph file with the choices of `--variant NAME=CHOICE` flags;
+/// every message names the file.
+pub fn load_graph_with(path: &Path, variants: &[String]) -> Result<Graph, String> {
+    let selection = variants
+        .iter()
+        .map(|s| split_variant(s))
+        .collect::<Result<Vec<_>, _>>()?;
     let text = read_graph_text(path)?;
-    Graph::from_json(&text, registry()).map_err(|errors| {
+    let wrap = |errors| {
         GraphErrors {
             source: path.to_owned(),
             errors,
         }
         .to_string()
-    })
+    };
+    let doc = matgraph::GraphDocument::parse(&text).map_err(wrap)?;
+    Graph::with_variants(&doc, registry(), &selection).map_err(wrap)
+}
+
+/// Splits `--variant NAME=CHOICE`.
+pub fn split_variant(s: &str) -> Result<(String, String), String> {
+    match s.split_once('=') {
+        Some((name, choice)) if !name.trim().is_empty() && !choice.trim().is_empty() => {
+            Ok((name.trim().to_owned(), choice.trim().to_owned()))
+        }
+        _ => Err(format!("--variant '{s}': expected NAME=CHOICE")),
+    }
 }
 
 /// The path policy of `--allow-outside-paths`.

@@ -1,6 +1,6 @@
 //! `matgraph render`: render graphs in a scene to PNG (and EXR).
 
-use super::{CliResult, count, graph_textures, load_graph, path_policy, split_set};
+use super::{CliResult, count, graph_textures, load_graph_with, path_policy, split_set};
 use matgraph::Value;
 use matgraph::image_io::SaveFormat;
 use matgraph::render::MEMORY_BUDGET;
@@ -65,6 +65,9 @@ pub struct Args {
     /// Override a parameter: NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
+    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
+    #[arg(long = "variant", value_name = "NAME=CHOICE")]
+    pub variants: Vec<String>,
     /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
     /// an animated PNG (APNG) of all of them.
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
@@ -239,7 +242,7 @@ pub fn run(args: &Args) -> CliResult {
     for file in &args.files {
         progress.set_message(file.display().to_string());
         let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
-            let graph = load_graph(file)?;
+            let graph = load_graph_with(file, &args.variants)?;
             let textures = graph_textures(&graph, file, policy)?;
             let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
             let (mut scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;

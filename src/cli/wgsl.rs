@@ -25,6 +25,9 @@ pub struct Args {
     /// Fold parameters into constants instead of a uniform buffer.
     #[arg(long)]
     pub bake: bool,
+    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
+    #[arg(long = "variant", value_name = "NAME=CHOICE")]
+    pub variants: Vec<String>,
     /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -63,7 +66,11 @@ pub fn run(args: &Args) -> CliResult {
             textures,
             ..MaterialOptions::default()
         };
-        let (material, _) = Material::from_path(file, &options).map_err(|e| e.to_string())?;
+        let graph = super::load_graph_with(file, &args.variants)?;
+        let textures =
+            matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
+        let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
+        material.bind_textures(&textures);
         if let Some(path) = &args.contract {
             matgraph::io::write_atomic(path, material.contract().to_json().as_bytes())
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -78,7 +85,7 @@ pub fn run(args: &Args) -> CliResult {
                 &"--contract describes the render module: use it with --entry render (the library module shares its group-0 bindings)",
             ));
         }
-        let graph = super::load_graph(file)?;
+        let graph = super::load_graph_with(file, &args.variants)?;
         let options = WgslOptions {
             plan: PlanOptions {
                 outputs: args.outputs.clone(),
