@@ -22,10 +22,18 @@ fn main() {
     };
     let (size, runs) = (arg("--size", 1024), arg("--runs", 3).max(1));
     let ctx = matgraph::gpu::GpuContext::shared().expect("a GPU adapter");
-    println!("{size}² at 1 spp on {}; best of {runs}; times in ms\n", ctx.describe());
-    println!("| graph | CPU, 2 threads | hybrid (`--gpu-compute`) | GPU total | compile | upload | draw | readback |");
+    println!(
+        "{size}² at 1 spp on {}; best of {runs}; times in ms\n",
+        ctx.describe()
+    );
+    println!(
+        "| graph | CPU, 2 threads | hybrid (`--gpu-compute`) | GPU total | compile | upload | draw | readback |"
+    );
     println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()

@@ -1,5 +1,5 @@
 //! The GPU rasteriser (`render --gpu`) against the CPU reference renderer: every bundled
-//! graph at 4 samples per pixel (at 1, tests/render.rs compares them with no mask), a
+//! graph at 4 samples per pixel, a
 //! displaced graph at 1 and 4 (displacement and normals on the
 //! GPU), the proof that the GPU path does not use the CPU rasteriser, determinism, and the
 //! sample counts it draws or falls back from.
@@ -110,8 +110,7 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
     for path in bundled_graphs() {
         let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
         let scene = scene_of(&graph);
-        // 1 sample per pixel is covered at 128² without a mask by tests/render.rs.
-        for spp in [4] {
+        for spp in [1, 4] {
             let (cpu, _) = render_timed(
                 &graph,
                 &scene,
