@@ -120,9 +120,9 @@ fn uv_derivatives() -> NodeType {
     .source(
         "uv_dx = ∂uv/∂x and uv_dy = ∂uv/∂y, x the pixel column growing to the right and y the \
          pixel row growing downwards (WGSL framebuffer coordinates), in uv units per pixel: what \
-         dpdx(uv) and dpdy(uv) estimate in a fragment shader. The CPU G-buffer computes them \
-         exactly at each sample from the camera ray and the plane of the triangle hit \
-         (crate::node::Attribute::UvDx). Feed them to mip_level to choose a mip level the same \
+         dpdx(uv) and dpdy(uv) give a fragment shader. The CPU G-buffer supplies the fine \
+         derivatives' values, the differences of uv across the pixel's 2 × 2 quad, computed \
+         from the camera rays on the plane of the triangle hit (crate::node::Attribute::UvDx). Feed them to mip_level to choose a mip level the same \
          way on every path.",
     )
     .output(Out::vec2("uv_dx").doc("∂uv/∂x: uv change per pixel to the right."))

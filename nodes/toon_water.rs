@@ -144,7 +144,7 @@ fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
 const NORMALIZE_WGSL: &str = r#"
 fn mg_tw_normalize_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     let l2 = dot(v, v);
-    if (l2 > 0.0 && l2 <= 3.4028235e38) {
+    if (l2 > 0.0 && l2 <= 0x1.fffffep+127f) {
         return v / sqrt(l2);
     }
     return fallback;
@@ -295,8 +295,8 @@ pub const DEFAULT_WAVES: [Wave; MAX_WAVES] = [
     wave([-0.6427876, 0.7660444], 6.5, 0.08, 1.0, 2.9),
     wave([0.0871557, 0.9961947], 4.3, 0.05, 1.0, 4.4),
     wave([-0.4226183, 0.9063078], 3.1, 0.035, 1.0, 0.7),
-    wave([0.5735764, 0.8191520], 2.2, 0.025, 1.0, 5.1),
-    wave([-0.8191520, 0.5735764], 1.6, 0.018, 1.0, 3.6),
+    wave([0.5735764, 0.819152], 2.2, 0.025, 1.0, 5.1),
+    wave([-0.819152, 0.5735764], 1.6, 0.018, 1.0, 3.6),
     wave([-0.0871557, 0.9961947], 1.1, 0.012, 1.0, 2.2),
 ];
 
@@ -507,7 +507,7 @@ fn mg_tw_wave(acc: MgTwGerstner, p: vec3<f32>, t: f32, d: vec2<f32>, wavelength:
     let l2 = dot(d, d);
     var dx = 1.0;
     var dz = 0.0;
-    if (l2 > 0.0 && l2 <= 3.4028235e38) {
+    if (l2 > 0.0 && l2 <= 0x1.fffffep+127f) {
         let l = sqrt(l2);
         dx = d.x / l;
         dz = d.y / l;

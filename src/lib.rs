@@ -8,6 +8,8 @@
 #![warn(missing_docs)]
 
 pub mod document;
+#[cfg(feature = "editor")]
+pub mod editor;
 pub mod error;
 pub mod exec;
 pub mod gpu;

@@ -32,6 +32,9 @@ enum Command {
     Schema(cli::schema::Args),
     /// Rewrite graph files in canonical form (sorted inputs, normalised values).
     Fmt(cli::fmt::Args),
+    /// Open the node editor on a graph file (or render it headless with --screenshot).
+    #[cfg(feature = "editor")]
+    Edit(cli::edit::Args),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +42,8 @@ fn main() -> ExitCode {
     // Before any thread starts (see `cli::env::quiet_mesa`); dropped at the end of main.
     let _runtime = match &cli.command {
         Command::Render(args) if args.gpu => Some(cli::env::quiet_mesa()),
+        #[cfg(feature = "editor")]
+        Command::Edit(_) => Some(cli::env::quiet_mesa()),
         _ => None,
     };
     let result = match cli.command {
@@ -49,6 +54,8 @@ fn main() -> ExitCode {
         Command::Render(args) => cli::render::run(&args),
         Command::Schema(args) => cli::schema::run(&args),
         Command::Fmt(args) => cli::fmt::run(&args),
+        #[cfg(feature = "editor")]
+        Command::Edit(args) => cli::edit::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -334,17 +334,19 @@ pub enum Attribute {
     /// Screen-space derivative of [`Attribute::Uv`] along the pixel x axis: `∂uv/∂x`, in uv
     /// units per pixel, where x is the framebuffer column coordinate in pixels, growing to the
     /// right (WGSL framebuffer coordinates, `@builtin(position).x`). It is what WGSL's
-    /// `dpdx(uv)` estimates in a fragment shader (a difference across the 2 × 2 quad; WGSL
-    /// "Derivative Built-in Functions" section), taken here exactly at the sample: the CPU
-    /// G-buffer computes it analytically from the camera and the plane of the triangle (see
-    /// `scene::GBuffer`). Its sign follows uv: on the water plane (u along +x) a camera
+    /// `dpdx(uv)` gives a fragment shader (WGSL "Derivative Built-in Functions" section): the
+    /// CPU G-buffer supplies `dpdxFine`'s value, the difference of uv between the centres of
+    /// the pixel's 2 × 2 quad along its row, `uv(x₀ + 1.5, y + ½) − uv(x₀ + ½, y + ½)` with
+    /// `x₀ = x & !1`, computed from the camera on the plane of the triangle (see
+    /// `scene::GBuffer`); a first-order estimate of the derivative. Its sign follows uv: on the water plane (u along +x) a camera
     /// looking towards −z sees `∂u/∂x > 0`. (0, 0) when the caller supplies none.
     UvDx,
     /// Screen-space derivative of [`Attribute::Uv`] along the pixel y axis: `∂uv/∂y`, in uv
     /// units per pixel, where y is the framebuffer row coordinate in pixels, growing
     /// **downwards** (top-left origin, as `@builtin(position).y` in WGSL and as
-    /// [`Attribute::ScreenUv`]). What `dpdy(uv)` estimates in a fragment shader; computed
-    /// exactly at the sample on the CPU. On the water plane seen from above (v along −z, the
+    /// [`Attribute::ScreenUv`]). What `dpdy(uv)` gives a fragment shader; the CPU G-buffer
+    /// supplies `dpdyFine`'s value, `uv(x + ½, y₀ + 1.5) − uv(x + ½, y₀ + ½)` with
+    /// `y₀ = y & !1`, on the triangle's plane. On the water plane seen from above (v along −z, the
     /// far side at the top of the image) `∂v/∂y < 0`. (0, 0) when the caller supplies none.
     UvDy,
 }

@@ -5,9 +5,9 @@
 mod common;
 use common::bundled_graphs;
 
-use matgraph::Registry;
-use matgraph::material::{Material, MaterialOptions};
+use matgraph::material::{Contract, Material, MaterialError, MaterialOptions};
 use matgraph::wgsl::TextureMode;
+use matgraph::{EvalError, Registry, SocketType};
 
 fn load(path: &std::path::Path) -> matgraph::Graph {
     matgraph::io::load_graph(path, Registry::builtin()).unwrap()
@@ -86,6 +86,9 @@ struct PixelGeometry {
     uv: [f32; 2],
     view: [f32; 3],
     screen_uv: [f32; 2],
+    /// ∂uv/∂x and ∂uv/∂y per pixel (y down), as the fine derivatives of the 2 × 2 quad.
+    uv_dx: [f32; 2],
+    uv_dy: [f32; 2],
     lights: Vec<([f32; 3], [f32; 3])>,
 }
 
@@ -95,7 +98,7 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
     let (w, h) = setup.size;
     let inv = DMat4::from_cols_array(&setup.view_proj().to_cols_array().map(f64::from)).inverse();
     let eye = setup.eye.as_dvec3();
-    let hit = |px: f64, py: f64| -> Option<DVec3> {
+    let ray_plane = |px: f64, py: f64| -> Option<(DVec3, f64)> {
         let ndc = |z: f64| {
             let p = inv * DVec4::new(2.0 * px / w as f64 - 1.0, 1.0 - 2.0 * py / h as f64, z, 1.0);
             p.truncate() / p.w
@@ -106,9 +109,23 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
             return None;
         }
         let t = -a.y / d.y;
-        let p = a + d * t;
+        Some((a + d * t, t))
+    };
+    let hit = |px: f64, py: f64| -> Option<DVec3> {
+        let (p, t) = ray_plane(px, py)?;
         (t > 0.0 && p.x.abs() <= 1.5 && p.z.abs() <= 1.5).then_some(p)
     };
+    // uv of the (unbounded) plane under a window position, and its central differences.
+    let uv_at = |px: f64, py: f64| {
+        let (p, _) = ray_plane(px, py).unwrap();
+        [p.x / 3.0 + 0.5, p.z / 3.0 + 0.5]
+    };
+    // The render module's uv_dx, uv_dy are dpdxFine, dpdyFine: the difference across the
+    // pixel's 2 × 2 quad along its row (column).
+    let diff = |a: [f64; 2], b: [f64; 2]| [(a[0] - b[0]) as f32, (a[1] - b[1]) as f32];
+    let centre = |x: u32, y: u32| uv_at(x as f64 + 0.5, y as f64 + 0.5);
+    let quad_dx = |x: u32, y: u32| diff(centre((x & !1) + 1, y), centre(x & !1, y));
+    let quad_dy = |x: u32, y: u32| diff(centre(x, (y & !1) + 1), centre(x, y & !1));
     let mut out = Vec::new();
     for y in 0..h {
         for x in 0..w {
@@ -155,6 +172,8 @@ fn plane_geometry(setup: &wgpu_app::Setup) -> Vec<PixelGeometry> {
                     ((fx + 0.5) / w as f64) as f32,
                     ((fy + 0.5) / h as f64) as f32,
                 ],
+                uv_dx: quad_dx(x, y),
+                uv_dy: quad_dy(x, y),
                 lights,
             });
         }
@@ -207,6 +226,12 @@ fn cpu_pixels(
     batch.set_planar(Attribute::Uv, planar2(&|p| p.uv)).unwrap();
     batch
         .set_planar(Attribute::ScreenUv, planar2(&|p| p.screen_uv))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDx, planar2(&|p| p.uv_dx))
+        .unwrap();
+    batch
+        .set_planar(Attribute::UvDy, planar2(&|p| p.uv_dy))
         .unwrap();
     batch.set_time(setup.time);
     batch.set_textures(Arc::new(textures.clone()));
@@ -327,9 +352,15 @@ fn the_example_matches_the_cpu_executor_on_the_same_geometry() {
     );
     let mesh = wgpu_app::plane(64, 3.0);
     let mut report = Vec::new();
+    let mut failed = Vec::new();
     for path in bundled_graphs() {
         for mode in [TextureMode::Exact, TextureMode::Hardware] {
             let (material, mut textures) = Material::from_path(&path, &options(mode)).unwrap();
+            if material.roles().displacement.is_some() {
+                // The displaced surface is not the plane this test intersects: see
+                // displacement_and_rebuilt_normals_match_the_analytic_surface.
+                continue;
+            }
             wgpu_app::scene_textures(&material, &mut textures).unwrap();
             if mode == TextureMode::Hardware && material.textures().is_empty() {
                 continue;
@@ -339,6 +370,24 @@ fn the_example_matches_the_cpu_executor_on_the_same_geometry() {
             let graph = load(&path);
             let cpu = cpu_pixels(&graph, &textures, &setup, &pixels);
             let (max, mean, over) = compare(&gpu, &cpu, &pixels, TOLERANCE);
+            if let Some(dir) = std::env::var_os("MATGRAPH_DUMP_DIR") {
+                // Both images side by side, for looking at a failure.
+                let (w, h) = setup.size;
+                let mut both = vec![[0.0f32, 0.0, 0.0, 1.0]; (2 * w * h) as usize];
+                for y in 0..h as usize {
+                    for x in 0..w as usize {
+                        both[y * 2 * w as usize + x] = gpu.pixels[y * w as usize + x];
+                    }
+                }
+                for (p, c) in pixels.iter().zip(&cpu) {
+                    let (x, y) = (p.index % w as usize, p.index / w as usize);
+                    both[y * 2 * w as usize + w as usize + x] = [c[0], c[1], c[2], 1.0];
+                }
+                let image = matgraph::texture::Image::new(2 * w, h, both).unwrap();
+                let file =
+                    std::path::Path::new(&dir).join(format!("{}.{}.png", graph.name, mode.name()));
+                matgraph::image_io::save_png(&file, &image).unwrap();
+            }
             let line = format!(
                 "{:14} {:8} max {max:.2e} mean {mean:.2e} over {:.3}%",
                 graph.name,
@@ -348,11 +397,25 @@ fn the_example_matches_the_cpu_executor_on_the_same_geometry() {
             // The target is Rgba16Float: 2⁻¹¹ relative rounding, plus the GPU's own arithmetic
             // (and in the hardware mode its filtering). A toon ramp's hard steps may flip at a
             // few pixels where the two sides round differently.
-            assert!(over <= 0.002 && mean <= 5e-4, "{line}");
+            // The hardware mode filters in 8 bits of weight and stores 8-bit or 16-bit texels:
+            // an alpha test on a filtered value (seed 002's sparkle bands) flips at a few
+            // percent of the pixels.
+            let (max_over, max_mean) = match mode {
+                TextureMode::Exact => (0.002, 5e-4),
+                TextureMode::Hardware => (0.03, 2e-3),
+            };
+            if !(over <= max_over && mean <= max_mean) {
+                failed.push(line.clone());
+            }
             report.push(line);
         }
     }
     println!("{}", report.join("\n"));
+    assert!(
+        failed.is_empty(),
+        "outside the bounds:\n{}",
+        failed.join("\n")
+    );
 }
 
 /// Per channel: |GPU − CPU| ≤ this × max(1, |CPU|) (measured: at most 9.8e-4, the Rgba16Float
@@ -746,4 +809,366 @@ fn displacement_and_rebuilt_normals_match_the_analytic_surface() {
         worst <= 5e-3 && mean <= 1e-3,
         "max {worst} rad, mean {mean} rad"
     );
+}
+
+fn graph_path(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("graphs")
+        .join(name)
+}
+
+fn matgraph_cli(args: &[&std::ffi::OsStr]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// The members of struct `name` in `module` as (member, offset), and its size.
+fn naga_struct(module: &naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
+    module
+        .types
+        .iter()
+        .find_map(|(_, t)| match (&t.name, &t.inner) {
+            (Some(n), naga::TypeInner::Struct { members, span }) if n == name => Some((
+                members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect(),
+                *span,
+            )),
+            _ => None,
+        })
+        .unwrap_or_else(|| panic!("no struct {name}"))
+}
+
+/// `matgraph wgsl --contract` writes the same bytes on every run; the JSON parses back into
+/// the same contract; and every offset, size and binding in it is what naga reads from the
+/// WGSL file written beside it (parsed here afresh).
+#[test]
+fn the_contract_json_is_deterministic_round_trips_and_matches_naga() {
+    let dir = tempfile::tempdir().unwrap();
+    for graph in [
+        "water_demo.json",
+        "skin.json",
+        "pbr_gold.json",
+        "fresnel_glass.json",
+    ] {
+        for mode in ["hardware", "exact"] {
+            let mut runs = Vec::new();
+            for k in 0..2 {
+                let (wgsl, json) = (
+                    dir.path().join(format!("{graph}.{mode}.{k}.wgsl")),
+                    dir.path().join(format!("{graph}.{mode}.{k}.json")),
+                );
+                let out = matgraph_cli(&[
+                    "wgsl".as_ref(),
+                    graph_path(graph).as_os_str(),
+                    "--textures".as_ref(),
+                    mode.as_ref(),
+                    "-o".as_ref(),
+                    wgsl.as_os_str(),
+                    "--contract".as_ref(),
+                    json.as_os_str(),
+                ]);
+                assert!(
+                    out.status.success(),
+                    "{}",
+                    String::from_utf8_lossy(&out.stderr)
+                );
+                runs.push((
+                    std::fs::read_to_string(&wgsl).unwrap(),
+                    std::fs::read_to_string(&json).unwrap(),
+                ));
+            }
+            assert_eq!(runs[0], runs[1], "{graph} {mode}: two runs differ");
+            let (wgsl, json) = &runs[0];
+            let contract = Contract::from_json(json).unwrap();
+            assert_eq!(&contract.to_json(), json, "{graph}: to_json ∘ from_json");
+            let material = Material::from_path(
+                &graph_path(graph),
+                &options(TextureMode::from_name(mode).unwrap()),
+            )
+            .unwrap()
+            .0;
+            assert_eq!(contract, material.contract());
+            assert_eq!(wgsl, material.wgsl());
+            assert_eq!(contract.schema, "matgraph-contract/1");
+            assert_eq!(contract.texture_mode, mode);
+
+            // Against naga's reading of the written WGSL.
+            let module = naga::front::wgsl::parse_str(wgsl).unwrap();
+            let (frame, frame_size) = naga_struct(&module, "MgFrame");
+            assert_eq!(frame_size, contract.frame.size);
+            for m in &contract.frame.members {
+                assert!(
+                    frame.contains(&(m.name.clone(), m.offset)),
+                    "{graph}: MgFrame.{} at {}: naga {frame:?}",
+                    m.name,
+                    m.offset
+                );
+            }
+            let (light, light_size) = naga_struct(&module, "MgLight");
+            assert_eq!(light_size, contract.lights.stride);
+            for m in &contract.lights.members {
+                assert!(
+                    light.contains(&(m.name.clone(), m.offset)),
+                    "{graph}: MgLight.{}",
+                    m.name
+                );
+            }
+            if contract.parameters.binding.is_some() {
+                let (params, size) = naga_struct(&module, "MgParams");
+                assert_eq!(size, contract.parameters.size);
+                let ours: Vec<(String, u32)> = contract
+                    .parameters
+                    .members
+                    .iter()
+                    .map(|m| (m.name.clone(), m.offset))
+                    .collect();
+                assert_eq!(ours, params, "{graph}");
+            }
+            // Every binding the module declares, and only those, with its name.
+            let mut declared: Vec<(u32, String)> = module
+                .global_variables
+                .iter()
+                .filter_map(|(_, v)| {
+                    let b = v.binding.as_ref()?;
+                    assert_eq!(b.group, 0);
+                    Some((b.binding, v.name.clone().unwrap()))
+                })
+                .collect();
+            declared.sort();
+            let listed: Vec<(u32, String)> = contract
+                .bindings
+                .iter()
+                .map(|b| (b.binding, b.name.clone()))
+                .collect();
+            assert_eq!(listed, declared, "{graph} {mode}");
+            let vertex = module
+                .entry_points
+                .iter()
+                .find(|e| e.name == "mg_vertex")
+                .unwrap();
+            assert_eq!(vertex.stage, naga::ShaderStage::Vertex);
+            assert_eq!(vertex.function.arguments.len(), 1);
+            assert!(
+                module
+                    .entry_points
+                    .iter()
+                    .any(|e| e.name == "mg_fragment" && e.stage == naga::ShaderStage::Fragment)
+            );
+        }
+    }
+    // water_demo in the hardware mode: the two scene textures, one clamp + bilinear sampler.
+    let m = Material::from_path(&graph_path("water_demo.json"), &MaterialOptions::default())
+        .unwrap()
+        .0;
+    let c = m.contract();
+    let names: Vec<&str> = c.textures.iter().map(|t| t.name.as_str()).collect();
+    assert_eq!(names, ["scene:refraction", "scene:reflection"]);
+    assert!(
+        c.textures
+            .iter()
+            .all(|t| t.format == "rgba16float" && t.source == "scene")
+    );
+    let samplers: Vec<_> = c
+        .bindings
+        .iter()
+        .filter(|b| b.kind == "filtering-sampler")
+        .collect();
+    assert_eq!(samplers.len(), 1);
+    assert_eq!(samplers[0].address_mode.as_deref(), Some("clamp-to-edge"));
+    assert_eq!(samplers[0].filter.as_deref(), Some("linear"));
+    assert_eq!(c.per_stage.storage_buffers, 1, "the lights alone");
+    // The exact mode: lights + three texture buffers.
+    let e = Material::from_path(&graph_path("water_demo.json"), &options(TextureMode::Exact))
+        .unwrap()
+        .0;
+    assert_eq!(e.contract().per_stage.storage_buffers, 4);
+}
+
+#[test]
+fn contract_cli_errors_name_the_problem() {
+    let out = matgraph_cli(&[
+        "wgsl".as_ref(),
+        graph_path("skin.json").as_os_str(),
+        "--entry".as_ref(),
+        "compute".as_ref(),
+        "--contract".as_ref(),
+        "/tmp/never.json".as_ref(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("skin.json") && err.contains("--entry render"),
+        "{err}"
+    );
+    let out = matgraph_cli(&[
+        "wgsl".as_ref(),
+        graph_path("skin.json").as_os_str(),
+        "--entry".as_ref(),
+        "render".as_ref(),
+        "--bake".as_ref(),
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("drop --bake"));
+}
+
+/// `set` writes the value at the offset naga gives the member, as little-endian f32; errors
+/// name the parameter, the nearest name and the type expected, and leave the bytes alone.
+#[test]
+fn the_parameter_writer_writes_at_naga_offsets_and_names_what_is_wrong() {
+    let skin = Material::new(&load(&graph_path("skin.json")), &MaterialOptions::default()).unwrap();
+    let module = naga::front::wgsl::parse_str(skin.wgsl()).unwrap();
+    let (members, size) = naga_struct(&module, "MgParams");
+    let mut p = skin.params();
+    assert!(p.bytes().len() >= size as usize && p.bytes().len() % 16 == 0);
+    let offset = |m: &str| members.iter().find(|(n, _)| n == m).unwrap().1 as usize;
+    let f32_at = |b: &[u8], at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    // Seeded f32 values, and round ones.
+    let mut state = 12345u32;
+    for k in 0..20 {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        let x = if k == 0 {
+            0.5
+        } else {
+            0.05 + 0.9 * (state >> 8) as f32 / 16_777_216.0
+        };
+        p.set("opacity", x).unwrap();
+        let b = p.bytes();
+        assert_eq!(f32_at(&b, offset("opacity")).to_bits(), x.to_bits());
+        p.set("sheen_color", [x, 0.25, 1.0 - x]).unwrap();
+        let b = p.bytes();
+        let at = offset("sheen_color");
+        assert_eq!(
+            [f32_at(&b, at), f32_at(&b, at + 4), f32_at(&b, at + 8)],
+            [x, 0.25, 1.0 - x]
+        );
+        // A float broadcasts to a colour parameter.
+        p.set("sheen_color", x).unwrap();
+        assert_eq!(f32_at(&p.bytes(), at + 8), x);
+    }
+    let before = p.bytes();
+    let e = p.set("opacty", 0.5).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "unknown parameter 'opacty' (did you mean 'opacity'?)"
+    );
+    let e = p.set("opacity", [1.0, 2.0, 3.0]).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "parameter 'opacity': expected float, found vec3"
+    );
+    assert!(matches!(
+        e,
+        MaterialError::Parameter(EvalError::ParameterType {
+            expected: SocketType::Float,
+            ..
+        })
+    ));
+    assert_eq!(p.bytes(), before, "a refused value changes nothing");
+    // Time lands in the `time` member of a graph that reads it.
+    let bump = Material::new(
+        &matgraph::Graph::from_json(BUMP, Registry::builtin()).unwrap(),
+        &MaterialOptions::default(),
+    )
+    .unwrap();
+    let module = naga::front::wgsl::parse_str(bump.wgsl()).unwrap();
+    let (members, _) = naga_struct(&module, "MgParams");
+    let mut p = bump.params();
+    p.set_time(2.75);
+    let at = members.iter().find(|(n, _)| n == "time").unwrap().1 as usize;
+    assert_eq!(f32_at(&p.bytes(), at), 2.75);
+}
+
+/// `Frame::bytes` puts each matrix column-major and each member at the offset naga gives it;
+/// `Light::bytes` likewise.
+#[test]
+fn frame_and_light_records_match_the_wgsl_structs() {
+    use matgraph::material::{Frame, lights_bytes};
+    let m = Material::new(&load(&graph_path("skin.json")), &MaterialOptions::default()).unwrap();
+    let module = naga::front::wgsl::parse_str(m.wgsl()).unwrap();
+    let (frame, _) = naga_struct(&module, "MgFrame");
+    let at = |name: &str| frame.iter().find(|(n, _)| n == name).unwrap().1 as usize;
+    let model = glam::Mat4::from_scale_rotation_translation(
+        glam::Vec3::new(2.0, 2.0, 2.0),
+        glam::Quat::from_rotation_y(0.5),
+        glam::Vec3::new(1.0, -2.0, 3.0),
+    );
+    let f = Frame {
+        view_proj: glam::Mat4::from_cols_array(&std::array::from_fn(|k| k as f32 + 0.5)),
+        model,
+        camera_position: glam::Vec3::new(0.1, 0.2, 0.3),
+        viewport: [640.0, 480.0],
+    };
+    let b = f.bytes(3);
+    let f32_at = |at: usize| f32::from_le_bytes(b[at..at + 4].try_into().unwrap());
+    // Column 1, row 2 of view_proj is element 6 of the column-major array: 6.5.
+    assert_eq!(f32_at(at("view_proj") + 4 * 6), 6.5);
+    assert_eq!(f32_at(at("model") + 4 * 12), 1.0, "translation x");
+    // The normal matrix of a uniform scale by 2 and a rotation is the rotation / 2.
+    let r = glam::Mat4::from_rotation_y(0.5);
+    for k in [0usize, 2, 8, 10] {
+        assert!((f32_at(at("normal_model") + 4 * k) - r.to_cols_array()[k] / 2.0).abs() < 1e-6);
+    }
+    assert_eq!(f32_at(at("camera_position") + 8), 0.3);
+    assert_eq!(
+        u32::from_le_bytes(
+            b[at("light_count")..at("light_count") + 4]
+                .try_into()
+                .unwrap()
+        ),
+        3
+    );
+    assert_eq!(f32_at(at("viewport") + 4), 480.0);
+    let (light, stride) = naga_struct(&module, "MgLight");
+    let lat = |name: &str| light.iter().find(|(n, _)| n == name).unwrap().1 as usize;
+    let bytes = lights_bytes(&[
+        Light::Directional {
+            direction: [0.0, 1.0, 0.0],
+            radiance: [1.0, 2.0, 3.0],
+        },
+        Light::Point {
+            position: [4.0, 5.0, 6.0],
+            radiance: [7.0, 8.0, 9.0],
+        },
+    ]);
+    assert_eq!(bytes.len(), 2 * stride as usize);
+    let g = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    let s = stride as usize;
+    assert_eq!(
+        u32::from_le_bytes(
+            bytes[s + lat("kind")..s + lat("kind") + 4]
+                .try_into()
+                .unwrap()
+        ),
+        1
+    );
+    assert_eq!([g(s + lat("vector")), g(s + lat("color") + 8)], [4.0, 9.0]);
+    assert_eq!(g(lat("color") + 4), 2.0);
+    assert_eq!(
+        lights_bytes(&[]).len(),
+        stride as usize,
+        "an empty buffer is one zero record"
+    );
+}
+
+/// Replacing the hooks: a visibility hook that turns every light off leaves only emission;
+/// a hook of the wrong signature is refused by naga, naming the graph.
+#[test]
+fn hooks_replace_the_defaults_and_are_validated() {
+    let m = Material::new(
+        &load(&graph_path("toon_ball.json")),
+        &MaterialOptions::default(),
+    )
+    .unwrap();
+    let dark = "fn mg_light_visibility(index: u32, position: vec3<f32>, to_light: vec3<f32>, distance: f32) -> f32 {\n    return 0.0;\n}\n\
+                fn mg_surface_depth(position: vec3<f32>) -> f32 {\n    return position.y;\n}\n";
+    let source = m.wgsl_with_hooks(dark).unwrap();
+    assert!(source.contains("return 0.0;") && !source.contains("mg-hooks: begin"));
+    let e = m
+        .wgsl_with_hooks("fn mg_light_visibility() -> f32 { return 1.0; }")
+        .unwrap_err();
+    assert!(e.to_string().starts_with("graph 'toon_ball': "), "{e}");
 }

@@ -556,3 +556,77 @@ fn bubble_graph_carries_the_papers_constants() {
     let names: Vec<&str> = g.outputs().iter().map(|o| o.name.as_str()).collect();
     assert_eq!(names, ["color", "emission", "alpha", "displacement"]);
 }
+
+/// The reflectance of `graph`'s film at normals with the given `N_y` (the view along the
+/// normal, uv 0.5) at `time`.
+fn film_reflectance(graph: &matgraph::Graph, normal_y: &[f32], time: f32) -> Vec<[f32; 3]> {
+    let plan = matgraph::Plan::compile(
+        graph,
+        &matgraph::PlanOptions {
+            outputs: vec!["film.reflectance".into()],
+            bake_parameters: false,
+        },
+    )
+    .unwrap();
+    let normals: Vec<[f32; 3]> = normal_y
+        .iter()
+        .map(|&y| [(1.0 - y * y).sqrt(), y, 0.0])
+        .collect();
+    let mut batch = matgraph::SampleBatch::new(normals.len());
+    batch
+        .set_values(matgraph::Attribute::Normal, &normals)
+        .unwrap();
+    batch
+        .set_values(matgraph::Attribute::View, &normals)
+        .unwrap();
+    batch.set_time(time);
+    let out = plan.execute(&batch, &plan.default_parameters()).unwrap();
+    (0..normals.len())
+        .map(|i| {
+            let v = out.value(0, i);
+            let r = v.raw();
+            [r[0], r[1], r[2]]
+        })
+        .collect()
+}
+
+#[test]
+fn the_iridescent_bubbles_drain_to_black_film_from_the_top() {
+    // Thickness (the graphs' drainage, exponential at 0.5/s): top 500 → −600 nm, bottom
+    // 500 → 1000 nm. The top reaches 0 at p = 5/11, t = −ln(6/11)/0.5 = 1.212 s; at
+    // t = 5 s, p = 1 − e^(−2.5), and the film is black above h0 = b/(b − t) with
+    // b = 500 + 500 p, t = 500 − 1100 p: h0 = 0.6530, N_y = 2 h0 − 1 = 0.3060.
+    let p = 1.0 - (-2.5f64).exp();
+    let (top, bottom) = (500.0 - 1100.0 * p, 500.0 + 500.0 * p);
+    let h0 = bottom / (bottom - top);
+    close("h0", h0, 0.6530, 1e-4, 0.0);
+    let ny0 = (2.0 * h0 - 1.0) as f32;
+    for name in ["bubble_iridescent.json", "bubble_iridescent_fast.json"] {
+        let g = graph(name);
+        let start = film_reflectance(&g, &[0.9], 0.0);
+        assert!(
+            start[0].iter().sum::<f32>() > 0.03,
+            "{name}: a 500 nm film reflects at first"
+        );
+        let ny = [0.9, ny0 + 0.01, ny0 - 0.01, -0.5];
+        let r = film_reflectance(&g, &ny, 5.0);
+        assert!(
+            r[0].iter().all(|c| c.abs() < 1e-6),
+            "{name}: black film at the top: {:?}",
+            r[0]
+        );
+        assert!(
+            r[1].iter().all(|c| c.abs() < 1e-6),
+            "{name}: black film just above h0: {:?}",
+            r[1]
+        );
+        assert!(
+            r[2].iter().sum::<f32>() > 0.0,
+            "{name}: a film just below h0"
+        );
+        assert!(
+            r[3].iter().sum::<f32>() > 0.03,
+            "{name}: a thick film lower down"
+        );
+    }
+}

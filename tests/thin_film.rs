@@ -365,6 +365,59 @@ fn per_wavelength_matches_the_characteristic_matrix() {
 }
 
 #[test]
+fn near_grazing_keeps_relative_precision() {
+    // |r12| → 1 as cosθ → 0, where 1 + r12 r23 e^{iδ} would cancel: T must keep its
+    // relative precision against the f64 characteristic matrix.
+    let mut rng = Rng(0x96a2);
+    let mut worst = 0.0f64;
+    for _ in 0..2000 {
+        let cos = 10f32.powf(rng.range(-6.0, -1.0));
+        let (d, nf) = (rng.range(0.0, 2000.0), rng.range(1.1, 2.5));
+        let n3 = if rng.next() & 1 == 0 {
+            1.0
+        } else {
+            rng.range(1.0, 2.5)
+        };
+        let lambda = rng.range(360.0, 830.0);
+        let (r, t) = airy(cos, lambda, d, nf, 1.0, n3);
+        let (rw, tw) = abeles(
+            cos as f64,
+            lambda as f64,
+            d as f64,
+            nf as f64,
+            1.0,
+            n3 as f64,
+        );
+        let rel = (t as f64 - tw).abs() / tw.max(1e-30);
+        // The condition of the resonance: what a 5e-7 relative error in the f32 phase moves.
+        let moved = |e: f64| {
+            let (r2, t2) = abeles(
+                cos as f64,
+                lambda as f64,
+                d as f64 * (1.0 + e),
+                nf as f64,
+                1.0,
+                n3 as f64,
+            );
+            ((r2 - rw).abs(), (t2 - tw).abs())
+        };
+        let (up, down) = (moved(5e-7), moved(-5e-7));
+        let (cond_r, cond_t) = (up.0 + down.0, up.1 + down.1);
+        let ok = if d == 0.0 {
+            worst = worst.max(rel);
+            rel < 1e-5
+        } else {
+            (t as f64 - tw).abs() < 2e-6 + 1e-4 * tw + cond_t
+        };
+        assert!(
+            ok && (r as f64 - rw).abs() < 2e-6 + 1e-5 * rw + cond_r,
+            "cos {cos} d {d} nf {nf} n3 {n3} λ {lambda}: T {t} vs {tw}, R {r} vs {rw}"
+        );
+    }
+    eprintln!("near grazing, d = 0: worst relative error of T {worst:.2e}");
+}
+
+#[test]
 fn spectral_colour_matches_an_f64_reference() {
     // The f32 weights are the f64 ones rounded.
     let w = weights_f64();

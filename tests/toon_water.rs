@@ -137,7 +137,7 @@ fn exact_normal_matches_a_finite_difference_of_the_offset() {
             lambda,
             amp,
             0.0,
-            rng.f32(0.0, 6.28),
+            rng.f32(0.0, std::f32::consts::TAU),
         ));
     }
     let k_a: f32 = random
@@ -157,8 +157,8 @@ fn exact_normal_matches_a_finite_difference_of_the_offset() {
             worst = worst.max(angle(got, want));
             let p = surface_f64(set, x as f64, z as f64, t as f64);
             let off = [p[0] - x as f64, p[1], p[2] - z as f64];
-            for c in 0..3 {
-                worst_offset = worst_offset.max((g.offset[c] as f64 - off[c]).abs());
+            for (c, want) in off.iter().enumerate() {
+                worst_offset = worst_offset.max((g.offset[c] as f64 - want).abs());
             }
         }
     }
@@ -427,4 +427,53 @@ fn graphs_check_and_render_the_same_bytes_twice() {
             lower.len()
         );
     }
+}
+
+#[test]
+fn lod_and_snell_fields_are_opt_in_and_checked() {
+    use matgraph::scene::{Scene, SceneKind};
+    let water = |s: &Scene| match &s.kind {
+        SceneKind::Water(w) => w.clone(),
+        SceneKind::Ball(_) => panic!("not water"),
+    };
+    // Left out, today's scene: the uniform 256 × 256 grid and the straight refraction map.
+    let plain = Scene::preset("water").unwrap();
+    assert!(water(&plain).lod.is_none() && water(&plain).refraction.is_none());
+    assert_eq!(plain.material_mesh().vertex_count(), 257 * 257);
+    assert!(!plain.to_json().contains("lod") && !plain.to_json().contains("refraction"));
+    // Given, the quadtree grid (fewer vertices) and the paper's indices.
+    let toon = Scene::from_json(r#"{"kind": {"water": {"lod": {}, "refraction": {}}}}"#).unwrap();
+    let w = water(&toon);
+    assert_eq!(
+        w.refraction.as_ref().map(|r| (r.ior_air, r.ior_water)),
+        Some((1.0, 1.33))
+    );
+    let n = toon.material_mesh().vertex_count();
+    assert!(n > 1000 && n < 257 * 257 / 4, "{n}");
+    // Bad values name their field.
+    for (text, field) in [
+        (
+            r#"{"kind": {"water": {"lod": {"block": 0}}}}"#,
+            "kind.water.lod.block",
+        ),
+        (
+            r#"{"kind": {"water": {"lod": {"levels": 11}}}}"#,
+            "kind.water.lod.levels",
+        ),
+        (
+            r#"{"kind": {"water": {"lod": {"split_distance": -1}}}}"#,
+            "kind.water.lod.split_distance",
+        ),
+        (
+            r#"{"kind": {"water": {"refraction": {"ior_water": 0}}}}"#,
+            "kind.water.refraction.ior_water",
+        ),
+    ] {
+        let err = Scene::from_json(text).unwrap_err().to_string();
+        assert!(err.contains(field), "{text}: {err}");
+    }
+    let err = Scene::from_json(r#"{"kind": {"water": {"lod": {"blocks": 4}}}}"#)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("blocks"), "{err}");
 }

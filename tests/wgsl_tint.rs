@@ -124,6 +124,48 @@ fn tint_accepts_every_node_harness() {
     );
 }
 
+/// The app contract's modules (docs/integration.md): every bundled graph's render module
+/// (Tint compiles it and Dawn builds a render pipeline from its own `mg_vertex` and
+/// `mg_fragment` at WebGPU's default limits) and library module, in both texture modes. A
+/// binding count over a default per-stage limit fails here: the contract must fit them.
+#[test]
+fn tint_accepts_every_bundled_graph_as_a_material_at_default_limits() {
+    const TEST: &str = "tint_accepts_every_bundled_graph_as_a_material_at_default_limits";
+    use matgraph::material::{Material, MaterialOptions};
+    use matgraph::wgsl::TextureMode;
+    let Some(tint) = checker(TEST) else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for path in bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for mode in [TextureMode::Hardware, TextureMode::Exact] {
+            let m = Material::new(
+                &graph,
+                &MaterialOptions {
+                    textures: mode,
+                    ..MaterialOptions::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            for (kind, source) in [("render", m.wgsl()), ("library", m.library_wgsl())] {
+                let name = format!("{}.{kind}.{}.wgsl", graph.name, mode.name());
+                files.push(write(&dir, &name, source));
+            }
+        }
+    }
+    let found = tint.check(&files).unwrap_or_else(|e| panic!("{e}"));
+    let report: Vec<String> = found.iter().map(|d| d.to_string()).collect();
+    assert!(
+        report.is_empty(),
+        "Tint/Dawn report {} problems in {} modules:\n{}",
+        report.len(),
+        files.len(),
+        report.join("\n")
+    );
+}
+
 /// Regression: a constant infinity or NaN was `bitcast<f32>(0x7f800000u)`, which Tint's
 /// constant evaluator rejects ("value inf cannot be represented as 'f32'"); it is now a call of
 /// a helper whose bitcast happens at run time.

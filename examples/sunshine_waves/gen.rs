@@ -10,8 +10,9 @@
 //! the same seed gives the same texels on every machine.
 //!
 //! The custom mip chain (the band) is the texture's own box-filtered chain
-//! (`matgraph::texture::downsample`) with level k multiplied by [`BAND`]`[k]`: levels 0 and
-//! 5–7 black, 1–4 lit, level 2 (the third) the brightest at full white.
+//! (`matgraph::texture::downsample`) with level k scaled so that its brightest texel is
+//! [`BAND`]`[k]`: levels 0 and 5–7 black, 1–4 lit, level 2 (the third) the brightest, its
+//! crests full white.
 
 use matgraph::texture::{Image, downsample};
 
@@ -83,8 +84,8 @@ pub fn wave(seed: u64, direction: f64) -> Image {
     })
 }
 
-/// The band chain of `image`: its box-filtered mip levels, level k scaled by [`BAND`]`[k]`
-/// (alpha kept at 1).
+/// The band chain of `image`: its box-filtered mip levels, level k scaled so that its
+/// brightest texel is [`BAND`]`[k]` (alpha kept at 1).
 pub fn band_chain(image: &Image) -> Vec<Image> {
     let mut levels = vec![image.clone()];
     while levels.len() < BAND.len() {
@@ -94,7 +95,9 @@ pub fn band_chain(image: &Image) -> Vec<Image> {
     levels
         .into_iter()
         .zip(BAND)
-        .map(|(mut level, k)| {
+        .map(|(mut level, brightness)| {
+            let peak = level.data.iter().fold(0.0f32, |m, t| m.max(t[0]));
+            let k = if peak > 0.0 { brightness / peak } else { 0.0 };
             for t in &mut level.data {
                 for c in &mut t[..3] {
                     *c *= k;

@@ -4,8 +4,9 @@
 //! methods: the spectral reference, Belcour & Barla 2017's analytic integration, and three
 //! wavelengths.
 //!
-//! Airy summation per polarisation (Born & Wolf, *Principles of Optics* §7.6.1 eqs. 55–58;
-//! Hecht, *Optics* §9.7.1), with Fresnel amplitudes in Hecht's convention (eqs. 4.42–4.45):
+//! Airy summation per polarisation (Born & Wolf, *Principles of Optics*, 7th ed., §1.6.4 "A
+//! homogeneous dielectric film" and §7.6.1), with Fresnel amplitudes in Hecht's convention
+//! (*Optics*, 4th ed., eqs. 4.42–4.45):
 //! `r = (r12 + r23 E) / (1 + r12 r23 E)`, `t = t12 t23 E^½ / (1 + r12 r23 E)`,
 //! `E = e^{iδ}`, `δ = 2π · 2 n_f d cosθ_f / λ`, `R = |r|²`,
 //! `T = n3 Re(cosθ3) / (n1 cosθ1) · |t|²`, averaged over s and p. Under total internal
@@ -22,7 +23,7 @@ use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
 use crate::value::Value;
 use glam::Vec3;
-use std::f32::consts::TAU;
+use std::f32::consts::{PI, TAU};
 
 /// Largest film thickness accepted (nm); larger linked values are clamped to it.
 pub const THICKNESS_MAX_NM: f32 = 10_000.0;
@@ -107,28 +108,20 @@ fn cos_in(cos_i: f32, eta: f32) -> C {
     }
 }
 
-/// Fresnel amplitudes `[rs, rp, ts, tp]` from medium a (index `na`, cosine `ca`) into b, in
-/// Hecht's convention (*Optics* eqs. 4.42–4.45): `rs = (na ca − nb cb)/(na ca + nb cb)`,
-/// `rp = (nb ca − na cb)/(nb ca + na cb)`, `ts = 2 na ca/(na ca + nb cb)`,
-/// `tp = 2 na ca/(nb ca + na cb)`; no interface (`r = 0`, `t = 1`) at an index match.
-fn amplitudes(na: f32, ca: C, nb: f32, cb: C) -> [C; 4] {
-    if na == nb {
-        return [C::ZERO, C::ZERO, C::ONE, C::ONE];
-    }
-    let a = ca.scale(na);
-    let b = cb.scale(nb);
-    let ap = ca.scale(nb);
-    let bp = cb.scale(na);
-    let (ss, sp) = (a.add(b), ap.add(bp));
-    [
-        a.sub(b).div(ss),
-        ap.sub(bp).div(sp),
-        a.scale(2.0).div(ss),
-        a.scale(2.0).div(sp),
-    ]
+/// One polarisation of one face, from medium a (index `na`, cosine `ca`) into b, as the pair
+/// `(x, y)` with `r = (x − y)/(x + y)` and `t = 2 na ca/(x + y)` (Hecht, *Optics* eqs.
+/// 4.42–4.45): s `(na ca, nb cb)`, p `(nb ca, na cb)`.
+fn faces(na: f32, ca: C, nb: f32, cb: C) -> [(C, C); 2] {
+    [(ca.scale(na), cb.scale(nb)), (ca.scale(nb), cb.scale(na))]
 }
 
 /// A film at one angle: everything of the Airy sum that does not depend on the wavelength.
+///
+/// Besides `r12`, `r23` and `p = r12 r23` it keeps `q = 1 + r12 r23` and `n0 = r12 + r23` in
+/// the cancellation-free forms `q = 2(x1 x2 + y1 y2)/((x1 + y1)(x2 + y2))` and
+/// `n0 = 2(x1 x2 − y1 y2)/((x1 + y1)(x2 + y2))` (from `r = (x − y)/(x + y)` per face), and the
+/// sum is evaluated as `r = (n0 + r23 (E − 1)) / (q + p (E − 1))` with
+/// `E − 1 = 2i sin(δ/2) e^{iδ/2}`: near grazing `|r12| → 1` and `1 + r12 r23 E` would cancel.
 #[derive(Clone, Copy, Debug)]
 pub struct Film {
     /// Outside → film amplitudes, s and p.
@@ -137,6 +130,10 @@ pub struct Film {
     pub r23: [C; 2],
     /// `r12 r23`, s and p.
     pub p: [C; 2],
+    /// `1 + r12 r23`, s and p.
+    pub q: [C; 2],
+    /// `r12 + r23`, s and p.
+    pub n0: [C; 2],
     /// `n3 Re(cosθ3) / (n1 cosθ1) · |t12 t23|²`, s and p.
     pub tau: [f32; 2],
     /// Optical path difference `2 n_f d cosθ_f` in nm; imaginary when the film is beyond
@@ -150,7 +147,8 @@ impl Film {
     /// The film for `cos_theta` in the outside medium; `cos_theta < 0` is light arriving from
     /// the substrate side (the outside and substrate indices swap, as in
     /// [`fresnel_dielectric`](crate::nodes::optics::fresnel_dielectric)). The thickness is
-    /// clamped to [0, [`THICKNESS_MAX_NM`]], the indices to [[`IOR_MIN`], [`IOR_MAX`]].
+    /// clamped to [0, [`THICKNESS_MAX_NM`]], the indices to [[`IOR_MIN`], [`IOR_MAX`]]. A face
+    /// between equal indices is no interface (`r = 0`, `t = 1`).
     pub fn new(
         cos_theta: f32,
         thickness_nm: f32,
@@ -170,44 +168,83 @@ impl Film {
         let c1 = C { re: c, im: 0.0 };
         let cf = cos_in(c, n1 / nf);
         let c3 = cos_in(c, n1 / n3);
-        let [r12s, r12p, t12s, t12p] = amplitudes(n1, c1, nf, cf);
-        let [r23s, r23p, t23s, t23p] = amplitudes(nf, cf, n3, c3);
+        let f12 = faces(n1, c1, nf, cf);
+        let f23 = faces(nf, cf, n3, c3);
         // |t12|² ∝ cos²θ1: the quotient is finite down to the smallest normal cosine.
         let k = n3 * c3.re / (n1 * c.max(f32::MIN_POSITIVE));
-        Film {
-            r12: [r12s, r12p],
-            r23: [r23s, r23p],
-            p: [r12s.mul(r23s), r12p.mul(r23p)],
-            tau: [
-                k * (t12s.norm2() * t23s.norm2()),
-                k * (t12p.norm2() * t23p.norm2()),
-            ],
+        let mut film = Film {
+            r12: [C::ZERO; 2],
+            r23: [C::ZERO; 2],
+            p: [C::ZERO; 2],
+            q: [C::ONE; 2],
+            n0: [C::ZERO; 2],
+            tau: [0.0; 2],
             opd: cf.scale(2.0 * nf * d),
             grazing: c == 0.0,
+        };
+        for j in 0..2 {
+            let ((x1, y1), (x2, y2)) = (f12[j], f23[j]);
+            let (d1, d2) = (x1.add(y1), x2.add(y2));
+            let (r12, t12) = if n1 == nf {
+                (C::ZERO, C::ONE)
+            } else {
+                (x1.sub(y1).div(d1), c1.scale(2.0 * n1).div(d1))
+            };
+            let (r23, t23) = if nf == n3 {
+                (C::ZERO, C::ONE)
+            } else {
+                (x2.sub(y2).div(d2), cf.scale(2.0 * nf).div(d2))
+            };
+            let (q, n0) = if n1 == nf {
+                (C::ONE, r23)
+            } else if nf == n3 {
+                (C::ONE, r12)
+            } else {
+                let dd = d1.mul(d2);
+                let (u, v) = (x1.mul(x2), y1.mul(y2));
+                (u.add(v).scale(2.0).div(dd), u.sub(v).scale(2.0).div(dd))
+            };
+            film.r12[j] = r12;
+            film.r23[j] = r23;
+            film.p[j] = r12.mul(r23);
+            film.q[j] = q;
+            film.n0[j] = n0;
+            film.tau[j] = k * (t12.norm2() * t23.norm2());
         }
+        film
     }
 
-    /// Unpolarised `(R, T)` at the wavelength `1 / inv_lambda_nm`. The phase is reduced to
-    /// [−π, π] in cycles (`δ/2π = opd/λ`) before the cosine, so GPUs (whose `cos` is only
-    /// specified on [−π, π]) and the CPU agree for thick films.
+    /// Unpolarised `(R, T)` at the wavelength `1 / inv_lambda_nm`. The half phase is reduced
+    /// to [−π/2, π/2] in cycles (`δ/2π = opd/λ`) before the sine, so GPUs (whose `sin` is
+    /// only specified on [−π, π]) and the CPU agree for thick films.
     #[inline]
     pub fn at(&self, inv_lambda_nm: f32) -> (f32, f32) {
         let cycles = self.opd.re * inv_lambda_nm;
-        let angle = TAU * (cycles - (cycles + 0.5).floor());
-        let decay = if self.opd.im == 0.0 {
-            1.0
+        let half = PI * (cycles - (cycles + 0.5).floor());
+        let (decay, em1) = if self.opd.im == 0.0 {
+            let (s, c) = half.sin_cos();
+            (
+                1.0,
+                C {
+                    re: -2.0 * (s * s),
+                    im: 2.0 * (s * c),
+                },
+            )
         } else {
-            (-TAU * (self.opd.im * inv_lambda_nm)).exp()
-        };
-        let e = C {
-            re: decay * angle.cos(),
-            im: decay * angle.sin(),
+            let decay = (-TAU * (self.opd.im * inv_lambda_nm)).exp();
+            (
+                decay,
+                C {
+                    re: decay - 1.0,
+                    im: 0.0,
+                },
+            )
         };
         let mut r = 0.0;
         let mut t = 0.0;
         for k in 0..2 {
-            let num = self.r12[k].add(self.r23[k].mul(e));
-            let den = C::ONE.add(self.p[k].mul(e)).norm2();
+            let num = self.n0[k].add(self.r23[k].mul(em1));
+            let den = self.q[k].add(self.p[k].mul(em1)).norm2();
             r += num.norm2() / den;
             t += self.tau[k] * decay / den;
         }
@@ -276,45 +313,56 @@ const BB_XYZ_TO_RGB: [[f32; 3]; 3] = [
     [0.061217755, -0.22420866, 1.1617086],
 ];
 
-/// Belcour & Barla's sensitivity `S(opd, shift)` in XYZ (their eq. 12's Fourier transform of
-/// the matching functions, evaluated with the Gaussian fit): per lobe
-/// `amp cos(2π (pos·opd + shift)) exp(−var opd²)`, with the cycles reduced to [−½, ½] before
-/// the cosine. `shift_cycles` is the phase shift in cycles.
+/// Belcour & Barla's sensitivity `S(m·opd, 0)` in XYZ for m = 0…3 (the Fourier transform of
+/// the matching functions, evaluated with their Gaussian fit): per lobe
+/// `amp cos(2π m pos·opd) exp(−var (m·opd)²)`. One cosine and one exponential per lobe: the
+/// cycles `pos·opd` are reduced to [−½, ½] before the cosine, `cos(m x)` follows by Chebyshev's
+/// recurrence (`cos 2x = 2c² − 1`, `cos 3x = c (4c² − 3)`), and `exp(−var (m opd)²) = e^{m²}`.
+/// A phase shift φ = π multiplies harmonic m by (−1)^m, which the caller applies.
 #[inline]
-fn bb_sensitivity(opd_nm: f32, shift_cycles: f32) -> Vec3 {
+fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
     let o2 = opd_nm * opd_nm;
     let lobe = |k: usize| {
-        let cycles = BB_POS_NM[k] * opd_nm + shift_cycles;
-        let f = cycles - (cycles + 0.5).floor();
-        BB_AMP[k] * (TAU * f).cos() * (-BB_VAR_NM[k] * o2).exp()
+        let cycles = BB_POS_NM[k] * opd_nm;
+        let c = (TAU * (cycles - (cycles + 0.5).floor())).cos();
+        let c2 = 2.0 * (c * c) - 1.0;
+        let c3 = c * (4.0 * (c * c) - 3.0);
+        let e = (-BB_VAR_NM[k] * o2).exp();
+        let e4 = (e * e) * (e * e);
+        let a = BB_AMP[k];
+        [a, a * c * e, a * c2 * e4, a * c3 * (e4 * e4 * e)]
     };
-    Vec3::new(lobe(0) + lobe(3), lobe(1), lobe(2))
+    let (x, x2, y, z) = (lobe(0), lobe(3), lobe(1), lobe(2));
+    [0, 1, 2, 3].map(|m| Vec3::new(x[m] + x2[m], y[m], z[m]))
 }
 
-/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm S(m·opd, m φ)` in XYZ.
+/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm (±1)^m S(m·opd)` in XYZ.
 #[inline]
-fn bb_polarisation(r12: C, r23: C, opd_nm: f32) -> Vec3 {
+fn bb_polarisation(r12: C, r23: C, s: &[Vec3; 4]) -> Vec3 {
     let big_r12 = r12.norm2();
     let big_r23 = r23.norm2();
     let t121 = 1.0 - big_r12;
     let r123 = big_r12 * big_r23;
     let rs = t121 * t121 * big_r23 / (1.0 - r123);
     let c0 = big_r12 + rs;
-    let root = r123.sqrt();
-    // φ = arg(r21 r23) = arg(−r12 r23): π when r12 r23 > 0 (half a cycle per order).
-    let shift = if r12.re * r23.re > 0.0 { 0.5 } else { 0.0 };
+    // φ = arg(r21 r23) = arg(−r12 r23): π when r12 r23 > 0, so harmonic m turns by (−1)^m.
+    let root = if r12.re * r23.re > 0.0 {
+        -r123.sqrt()
+    } else {
+        r123.sqrt()
+    };
     let mut cm = rs - t121;
-    let mut xyz = c0 * bb_sensitivity(0.0, 0.0);
-    for m in 1..=3 {
-        let mf = m as f32;
+    let mut xyz = c0 * s[0];
+    for sm in &s[1..] {
         cm *= root;
-        xyz += 2.0 * cm * bb_sensitivity(mf * opd_nm, mf * shift);
+        xyz += (2.0 * cm) * *sm;
     }
     xyz
 }
 
 /// Belcour & Barla 2017 (ACM TOG 36(4), "A Practical Extension to Microfacet Theory for the
-/// Modeling of Varying Iridescence"), §4 eqs. 10–13 as in their supplemental shader: the
+/// Modeling of Varying Iridescence"), as in the authors' supplemental shader (`Airy`,
+/// `evalSensitivity`; restated in Khronos' KHR_materials_iridescence): the
 /// Airy reflectance written as the Fourier series `R(δ) = C0 + 2 Σ_m Cm cos(m (δ + φ))`,
 /// `C0 = R12 + Rs`, `Cm = (Rs − T121) (√(R12 R23))^m`, `Rs = T121² R23 / (1 − R12 R23)`,
 /// `T121 = 1 − R12`, φ the phase of `r21 r23` (0 or π for real amplitudes), each term
@@ -328,9 +376,10 @@ pub fn belcour_barla(film: &Film) -> Vec3 {
     if film.opd.im != 0.0 {
         return Vec3::ONE;
     }
+    let s = bb_sensitivities(film.opd.re);
     let mut xyz = Vec3::ZERO;
-    xyz += bb_polarisation(film.r12[0], film.r23[0], film.opd.re);
-    xyz += bb_polarisation(film.r12[1], film.r23[1], film.opd.re);
+    xyz += bb_polarisation(film.r12[0], film.r23[0], &s);
+    xyz += bb_polarisation(film.r12[1], film.r23[1], &s);
     let xyz = 0.5 * xyz;
     Vec3::new(
         Vec3::from(BB_XYZ_TO_RGB[0]).dot(xyz),
@@ -369,7 +418,7 @@ pub fn thin_film(
     }
 }
 
-/// WGSL of the complex helpers, [`cos_in`], [`amplitudes`], [`Film`] and [`Film::at`]: the
+/// WGSL of the complex helpers, [`cos_in`], [`faces`], [`Film`] and [`Film::at`]: the
 /// same steps. Complex numbers are `vec2<f32>` (re, im).
 const FILM_WGSL: &str = r#"
 fn mg_tf_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
@@ -389,24 +438,6 @@ fn mg_tf_cos_in(cos_i: f32, eta: f32) -> vec2<f32> {
     }
     return vec2<f32>(0.0, sqrt(-k));
 }
-struct MgTfAmp {
-    rs: vec2<f32>,
-    rp: vec2<f32>,
-    ts: vec2<f32>,
-    tp: vec2<f32>,
-}
-fn mg_tf_amplitudes(na: f32, ca: vec2<f32>, nb: f32, cb: vec2<f32>) -> MgTfAmp {
-    if (na == nb) {
-        return MgTfAmp(vec2<f32>(0.0), vec2<f32>(0.0), vec2<f32>(1.0, 0.0), vec2<f32>(1.0, 0.0));
-    }
-    let a = ca * na;
-    let b = cb * nb;
-    let ap = ca * nb;
-    let bp = cb * na;
-    let ss = a + b;
-    let sp = ap + bp;
-    return MgTfAmp(mg_tf_div(a - b, ss), mg_tf_div(ap - bp, sp), mg_tf_div(a * 2.0, ss), mg_tf_div(a * 2.0, sp));
-}
 struct MgTfFilm {
     r12s: vec2<f32>,
     r12p: vec2<f32>,
@@ -414,9 +445,48 @@ struct MgTfFilm {
     r23p: vec2<f32>,
     ps: vec2<f32>,
     pp: vec2<f32>,
+    qs: vec2<f32>,
+    qp: vec2<f32>,
+    n0s: vec2<f32>,
+    n0p: vec2<f32>,
     tau: vec2<f32>,
     opd: vec2<f32>,
     grazing: bool,
+}
+struct MgTfPol {
+    r12: vec2<f32>,
+    r23: vec2<f32>,
+    q: vec2<f32>,
+    n0: vec2<f32>,
+    tau: f32,
+}
+fn mg_tf_pol(x1: vec2<f32>, y1: vec2<f32>, x2: vec2<f32>, y2: vec2<f32>, c1: vec2<f32>, cf: vec2<f32>, n1: f32, nf: f32, n3: f32, k: f32) -> MgTfPol {
+    let d1 = x1 + y1;
+    let d2 = x2 + y2;
+    var r12 = vec2<f32>(0.0);
+    var t12 = vec2<f32>(1.0, 0.0);
+    if (n1 != nf) {
+        r12 = mg_tf_div(x1 - y1, d1);
+        t12 = mg_tf_div(c1 * (2.0 * n1), d1);
+    }
+    var r23 = vec2<f32>(0.0);
+    var t23 = vec2<f32>(1.0, 0.0);
+    if (nf != n3) {
+        r23 = mg_tf_div(x2 - y2, d2);
+        t23 = mg_tf_div(cf * (2.0 * nf), d2);
+    }
+    var q = vec2<f32>(1.0, 0.0);
+    var n0 = r12;
+    if (n1 == nf) {
+        n0 = r23;
+    } else if (nf != n3) {
+        let dd = mg_tf_mul(d1, d2);
+        let u = mg_tf_mul(x1, x2);
+        let v = mg_tf_mul(y1, y2);
+        q = mg_tf_div((u + v) * 2.0, dd);
+        n0 = mg_tf_div((u - v) * 2.0, dd);
+    }
+    return MgTfPol(r12, r23, q, n0, k * (mg_tf_norm2(t12) * mg_tf_norm2(t23)));
 }
 fn mg_tf_film(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32) -> MgTfFilm {
     let d = min(max(thickness_nm, 0.0), 10000.0);
@@ -434,24 +504,28 @@ fn mg_tf_film(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32
     let c1 = vec2<f32>(c, 0.0);
     let cf = mg_tf_cos_in(c, n1 / nf);
     let c3 = mg_tf_cos_in(c, n1 / n3);
-    let a12 = mg_tf_amplitudes(n1, c1, nf, cf);
-    let a23 = mg_tf_amplitudes(nf, cf, n3, c3);
     let k = n3 * c3.x / (n1 * max(c, 1.17549435e-38));
-    let tau = vec2<f32>(k * (mg_tf_norm2(a12.ts) * mg_tf_norm2(a23.ts)), k * (mg_tf_norm2(a12.tp) * mg_tf_norm2(a23.tp)));
-    return MgTfFilm(a12.rs, a12.rp, a23.rs, a23.rp, mg_tf_mul(a12.rs, a23.rs), mg_tf_mul(a12.rp, a23.rp), tau, cf * (2.0 * nf * d), c == 0.0);
+    let s = mg_tf_pol(c1 * n1, cf * nf, cf * nf, c3 * n3, c1, cf, n1, nf, n3, k);
+    let p = mg_tf_pol(c1 * nf, cf * n1, cf * n3, c3 * nf, c1, cf, n1, nf, n3, k);
+    return MgTfFilm(s.r12, p.r12, s.r23, p.r23, mg_tf_mul(s.r12, s.r23), mg_tf_mul(p.r12, p.r23), s.q, p.q, s.n0, p.n0, vec2<f32>(s.tau, p.tau), cf * (2.0 * nf * d), c == 0.0);
 }
 fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     let cycles = f.opd.x * inv_lambda_nm;
-    let angle = 6.28318530717958648 * (cycles - floor(cycles + 0.5));
+    let half = 3.14159265358979324 * (cycles - floor(cycles + 0.5));
     var decay = 1.0;
-    if (f.opd.y != 0.0) {
+    var em1: vec2<f32>;
+    if (f.opd.y == 0.0) {
+        let s = sin(half);
+        let c = cos(half);
+        em1 = vec2<f32>(-2.0 * (s * s), 2.0 * (s * c));
+    } else {
         decay = exp(-6.28318530717958648 * (f.opd.y * inv_lambda_nm));
+        em1 = vec2<f32>(decay - 1.0, 0.0);
     }
-    let e = vec2<f32>(decay * cos(angle), decay * sin(angle));
-    let num_s = f.r12s + mg_tf_mul(f.r23s, e);
-    let den_s = mg_tf_norm2(vec2<f32>(1.0, 0.0) + mg_tf_mul(f.ps, e));
-    let num_p = f.r12p + mg_tf_mul(f.r23p, e);
-    let den_p = mg_tf_norm2(vec2<f32>(1.0, 0.0) + mg_tf_mul(f.pp, e));
+    let num_s = f.n0s + mg_tf_mul(f.r23s, em1);
+    let den_s = mg_tf_norm2(f.qs + mg_tf_mul(f.ps, em1));
+    let num_p = f.n0p + mg_tf_mul(f.r23p, em1);
+    let den_p = mg_tf_norm2(f.qp + mg_tf_mul(f.pp, em1));
     let r = mg_tf_norm2(num_s) / den_s + mg_tf_norm2(num_p) / den_p;
     let t = f.tau.x * decay / den_s + f.tau.y * decay / den_p;
     return vec2<f32>(0.5 * r, 0.5 * t);
@@ -460,43 +534,56 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
 
 /// WGSL of [`belcour_barla`] and its sensitivity: the same steps and constants.
 const BELCOUR_BARLA_WGSL: &str = r#"
-fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32, shift: f32) -> f32 {
-    let cycles = pos * opd_nm + shift;
-    let f = cycles - floor(cycles + 0.5);
-    return amp * cos(6.28318530717958648 * f) * exp(-var_nm * o2);
+struct MgTfBbS {
+    s0: vec3<f32>,
+    s1: vec3<f32>,
+    s2: vec3<f32>,
+    s3: vec3<f32>,
 }
-fn mg_tf_bb_sensitivity(opd_nm: f32, shift: f32) -> vec3<f32> {
+fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32) -> vec4<f32> {
+    let cycles = pos * opd_nm;
+    let c = cos(6.28318530717958648 * (cycles - floor(cycles + 0.5)));
+    let c2 = 2.0 * (c * c) - 1.0;
+    let c3 = c * (4.0 * (c * c) - 3.0);
+    let e = exp(-var_nm * o2);
+    let e4 = (e * e) * (e * e);
+    return vec4<f32>(amp, amp * c * e, amp * c2 * e4, amp * c3 * (e4 * e4 * e));
+}
+fn mg_tf_bb_sensitivities(opd_nm: f32) -> MgTfBbS {
     let o2 = opd_nm * opd_nm;
-    let x = mg_tf_bb_lobe(0.84659, 0.001681, 1.708547e-7, opd_nm, o2, shift) + mg_tf_bb_lobe(0.15386831, 0.0022399, 1.7876617e-7, opd_nm, o2, shift);
-    let y = mg_tf_bb_lobe(1.0002219, 0.0017953, 3.6733088e-7, opd_nm, o2, shift);
-    let z = mg_tf_bb_lobe(1.0011225, 0.0022084, 2.6103525e-7, opd_nm, o2, shift);
-    return vec3<f32>(x, y, z);
+    let x = mg_tf_bb_lobe(0.84659, 0.001681, 1.708547e-7, opd_nm, o2);
+    let x2 = mg_tf_bb_lobe(0.15386831, 0.0022399, 1.7876617e-7, opd_nm, o2);
+    let y = mg_tf_bb_lobe(1.0002219, 0.0017953, 3.6733088e-7, opd_nm, o2);
+    let z = mg_tf_bb_lobe(1.0011225, 0.0022084, 2.6103525e-7, opd_nm, o2);
+    let xs = x + x2;
+    return MgTfBbS(vec3<f32>(xs.x, y.x, z.x), vec3<f32>(xs.y, y.y, z.y), vec3<f32>(xs.z, y.z, z.z), vec3<f32>(xs.w, y.w, z.w));
 }
-fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, opd: f32) -> vec3<f32> {
+fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, s: MgTfBbS) -> vec3<f32> {
     let big_r12 = mg_tf_norm2(r12);
     let big_r23 = mg_tf_norm2(r23);
     let t121 = 1.0 - big_r12;
     let r123 = big_r12 * big_r23;
     let rs = t121 * t121 * big_r23 / (1.0 - r123);
     let c0 = big_r12 + rs;
-    let root = sqrt(r123);
-    let shift = select(0.0, 0.5, r12.x * r23.x > 0.0);
+    let root = select(sqrt(r123), -sqrt(r123), r12.x * r23.x > 0.0);
     var cm = rs - t121;
-    var xyz = c0 * mg_tf_bb_sensitivity(0.0, 0.0);
-    for (var m = 1; m <= 3; m++) {
-        let mf = f32(m);
-        cm *= root;
-        xyz += 2.0 * cm * mg_tf_bb_sensitivity(mf * opd, mf * shift);
-    }
+    var xyz = c0 * s.s0;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s1;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s2;
+    cm *= root;
+    xyz += (2.0 * cm) * s.s3;
     return xyz;
 }
 fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
     if (f.opd.y != 0.0) {
         return vec3<f32>(1.0);
     }
+    let s = mg_tf_bb_sensitivities(f.opd.x);
     var xyz = vec3<f32>(0.0);
-    xyz += mg_tf_bb_pol(f.r12s, f.r23s, f.opd.x);
-    xyz += mg_tf_bb_pol(f.r12p, f.r23p, f.opd.x);
+    xyz += mg_tf_bb_pol(f.r12s, f.r23s, s);
+    xyz += mg_tf_bb_pol(f.r12p, f.r23p, s);
     xyz = 0.5 * xyz;
     return vec3<f32>(
         dot(vec3<f32>(2.688437, -1.2752778, -0.41364397), xyz),
@@ -543,19 +630,19 @@ pub fn all() -> Vec<NodeType> {
             .source(
                 "Airy summation of a dielectric film per polarisation with complex Fresnel amplitudes: \
                  r = (r12 + r23 e^{iδ})/(1 + r12 r23 e^{iδ}), δ = 4π n_f d cosθ_f/λ, R = |r|², T = n3 cosθ3/(n1 cosθ1)|t|², \
-                 averaged over s and p (Born & Wolf §7.6.1; Hecht §9.7.1; docs/models/thin_film.md); TIR at either face \
+                 averaged over s and p (Born & Wolf, Principles of Optics §1.6.4, §7.6.1; Fresnel amplitudes Hecht eqs. 4.42–4.45; docs/models/thin_film.md); TIR at either face \
                  through complex cosines (frustrated TIR through the film; R = 1 at a TIR exit). \
                  method spectral (the reference): Σ over 360–830 nm at 1 nm of R(λ) with D65 × CIE 1931 2° → linear sRGB \
                  weights (IEC 61966-2-1), each channel normalised so a flat R = 1 gives (1, 1, 1); tables from \
                  colour-science by nodes/thin_film/gen_cie_tables.py. belcour_barla: Belcour & Barla 2017 (ACM TOG 36(4)) \
-                 eqs. 10–13, the Fourier series of the Airy sum integrated analytically against their Gaussian fit of the \
+                 (their supplemental shader; KHR_materials_iridescence), the Fourier series of the Airy sum integrated analytically against their Gaussian fit of the \
                  XYZ matching functions (m ≤ 3; illuminant E balanced to white; R = 1 beyond the film's critical angle, no \
                  tunnelling), T = 1 − R. rgb3: R at 600.2, 539.1, 453.4 nm (each channel's mean wavelength over its \
                  weight's positive lobe); wrong for films thicker than ~500 nm, where it aliases. cos_theta < 0: light from \
                  the substrate side (indices swap); exactly grazing gives R = 1. Thickness is clamped to [0, 10000] nm and \
                  the indices to [1, 4]. Colours may leave [0, 1] where the film's colour is outside the sRGB gamut. \
-                 f32 limits: the phase is good to ~1.5e-6 rad per cycle of 2 n_f d cosθ_f/λ (1e-5 in R at 10 µm); \
-                 near grazing 1 + r12 r23 cancels, costing ~2e-7/cosθ in T.",
+                 f32 limits: the phase is good to ~1.5e-6 rad per cycle of 2 n_f d cosθ_f/λ (1e-5 in R at 10 µm); 1 + r12 r23 e^{iδ} is \
+                 evaluated without cancellation near grazing (docs/models/thin_film.md).",
             )
             .input(In::float("cos_theta", 1.0).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Cosine of the angle of incidence in the outside medium; < 0 from the substrate side."))
             .input(In::float("thickness_nm", 400.0).range(0.0, 2000.0).hard(0.0, THICKNESS_MAX_NM).unit("nm").doc("Film thickness."))

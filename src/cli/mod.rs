@@ -1,6 +1,8 @@
 //! The commands of the `matgraph` binary, one file each, and what they share.
 
 pub mod check;
+#[cfg(feature = "editor")]
+pub mod edit;
 pub mod env;
 pub mod eval;
 pub mod fmt;

@@ -18,7 +18,9 @@ pub const AFTER_HELP: &str = "With several graphs, -o OUT.png writes one labelle
     one PNG per graph (named after the file) plus contact_sheet.png. Without either, --out-dir renders.\n\
     A graph's `color` output is lit (evaluated per light and summed); `emission` is added once; `alpha` \
     blends over the background; `displacement` (vec3) moves the surface. A graph without `color` or \
-    `emission` shows its first output unlit.";
+    `emission` shows its first output unlit.\n\
+    --frames N renders frame k at --time + k/FPS (the scene's time when --time is absent): \
+    NAME_0000.png … and NAME.png as an animated PNG (APNG) of them.";
 
 /// Options of `matgraph render`.
 #[derive(clap::Args)]
@@ -63,6 +65,18 @@ pub struct Args {
     /// Override a parameter: NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
+    /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
+    /// an animated PNG (APNG) of all of them.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub frames: Option<u32>,
+    /// Frames per second of --frames [default: 24].
+    #[arg(
+        long,
+        value_name = "FPS",
+        requires = "frames",
+        allow_negative_numbers = true
+    )]
+    pub fps: Option<f32>,
     /// Read textures, scene files and environment images outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
@@ -125,6 +139,7 @@ fn with_reserve(e: matgraph::render::RenderError, reserve: u64) -> matgraph::ren
 
 /// Renders every graph and writes the images.
 pub fn run(args: &Args) -> CliResult {
+    use matgraph::render::frames::{Apng, Frames};
     use matgraph::render::{RenderOptions, render_timed, sheet};
     let policy = path_policy(args.allow_outside_paths);
     let forced = args
@@ -164,10 +179,30 @@ pub fn run(args: &Args) -> CliResult {
     if several && out_format == Some(SaveFormat::Exr) {
         return Err("a contact sheet is 8-bit: -o must end in .png, .jpg or .jpeg".to_owned());
     }
+    let frames = match args.frames {
+        Some(n) => Some(Frames::new(n, args.fps.unwrap_or(24.0)).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    if frames.is_some() {
+        if out_format.is_some_and(|f| f != SaveFormat::Png) {
+            return Err("--frames writes an animated PNG: -o must end in .png".to_owned());
+        }
+        if several && args.out.is_some() {
+            return Err(
+                "--frames with several graphs writes one sequence per graph: use --out-dir"
+                    .to_owned(),
+            );
+        }
+    }
+    let frame_count = frames.map_or(1, |f| f.count);
     // Memory: what this command holds besides each render, then the render's own plan.
     let (w, h) = (args.size.0 as u64, args.size.1 as u64);
     let exr = args.exr || out_format == Some(SaveFormat::Exr);
     let mut reserve = w * h * output_bytes_per_pixel(exr);
+    if frames.is_some() {
+        // The animation, built in memory: at most its frames' raw RGB.
+        reserve += w * h * 3 * frame_count as u64;
+    }
     if several && sheet_path.is_some() {
         // The 8-bit renders kept for the contact sheet, then the sheet and its file.
         reserve += w * h * 3 * args.files.len() as u64 + w * h * 6;
@@ -198,7 +233,7 @@ pub fn run(args: &Args) -> CliResult {
         matgraph::gpu::Backend::Cpu
     };
     let progress = delayed_progress();
-    progress.set_length(args.files.len() as u64);
+    progress.set_length(args.files.len() as u64 * frame_count as u64);
     let mut tiles = Vec::new();
     let mut failures = Vec::new();
     for file in &args.files {
@@ -213,7 +248,7 @@ pub fn run(args: &Args) -> CliResult {
             if let Some(t) = args.time {
                 scene.time = t;
             }
-            let options = RenderOptions {
+            let mut options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,
                 samples: args.samples,
@@ -225,15 +260,16 @@ pub fn run(args: &Args) -> CliResult {
                 memory_budget: MEMORY_BUDGET - reserve,
                 band_rows: None,
             };
-            let start = std::time::Instant::now();
-            let (hdr, timings) = render_timed(&graph, &scene, &options)
-                .map_err(|e| with_reserve(e, reserve))
-                .map_err(|e| format!("{}: {e}", file.display()))?;
-            if let Some(why) = &timings.fallback {
-                progress.suspend(|| eprintln!("note: {}: {why}", file.display()));
-            }
-            let elapsed = start.elapsed();
-            let image = hdr.to_srgb8(args.exposure);
+            // One still at --time, or frame k at t0 + k/fps.
+            let times: Vec<Option<f32>> = match &frames {
+                None => vec![args.time],
+                Some(f) => f
+                    .times(args.time.unwrap_or(scene.time))
+                    .map_err(|e| e.to_string())?
+                    .into_iter()
+                    .map(Some)
+                    .collect(),
+            };
             let stem = file
                 .file_stem()
                 .and_then(|s| s.to_str())
@@ -241,40 +277,102 @@ pub fn run(args: &Args) -> CliResult {
                 .to_owned();
             let single = if several { None } else { sheet_path.clone() };
             let target = single.or_else(|| out_dir.as_ref().map(|d| d.join(format!("{stem}.png"))));
-            if let Some(out) = &target {
-                let format = SaveFormat::from_path(out).map_err(|e| e.to_string())?;
-                let mut written = Vec::new();
-                if format != SaveFormat::Exr {
-                    matgraph::image_io::save_rgb8(out, image.width, image.height, &image.pixels)
-                        .map_err(|e| e.to_string())?;
-                    written.push(out.clone());
+            let mut animation = match (&frames, &target) {
+                (Some(f), Some(_)) => {
+                    Some(Apng::new(args.size.0, args.size.1, f).map_err(|e| e.to_string())?)
                 }
-                if args.exr || format == SaveFormat::Exr {
-                    let exr = out.with_extension("exr");
-                    let data = hdr.pixels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
-                    let img = matgraph::texture::Image::new(hdr.width, hdr.height, data)
-                        .map_err(|e| e.to_string())?;
-                    matgraph::image_io::save_exr(&exr, &img).map_err(|e| e.to_string())?;
-                    written.push(exr);
+                _ => None,
+            };
+            let mut first = None;
+            for (k, time) in times.into_iter().enumerate() {
+                options.time = time;
+                if let Some(t) = time {
+                    scene.time = t;
                 }
-                let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+                let start = std::time::Instant::now();
+                let (hdr, timings) = render_timed(&graph, &scene, &options)
+                    .map_err(|e| with_reserve(e, reserve))
+                    .map_err(|e| format!("{}: {e}", file.display()))?;
+                if k == 0
+                    && let Some(why) = &timings.fallback
+                {
+                    progress.suspend(|| eprintln!("note: {}: {why}", file.display()));
+                }
+                let elapsed = start.elapsed();
+                let image = hdr.to_srgb8(args.exposure);
+                let still = match (&frames, &target) {
+                    (Some(_), Some(t)) => Some(Frames::numbered(t, k as u32)),
+                    _ => target.clone(),
+                };
+                if let Some(out) = &still {
+                    let format = SaveFormat::from_path(out).map_err(|e| e.to_string())?;
+                    let mut written = Vec::new();
+                    if format != SaveFormat::Exr {
+                        matgraph::image_io::save_rgb8(
+                            out,
+                            image.width,
+                            image.height,
+                            &image.pixels,
+                        )
+                        .map_err(|e| e.to_string())?;
+                        written.push(out.clone());
+                    }
+                    if args.exr || format == SaveFormat::Exr {
+                        let exr = out.with_extension("exr");
+                        let data = hdr.pixels.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect();
+                        let img = matgraph::texture::Image::new(hdr.width, hdr.height, data)
+                            .map_err(|e| e.to_string())?;
+                        matgraph::image_io::save_exr(&exr, &img).map_err(|e| e.to_string())?;
+                        written.push(exr);
+                    }
+                    let names: Vec<String> =
+                        written.iter().map(|p| p.display().to_string()).collect();
+                    let at = time
+                        .map(|t| format!(", t = {t} s"))
+                        .filter(|_| frames.is_some());
+                    progress.suspend(|| {
+                        println!(
+                            "{} -> {} ({}x{}, {} spp, {}, {:.2} s{})",
+                            file.display(),
+                            names.join(" + "),
+                            image.width,
+                            image.height,
+                            args.samples,
+                            match (args.gpu, args.gpu_compute, timings.fallback.is_some()) {
+                                (true, _, false) => "gpu",
+                                (true, _, true) | (_, true, _) => "gpu-compute",
+                                _ => "cpu",
+                            },
+                            elapsed.as_secs_f64(),
+                            at.unwrap_or_default()
+                        )
+                    });
+                }
+                if let Some(a) = &mut animation {
+                    a.push(&image).map_err(|e| e.to_string())?;
+                }
+                if first.is_none() {
+                    first = Some(image);
+                }
+                if frames.is_some() {
+                    progress.inc(1);
+                }
+            }
+            if let (Some(a), Some(out), Some(f)) = (animation, &target, &frames) {
+                let bytes = a.finish().map_err(|e| e.to_string())?;
+                matgraph::io::write_atomic(out, &bytes)
+                    .map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
                 progress.suspend(|| {
                     println!(
-                        "{} -> {} ({}x{}, {} spp, {}, {:.2} s)",
+                        "{} -> {} (animated PNG, {}, {} fps)",
                         file.display(),
-                        names.join(" + "),
-                        image.width,
-                        image.height,
-                        args.samples,
-                        match (args.gpu, args.gpu_compute, timings.fallback.is_some()) {
-                            (true, _, false) => "gpu",
-                            (true, _, true) | (_, true, _) => "gpu-compute",
-                            _ => "cpu",
-                        },
-                        elapsed.as_secs_f64()
+                        out.display(),
+                        count(f.count as usize, "frame"),
+                        f.fps
                     )
                 });
             }
+            let image = first.ok_or("no frame rendered")?;
             Ok((graph.name.clone(), image))
         })();
         match result {
@@ -284,7 +382,9 @@ pub fn run(args: &Args) -> CliResult {
                 failures.push(file.display().to_string());
             }
         }
-        progress.inc(1);
+        if frames.is_none() {
+            progress.inc(1);
+        }
     }
     progress.finish_and_clear();
     if several

@@ -1,4 +1,5 @@
-//! `matgraph wgsl`: compile a graph to WGSL or, through naga, another shading language.
+//! `matgraph wgsl`: compile a graph to WGSL or, through naga, another shading language; with
+//! `--contract`, write the app contract (docs/integration.md) beside it.
 
 use super::CliResult;
 use matgraph::PlanOptions;
@@ -12,9 +13,15 @@ pub struct Args {
     /// Output language.
     #[arg(long, default_value = "wgsl", value_parser = ["wgsl", "spirv", "glsl", "msl", "hlsl"])]
     pub target: String,
-    /// Entry point: batch evaluation (compute) or per-pixel rendering (fragment).
-    #[arg(long, default_value = "compute", value_parser = ["compute", "fragment"])]
-    pub entry: String,
+    /// Entry points: batch evaluation (compute), a per-pixel preview (fragment), the app
+    /// contract's vertex and fragment entries (render), or `mg_material` alone for an app's own
+    /// shader (library). Default: compute, or render with --contract.
+    #[arg(long, value_parser = ["compute", "fragment", "render", "library"])]
+    pub entry: Option<String>,
+    /// How render and library modules bind textures: texture_2d + samplers (hardware) or
+    /// storage buffers bit-identical with the CPU (exact).
+    #[arg(long, default_value = "hardware", value_parser = ["hardware", "exact"])]
+    pub textures: String,
     /// Fold parameters into constants instead of a uniform buffer.
     #[arg(long)]
     pub bake: bool,
@@ -24,37 +31,65 @@ pub struct Args {
     /// Output file; standard output when absent (SPIR-V is binary).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
+    /// Also write the contract of the render module as JSON (schema matgraph-contract/1):
+    /// bindings, vertex layout, parameter block offsets, lights, textures.
+    #[arg(long, value_name = "FILE.json")]
+    pub contract: Option<PathBuf>,
 }
 
-/// Compiles the graph and prints or writes the shader.
+/// Compiles the graph and prints or writes the shader (and the contract).
 pub fn run(args: &Args) -> CliResult {
-    let (file, target, entry, bake, outputs, out) = (
-        args.file.as_path(),
-        args.target.as_str(),
-        args.entry.as_str(),
-        args.bake,
-        &args.outputs,
-        args.out.as_deref(),
-    );
-    use matgraph::wgsl::{Entry, Target, WgslOptions, generate};
-    let graph = super::load_graph(file)?;
-    let options = WgslOptions {
-        plan: PlanOptions {
-            outputs: outputs.to_vec(),
-            bake_parameters: bake,
-        },
-        entry: if entry == "fragment" {
-            Entry::Fragment
-        } else {
-            Entry::Compute
-        },
+    use matgraph::material::{Material, MaterialOptions};
+    use matgraph::wgsl::{Entry, Target, TextureMode, WgslOptions, generate};
+    let file = args.file.as_path();
+    let at = |e: &dyn std::fmt::Display| format!("{}: {e}", file.display());
+    let textures = TextureMode::from_name(&args.textures).unwrap_or_default();
+    let entry = match args.entry.as_deref() {
+        None if args.contract.is_some() => Entry::Render(textures),
+        None | Some("compute") => Entry::Compute,
+        Some("fragment") => Entry::Fragment,
+        Some("library") => Entry::Library(textures),
+        Some(_) => Entry::Render(textures),
     };
-    let shader = generate(&graph, &options).map_err(|e| format!("{}: {e}", file.display()))?;
-    let target = Target::from_name(target).ok_or_else(|| format!("unknown target '{target}'"))?;
-    let bytes = shader
-        .translate(target)
-        .map_err(|e| format!("{}: {e}", file.display()))?;
-    match out {
+    let target = Target::from_name(&args.target)
+        .ok_or_else(|| format!("unknown target '{}'", args.target))?;
+    let bytes = if let Entry::Render(_) = entry {
+        if args.bake || !args.outputs.is_empty() {
+            return Err(at(
+                &"--entry render takes the outputs by role (color, emission, alpha, displacement) with parameters as uniforms: drop --bake and --output",
+            ));
+        }
+        let options = MaterialOptions {
+            textures,
+            ..MaterialOptions::default()
+        };
+        let (material, _) = Material::from_path(file, &options).map_err(|e| e.to_string())?;
+        if let Some(path) = &args.contract {
+            matgraph::io::write_atomic(path, material.contract().to_json().as_bytes())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        material
+            .render_module()
+            .translate(target)
+            .map_err(|e| at(&e))?
+    } else {
+        if args.contract.is_some() {
+            return Err(at(
+                &"--contract describes the render module: use it with --entry render (the library module shares its group-0 bindings)",
+            ));
+        }
+        let graph = super::load_graph(file)?;
+        let options = WgslOptions {
+            plan: PlanOptions {
+                outputs: args.outputs.clone(),
+                bake_parameters: args.bake,
+            },
+            entry,
+        };
+        let shader = generate(&graph, &options).map_err(|e| at(&e))?;
+        shader.translate(target).map_err(|e| at(&e))?
+    };
+    match args.out.as_deref() {
         Some(p) => {
             matgraph::io::write_atomic(p, &bytes).map_err(|e| format!("{}: {e}", p.display()))
         }

@@ -19,6 +19,7 @@
 //! [`RenderOptions::memory_budget`] ([`plan_memory`]); a banded render equals the one-band
 //! render bit for bit.
 
+pub mod frames;
 mod gpu;
 pub mod sheet;
 pub mod tonemap;

@@ -117,13 +117,13 @@ impl Default for BubbleBackdrop {
             intensity_b: 1.0,
             mix: 0.5,
             amount: 0.8,
-            tiles: 3.0,
+            tiles: 2.0,
             velocity_a: [0.03, 0.012],
             velocity_b: [-0.02, 0.027],
             light: [0.3, 0.4, 0.866],
             tint: [0.55, 0.85, 1.0],
-            strength: 0.7,
-            sharpness: 10.0,
+            strength: 0.5,
+            sharpness: 6.0,
             opacity: 0.8,
         }
     }
@@ -188,7 +188,8 @@ fn lattice(x: u32, y: u32, seed: u32) -> f32 {
 }
 
 /// Value noise of period `period` lattice cells over the unit square (so it tiles), with
-/// the smoothstep fade; in [0, 1).
+/// Perlin's quintic fade `6t⁵ − 15t⁴ + 10t³` (continuous slopes, so the normal maps have
+/// no facets); in [0, 1).
 fn periodic_noise(u: f32, v: f32, period: u32, seed: u32) -> f32 {
     let (x, y) = (u * period as f32, v * period as f32);
     let (fx, fy) = (x.floor(), y.floor());
@@ -196,7 +197,7 @@ fn periodic_noise(u: f32, v: f32, period: u32, seed: u32) -> f32 {
     let p = period as i64;
     let cell = |i: f32, d: i64| ((i as i64 + d).rem_euclid(p)) as u32;
     let (x0, x1, y0, y1) = (cell(fx, 0), cell(fx, 1), cell(fy, 0), cell(fy, 1));
-    let fade = |t: f32| t * t * (3.0 - 2.0 * t);
+    let fade = |t: f32| t * t * t * (t * (6.0 * t - 15.0) + 10.0);
     let (sx, sy) = (fade(tx), fade(ty));
     let a = lattice(x0, y0, seed) + (lattice(x1, y0, seed) - lattice(x0, y0, seed)) * sx;
     let b = lattice(x0, y1, seed) + (lattice(x1, y1, seed) - lattice(x0, y1, seed)) * sx;
@@ -285,8 +286,8 @@ fn generate_maps() -> BubbleMaps {
             // The seabed darkens towards the horizon line (further away).
             lerp3(murk, sand * (0.5 + 0.5 * smoothstep(line, 1.0, v)), t)
         }),
-        normal_a: normal_map(6, 61, 0.9),
-        normal_b: normal_map(10, 71, 0.7),
+        normal_a: normal_map(3, 61, 1.6),
+        normal_b: normal_map(5, 71, 1.2),
         alpha: map(|u, v| {
             let a = smoothstep(1.0, 0.1, v) * (0.5 + 0.5 * fbm(u, v, 5, 81));
             Vec3::splat(a)

@@ -21,23 +21,33 @@ use crate::exec::SampleBatch;
 use crate::node::Attribute;
 
 /// The screen-space derivatives `(∂uv/∂x, ∂uv/∂y)` of the uv of triangle `tri` of `mesh` at
-/// its point `p`, per pixel (x to the right, y downwards; see [`Attribute::UvDx`]), exact for
-/// the flat triangle: analytic, from the camera ray and the triangle's plane, in f64.
+/// pixel `(x, y)`, per pixel (x to the right, y downwards; see [`Attribute::UvDx`]), as a
+/// fragment shader's fine derivatives `dpdxFine(uv)`, `dpdyFine(uv)` give them: the 2 × 2
+/// quad's differences between pixel centres, `uv(x₁ + ½, y + ½) − uv(x₀ + ½, y + ½)` with
+/// `x₀ = x & !1`, `x₁ = x₀ + 1` (and likewise down the column), the uv taken on the plane of
+/// the triangle (a GPU's helper invocations extrapolate the triangle's attributes the same
+/// way), in f64.
 ///
 /// The ray through pixel coordinates (px, py) is `o + s·D` with
 /// `D = forward + right·(2px/w − 1)·tan(fov/2)·aspect + up·(1 − 2py/h)·tan(fov/2)`; it meets
-/// the plane `n·(x − P0) = 0` at `s = n·(P0 − o)/(n·D)`, so with `d = p − o = s·D` and
-/// `s = d·forward` (since `D·forward = 1`), `∂p/∂px = s·(D_x − d·(n·D_x)/(n·d))` where
-/// `D_x = ∂D/∂px = right·2·tan(fov/2)·aspect/w` (and `D_y = −up·2·tan(fov/2)/h`). A step `δp`
-/// in the plane is `a·e1 + b·e2` over the edges `e1 = P1 − P0`, `e2 = P2 − P0` (solved with
-/// their Gram matrix) and moves uv by `a·(uv1 − uv0) + b·(uv2 − uv0)`.
+/// the plane `n·(q − P0) = 0` at `s = n·(P0 − o)/(n·D)` (also behind the eye, `s < 0`: the
+/// projective extension that perspective-correct interpolation computes). A point `q` of the
+/// plane is `P0 + a·e1 + b·e2` over the edges `e1 = P1 − P0`, `e2 = P2 − P0` (solved with
+/// their Gram matrix), with uv `uv0 + a·(uv1 − uv0) + b·(uv2 − uv0)`.
 ///
-/// Analytic rather than differences of neighbouring samples: it is defined at every sample,
-/// also where the neighbour is another object or off the surface's edge, does not depend on
-/// the sample pattern, and is what `dpdx`/`dpdy` approximate (they difference the 2 × 2
-/// pixel quad, first-order accurate). A degenerate or edge-on triangle (never rasterised)
-/// gives (0, 0).
-fn uv_derivatives(mesh: &Mesh, tri: u32, p: Vec3, cam: &CameraFrame) -> (glam::Vec2, glam::Vec2) {
+/// From the camera and the surface rather than from neighbouring G-buffer samples: defined at
+/// every sample, also where the neighbour is another object, the sky or off the surface's
+/// edge, and independent of the sample pattern; and the quad's differences rather than the
+/// exact derivative so that the level a graph picks from them is the one a GPU rasteriser
+/// picks from `dpdx`/`dpdy` (they differ at first order, ½·∂²uv/∂x² per pixel, which the
+/// alpha test of seed 002 turns into flipped texels). A degenerate triangle, or a pixel ray
+/// parallel to its plane, gives (0, 0).
+fn uv_derivatives(
+    mesh: &Mesh,
+    tri: u32,
+    (x, y): (u32, u32),
+    cam: &CameraFrame,
+) -> (glam::Vec2, glam::Vec2) {
     use glam::{DVec2, DVec3};
     let [i0, i1, i2] = mesh.indices[tri as usize].map(|i| i as usize);
     let at = |i: usize| mesh.positions[i].as_dvec3();
@@ -48,25 +58,42 @@ fn uv_derivatives(mesh: &Mesh, tri: u32, p: Vec3, cam: &CameraFrame) -> (glam::V
         (mesh.uvs[i2] - mesh.uvs[i0]).as_dvec2(),
     );
     let n = e1.cross(e2);
-    let d = p.as_dvec3() - cam.origin.as_dvec3();
-    let nd = n.dot(d);
     let (g11, g12, g22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
     let det = g11 * g22 - g12 * g12;
-    if nd == 0.0 || det == 0.0 {
-        return (glam::Vec2::ZERO, glam::Vec2::ZERO);
-    }
-    let s = d.dot(cam.forward.as_dvec3());
+    let o = cam.origin.as_dvec3();
+    let (forward, right, up) = (
+        cam.forward.as_dvec3(),
+        cam.right.as_dvec3(),
+        cam.up.as_dvec3(),
+    );
     let tan = cam.tan_half_y as f64;
-    let dx = cam.right.as_dvec3() * (2.0 * tan * cam.aspect as f64 / cam.width as f64);
-    let dy = -cam.up.as_dvec3() * (2.0 * tan / cam.height as f64);
-    let duv = |dd: DVec3| -> DVec2 {
-        let dp = s * (dd - d * (n.dot(dd) / nd));
-        let (r1, r2) = (e1.dot(dp), e2.dot(dp));
+    let (w, h) = (cam.width as f64, cam.height as f64);
+    let aspect = cam.aspect as f64;
+    // The uv on the triangle's plane under pixel coordinates (px, py).
+    let uv_at = |px: f64, py: f64| -> Option<DVec2> {
+        let d: DVec3 = forward
+            + right * ((2.0 * px / w - 1.0) * tan * aspect)
+            + up * ((1.0 - 2.0 * py / h) * tan);
+        let nd = n.dot(d);
+        if nd == 0.0 || det == 0.0 {
+            return None;
+        }
+        let q = o + d * (n.dot(p0 - o) / nd) - p0;
+        let (r1, r2) = (e1.dot(q), e2.dot(q));
         let a = (g22 * r1 - g12 * r2) / det;
         let b = (g11 * r2 - g12 * r1) / det;
-        du1 * a + du2 * b
+        Some(du1 * a + du2 * b)
     };
-    (duv(dx).as_vec2(), duv(dy).as_vec2())
+    let (x0, y0) = ((x & !1) as f64 + 0.5, (y & !1) as f64 + 0.5);
+    let (xc, yc) = (x as f64 + 0.5, y as f64 + 0.5);
+    let diff = |a: Option<DVec2>, b: Option<DVec2>| match (a, b) {
+        (Some(a), Some(b)) => (b - a).as_vec2(),
+        _ => glam::Vec2::ZERO,
+    };
+    (
+        diff(uv_at(x0, yc), uv_at(x0 + 1.0, yc)),
+        diff(uv_at(xc, y0), uv_at(xc, y0 + 1.0)),
+    )
 }
 
 /// Samples per parallel block when filling attribute columns.
@@ -120,8 +147,9 @@ pub struct GBuffer {
     /// `screen_uv` (`((x + jx) / width, (y + jy) / height)`), `depth` (water: vertical
     /// distance from the point down to the seabed, ≥ 0; ball: 0), `light` and `light_color`
     /// of the scene's first light (with shadows of the non-material objects; `+y` and black
-    /// when the scene has no light), `uv_dx` and `uv_dy` (∂uv per pixel along x and y,
-    /// computed analytically from the camera and the triangle's plane) and `time`.
+    /// when the scene has no light), `uv_dx` and `uv_dy` (∂uv per pixel along x and y: the
+    /// pixel's 2 × 2 quad differences on the triangle's plane, as `dpdxFine`/`dpdyFine`) and
+    /// `time`.
     pub batch: SampleBatch,
     /// Linear radiance of every sample of the grid with the material surface removed
     /// (built-in shading of the backdrop, seabed and objects, and the environment).
@@ -397,13 +425,14 @@ impl GBufferFrame<'_> {
                     let (x, y, s) = sample_coords(index, spp, width);
                     let y = y + first_row;
                     let o = offsets[s as usize];
+                    let (uv_dx, uv_dy) = uv_derivatives(mesh, f.tri, (x, y), cam);
                     let su = (x as f32 + o[0]) / w;
                     let sv = (y as f32 + o[1]) / h;
                     let (l, lc) = match &light {
                         Some(light) => light_at(light, casters, p),
                         None => (Vec3::Y, Vec3::ZERO),
                     };
-                    let (uv_dx, uv_dy) = uv_derivatives(mesh, f.tri, p, cam);
+
                     let values = [
                         p.x,
                         p.y,

@@ -199,15 +199,16 @@ impl Scene {
 
     /// The default environment of a kind: the `day` sky; for water its ground colour is a
     /// far-sea blue (0.03, 0.09, 0.14), seen past the far edge of the water plane; for the
-    /// bubble it is a sky seen from under water (zenith (0.3, 0.65, 0.75), horizon
-    /// (0.08, 0.3, 0.4), ground (0.01, 0.05, 0.09)), what the bubble reflects.
+    /// bubble it is the sky seen from under water, bright overhead (Snell's window) and dark
+    /// towards the horizon (zenith (1.3, 1.7, 1.8), horizon (0.06, 0.25, 0.33), ground
+    /// (0.01, 0.05, 0.09)), what the bubble reflects.
     pub fn default_environment(kind: &SceneKind) -> Environment {
         let mut sky = Sky::default();
         match kind {
             SceneKind::Water(_) => sky.ground_color = [0.03, 0.09, 0.14],
             SceneKind::Bubble(_) => {
-                sky.zenith_color = [0.3, 0.65, 0.75];
-                sky.horizon_color = [0.08, 0.3, 0.4];
+                sky.zenith_color = [1.3, 1.7, 1.8];
+                sky.horizon_color = [0.06, 0.25, 0.33];
                 sky.ground_color = [0.01, 0.05, 0.09];
             }
             SceneKind::Ball(_) => {}

@@ -133,10 +133,12 @@ pub(super) fn emit_entries(
         "struct MgVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n}\n\n\
          struct MgVertexOut {\n    @builtin(position) clip: vec4<f32>,\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n}\n\n",
     );
+    // f32::MAX as its shortest f64 decimal (3.4028235e38 reads above f32's range in WGSL).
     let _ = writeln!(
         out,
-        "const MG_NORMAL_STEP: f32 = {};\n",
-        super::emit::float_literal(NORMAL_STEP)
+        "const MG_NORMAL_STEP: f32 = {};\nconst MG_F32_MAX: f32 = {};\n",
+        super::emit::float_literal(NORMAL_STEP),
+        super::emit::float_literal(f32::MAX)
     );
 
     // The geometry every attribute starts from: the CPU's defaults.
@@ -218,7 +220,7 @@ pub(super) fn emit_entries(
          \x20   let l = light.vector;\n\
          \x20   r.to_light = select(vec3<f32>(0.0, 1.0, 0.0), normalize(l), dot(l, l) > 0.0);\n\
          \x20   r.radiance = light.color;\n\
-         \x20   r.distance = 3.4028235e38;\n\
+         \x20   r.distance = MG_F32_MAX;\n\
          \x20   return r;\n}}\n",
         super::emit::float_literal(LIGHT_MIN_DISTANCE)
     );
@@ -248,9 +250,11 @@ pub(super) fn emit_entries(
             Attribute::Uv => "v.uv".to_owned(),
             Attribute::ScreenUv => "v.clip.xy / mg_frame.viewport".to_owned(),
             Attribute::Depth => "mg_surface_depth(v.position)".to_owned(),
-            // The fragment's own screen-space derivatives (uniform control flow: the entry's top).
-            Attribute::UvDx => "dpdx(v.uv)".to_owned(),
-            Attribute::UvDy => "dpdy(v.uv)".to_owned(),
+            // The fine derivatives (the difference across the pixel's 2 × 2 quad along its row,
+            // column): the same on every GPU, where `dpdx` may be coarse or fine. Uniform control
+            // flow: the entry's top.
+            Attribute::UvDx => "dpdxFine(v.uv)".to_owned(),
+            Attribute::UvDy => "dpdyFine(v.uv)".to_owned(),
             Attribute::Time => continue,
         };
         let _ = writeln!(out, "    g.{} = {e};", a.name());
@@ -302,14 +306,14 @@ pub(super) fn emit_entries(
             // Non-finite alpha is 0, else clamped to [0, 1].
             let _ = writeln!(
                 out,
-                "    let a0 = {x};\n    let alpha = select(0.0, clamp(a0, 0.0, 1.0), abs(a0) <= 3.4028235e38);"
+                "    let a0 = {x};\n    let alpha = select(0.0, clamp(a0, 0.0, 1.0), abs(a0) <= MG_F32_MAX);"
             );
         }
         None => out.push_str("    let alpha = 1.0;\n"),
     }
     out.push_str(
         "    // Non-finite radiance counts as black.\n\
-         \x20   let finite = all(abs(radiance) <= vec3<f32>(3.4028235e38));\n\
+         \x20   let finite = all(abs(radiance) <= vec3<f32>(MG_F32_MAX));\n\
          \x20   let c = select(vec3<f32>(0.0), radiance, finite);\n\
          \x20   return vec4<f32>(c * alpha, alpha);\n}\n\n",
     );

@@ -3,7 +3,9 @@
 // `createShaderModule` runs Tint's parser, resolver, validator and constant evaluator, which
 // is where Chrome reports a module's errors. Each module's `@compute` or `@fragment` entry is
 // then made into a pipeline with an `auto` layout (a fragment entry gets a vertex stage
-// written from its input struct), so Dawn's entry-point and binding checks run too. The null
+// written from its input struct, or the module's own `@vertex` entry, fed by one interleaved
+// vertex buffer laid out from that entry's input struct), so Dawn's entry-point and binding
+// checks run too. A module with no entry point (a library) is compiled only. The null
 // device has WebGPU's default limits (8 storage buffers a stage, ...); matgraph's runtime asks
 // for the adapter's limits, so going past a default per-stage binding count is a warning.
 //
@@ -48,6 +50,31 @@ function vertexFor(code) {
     '@vertex\nfn main() -> MgVertexOut {\n    var o: MgVertexOut;\n    return o;\n}\n';
 }
 
+/** The vertex format of a WGSL vertex input type, and its size in bytes. */
+const VERTEX_FORMATS = {
+  'f32': ['float32', 4],
+  'vec2<f32>': ['float32x2', 8],
+  'vec3<f32>': ['float32x3', 12],
+  'vec4<f32>': ['float32x4', 16],
+};
+
+/** The module's own vertex entry and one interleaved buffer for its `@location` inputs. */
+function ownVertex(code, module) {
+  const entry = /@vertex\s*fn\s+(\w+)\s*\(\s*\w+\s*:\s*(\w+)\s*\)/.exec(code);
+  if (!entry) return null;
+  const struct = new RegExp(`struct\\s+${entry[2]}\\s*\\{([^}]*)\\}`).exec(code);
+  const attributes = [];
+  let offset = 0;
+  for (const m of (struct ? struct[1] : '').split(',')) {
+    const loc = /@location\((\d+)\)\s*\w+\s*:\s*([\w<>]+)/.exec(m.trim());
+    if (!loc) continue;
+    const [format, size] = VERTEX_FORMATS[loc[2]] ?? ['float32x4', 16];
+    attributes.push({ shaderLocation: Number(loc[1]), offset, format });
+    offset += size;
+  }
+  return { module, entryPoint: entry[1], buffers: [{ arrayStride: offset, attributes }] };
+}
+
 /** The validation error of `make()`, or null. */
 async function scoped(make) {
   device.pushErrorScope('validation');
@@ -78,12 +105,15 @@ for (const file of files) {
   if (/@compute/.test(code)) {
     err = await scoped(() => device.createComputePipeline({ layout: 'auto', compute: { module } }));
   } else if (/@fragment/.test(code)) {
-    const vertex = device.createShaderModule({ code: vertexFor(code) });
+    const fragmentName = /@fragment\s*fn\s+(\w+)/.exec(code)[1];
+    const vertex = ownVertex(code, module) ?? {
+      module: device.createShaderModule({ code: vertexFor(code) }),
+    };
     err = await scoped(() =>
       device.createRenderPipeline({
         layout: 'auto',
-        vertex: { module: vertex },
-        fragment: { module, targets: [{ format: 'rgba16float' }] },
+        vertex,
+        fragment: { module, entryPoint: fragmentName, targets: [{ format: 'rgba16float' }] },
       }),
     );
   }

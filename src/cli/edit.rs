@@ -1,0 +1,61 @@
+//! `matgraph edit`: the node editor on a graph file, in a window or, with `--screenshot`,
+//! rendered headless to a PNG.
+
+use super::CliResult;
+use std::path::PathBuf;
+
+/// Options of `matgraph edit`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Graph file (JSON); created on the first save when it does not exist.
+    pub file: Option<PathBuf>,
+    /// Render the editor with the graph to this PNG without opening a window.
+    #[arg(long, value_name = "OUT.png")]
+    pub screenshot: Option<PathBuf>,
+    /// Size of the screenshot in pixels.
+    #[arg(long, default_value = "1400x900", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Show the generated-code panel (WGSL) in the screenshot, the code of this node highlighted.
+    #[arg(long, value_name = "NODE")]
+    pub code: Option<String>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or("expected WxH, for example 1400x900")?;
+    let parse = |v: &str| v.trim().parse::<u32>().map_err(|e| format!("'{v}': {e}"));
+    let (w, h) = (parse(w)?, parse(h)?);
+    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
+        return Err(format!("{w}x{h}: each side must be 64 to 8192"));
+    }
+    Ok((w, h))
+}
+
+/// Opens the editor window, or writes the screenshot.
+pub fn run(args: &Args) -> CliResult {
+    use matgraph::editor;
+    let Some(out) = &args.screenshot else {
+        return editor::run_window(args.file.as_deref()).map_err(|e| e.to_string());
+    };
+    let mut state = editor::state_for(args.file.as_deref()).map_err(|e| e.to_string())?;
+    // A screenshot shows the file as it is: no recovery prompt.
+    state.dialog = None;
+    if let Some(node) = &args.code {
+        state.code.open = true;
+        state.focus = Some(node.clone());
+    }
+    let app = editor::EditorApp::new(state);
+    let (w, h, rgba) = editor::headless::screenshot(app, [args.size.0, args.size.1])
+        .map_err(|e| format!("matgraph edit --screenshot: {e}"))?;
+    let rgb: Vec<[u8; 3]> = rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
+    matgraph::image_io::save_rgb8(out, w, h, &rgb).map_err(|e| e.to_string())?;
+    println!(
+        "{} -> {} ({w}x{h})",
+        args.file
+            .as_ref()
+            .map_or("untitled".into(), |f| f.display().to_string()),
+        out.display()
+    );
+    Ok(())
+}

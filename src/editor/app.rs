@@ -1,0 +1,764 @@
+//! The editor's frame: menu bar, canvas, side panel (preview, node docs), problems list,
+//! generated code, dialogs and shortcuts. [`EditorApp::ui`] draws one frame into any egui
+//! `Ui`, so the same code runs in the window (eframe), headless and under egui_kittest.
+
+use super::code::{TARGETS, extension, node_lines};
+use super::search_ui::{self, SearchState};
+use super::state::{Dialog, EditorState, Pending};
+use super::viewer::{Action, Viewer};
+use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
+use egui_snarl::NodeId;
+use egui_snarl::ui::{SnarlStyle, SnarlWidget};
+
+/// The size a node is assumed to have when the view is fitted to the nodes.
+pub const NODE_EXTENT: egui::Vec2 = egui::vec2(200.0, 140.0);
+
+/// The canvas widget's id (its selection is read through it).
+pub fn canvas_id() -> egui::Id {
+    egui::Id::new("matgraph-canvas")
+}
+
+/// The editor application.
+pub struct EditorApp {
+    /// Everything edited and shown.
+    pub state: EditorState,
+    /// Canvas → screen transform of the last frame (for placing nodes at the pointer).
+    to_screen: egui::emath::TSTransform,
+    /// The canvas rect of the last frame.
+    canvas_rect: egui::Rect,
+    /// The nodes' bounding box of the last frame, in canvas coordinates.
+    nodes_rect: egui::Rect,
+    /// Frames until the view is fitted to the nodes (0: no fit pending).
+    frame_in: u8,
+    /// How many of the document's nodes the canvas shows yet (see
+    /// [`super::view::build_snarl_prefix`]).
+    revealed: usize,
+    /// Whether the last frame drew (and measured) every node.
+    nodes_measured: bool,
+}
+
+impl EditorApp {
+    /// The editor on `state`.
+    pub fn new(state: EditorState) -> EditorApp {
+        EditorApp {
+            state,
+            to_screen: egui::emath::TSTransform::IDENTITY,
+            canvas_rect: egui::Rect::NOTHING,
+            nodes_rect: egui::Rect::NOTHING,
+            // Once every node is shown and measured, the view is fitted to them.
+            frame_in: 1,
+            revealed: 0,
+            nodes_measured: false,
+        }
+    }
+
+    /// Whether every node of the document is on the canvas (it shows a file's nodes one
+    /// per frame) and the view is fitted.
+    pub fn settled(&self) -> bool {
+        self.revealed >= self.state.doc.doc().nodes.len() && self.frame_in == 0
+    }
+
+    /// Fits the view to every node (View → Frame all, Home), on the next frame.
+    pub fn frame_all(&mut self) {
+        self.frame_in = 1;
+    }
+
+    /// The canvas → screen transform that shows `nodes` (canvas) whole in `canvas` (screen),
+    /// with a margin, at most at scale 1.
+    pub fn fit(nodes: egui::Rect, canvas: egui::Rect) -> Option<egui::emath::TSTransform> {
+        if !nodes.is_positive() || !canvas.is_positive() {
+            return None;
+        }
+        let nodes = nodes.expand(30.0);
+        let scale = (canvas.size() / nodes.size()).min_elem().clamp(0.1, 1.0);
+        let translation = canvas.center().to_vec2() - nodes.center().to_vec2() * scale;
+        Some(egui::emath::TSTransform::new(translation, scale))
+    }
+
+    /// Draws one frame and applies what the user did in it.
+    pub fn ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        self.close_request(&ctx);
+        self.shortcuts(&ctx);
+        self.menu_bar(ui);
+        self.bottom_panel(ui);
+        self.side_panel(ui);
+        if self.state.code.open {
+            self.code_panel(ui);
+        }
+        let actions = egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| self.canvas(ui))
+            .inner;
+        self.apply(actions, &ctx);
+        self.search_window(&ctx);
+        self.dialogs(&ctx);
+        if !ctx.input(|i| i.pointer.any_down()) {
+            self.state.history.seal();
+        }
+        let now = ctx.input(|i| i.time);
+        self.state.tick(now);
+        if self.state.unsaved_since.is_some() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(500));
+        }
+        let graph = self.state.doc.graph().cloned();
+        let path = self.state.path.clone();
+        self.state.preview.poll(&ctx, graph.as_ref(), path.as_ref());
+    }
+
+    /// The window title: the graph's name, its file and a star when unsaved.
+    pub fn title(&self) -> String {
+        let file = self
+            .state
+            .path
+            .as_ref()
+            .map_or("untitled".to_owned(), |p| p.display().to_string());
+        format!(
+            "{}{} — {} — matgraph",
+            if self.state.dirty() { "* " } else { "" },
+            self.state.doc.doc().name,
+            file
+        )
+    }
+
+    fn canvas(&mut self, ui: &mut Ui) -> Vec<Action> {
+        let n = self.state.doc.doc().nodes.len();
+        if self.revealed < n {
+            self.revealed += 1;
+            self.state.snarl = super::view::build_snarl_prefix(&self.state.doc, self.revealed);
+            ui.ctx().request_repaint();
+        } else {
+            // Edits rebuild the whole canvas; nothing left to reveal.
+            self.revealed = n;
+        }
+        let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+        let shader_error = self.shader_problem();
+        let mut viewer = Viewer {
+            doc: &self.state.doc,
+            hard,
+            actions: Vec::new(),
+            to_screen: None,
+            shader_error: shader_error.and_then(|(n, m)| Some((n?, m))),
+            set_transform: None,
+        };
+        let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
+            let fit = Self::fit(self.nodes_rect, self.canvas_rect);
+            if fit.is_none() {
+                // Nothing to frame.
+                self.frame_in = 0;
+            }
+            fit
+        } else {
+            None
+        };
+        viewer.set_transform = fit;
+        let canvas = ui.max_rect();
+        let style = SnarlStyle {
+            collapsible: Some(false),
+            ..SnarlStyle::new()
+        };
+        let r = SnarlWidget::new().id(canvas_id()).style(style).show(
+            &mut self.state.snarl,
+            &mut viewer,
+            ui,
+        );
+        let _ = r;
+        // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
+        if fit.is_some() && viewer.to_screen == fit {
+            self.frame_in = 0;
+        }
+        self.canvas_rect = canvas;
+        // Node positions are their top-left corners; NODE_EXTENT covers a typical node.
+        self.nodes_rect = self
+            .state
+            .snarl
+            .nodes_pos()
+            .fold(egui::Rect::NOTHING, |r, (p, _)| {
+                r.union(egui::Rect::from_min_size(p, NODE_EXTENT))
+            });
+        // The fit uses the rects of a frame that drew every node.
+        self.nodes_measured = self.revealed >= n;
+        if let Some(t) = viewer
+            .to_screen
+            .filter(|t| t.scaling.is_finite() && t.scaling > 0.0)
+        {
+            self.to_screen = t;
+        }
+        let mut actions = viewer.actions;
+        // Node moves (a drag is one undo step).
+        let moves: Vec<(String, [f32; 2])> = self
+            .state
+            .snarl
+            .nodes_pos_ids()
+            .filter_map(|(k, pos, n)| {
+                let doc_pos = self.state.doc.doc().nodes.get(k.0)?.position;
+                (doc_pos != Some([pos.x, pos.y])).then(|| (n.id.clone(), [pos.x, pos.y]))
+            })
+            .collect();
+        if !moves.is_empty() {
+            self.state.move_nodes(&moves);
+        }
+        let selected = self.selected(ui.ctx());
+        if selected.len() == 1 && ui.input(|i| i.pointer.any_pressed()) {
+            actions.push(Action::Focus(selected[0].clone()));
+        }
+        actions
+    }
+
+    /// The shader generator's error (with its node, when known) while the graph validates.
+    fn shader_problem(&mut self) -> Option<(Option<String>, String)> {
+        let graph = self.state.doc.graph()?.clone();
+        let generated = self.state.code.generated(Some(&graph));
+        generated
+            .text
+            .as_ref()
+            .err()
+            .map(|e| (generated.error_node.clone(), e.clone()))
+    }
+
+    /// The ids of the nodes selected on the canvas.
+    pub fn selected(&self, ctx: &egui::Context) -> Vec<String> {
+        egui_snarl::ui::get_selected_nodes(canvas_id(), ctx)
+            .into_iter()
+            .filter_map(|NodeId(k)| self.state.doc.doc().nodes.get(k).map(|n| n.id.clone()))
+            .collect()
+    }
+
+    /// The canvas position under the pointer (or the canvas centre).
+    fn pointer_canvas_pos(&self, ctx: &egui::Context) -> [f32; 2] {
+        let screen = ctx
+            .input(|i| i.pointer.hover_pos())
+            .filter(|p| self.canvas_rect.contains(*p))
+            .unwrap_or(if self.canvas_rect.is_positive() {
+                self.canvas_rect.center()
+            } else {
+                egui::pos2(200.0, 200.0)
+            });
+        let p = self.to_screen.inverse() * screen;
+        if p.x.is_finite() && p.y.is_finite() {
+            [p.x, p.y]
+        } else {
+            [0.0, 0.0]
+        }
+    }
+
+    /// Opens the add-node search at the pointer.
+    pub fn open_search(&mut self, ctx: &egui::Context) {
+        self.state.search = Some(SearchState {
+            query: String::new(),
+            pos: self.pointer_canvas_pos(ctx),
+            wire: None,
+            selected: 0,
+        });
+    }
+
+    fn apply(&mut self, actions: Vec<Action>, ctx: &egui::Context) {
+        let s = &mut self.state;
+        for a in actions {
+            match a {
+                Action::Connect {
+                    from,
+                    output,
+                    to,
+                    input,
+                } => {
+                    if s.connect(&from, &output, &to, &input).is_ok() {
+                        s.status = Some(format!("linked {from}.{output} → {to}.{input}"));
+                    }
+                }
+                Action::Disconnect { node, input } => s.clear_input(&node, &input),
+                Action::SetInput { node, input, value } => {
+                    let key = format!("value:{node}.{input}");
+                    s.set_input(&node, &input, value, Some(&key));
+                }
+                Action::Search { pos, wire } => {
+                    s.search = Some(SearchState {
+                        query: String::new(),
+                        pos,
+                        wire,
+                        selected: 0,
+                    })
+                }
+                Action::Focus(id) => s.focus = Some(id),
+                Action::Remove(ids) => s.remove_nodes(&ids),
+                Action::Duplicate(ids) => {
+                    let copies = s.duplicate(&ids);
+                    if let Some(c) = copies.first() {
+                        s.focus = Some(c.clone());
+                    }
+                }
+            }
+        }
+        let _ = ctx;
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        let cmd = |k| KeyboardShortcut::new(Modifiers::COMMAND, k);
+        let cmd_shift = |k| KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, k);
+        let (undo, redo, save) = ctx.input_mut(|i| {
+            (
+                i.consume_shortcut(&cmd(Key::Z)),
+                i.consume_shortcut(&cmd_shift(Key::Z)) || i.consume_shortcut(&cmd(Key::Y)),
+                i.consume_shortcut(&cmd(Key::S)),
+            )
+        });
+        if save {
+            let _ = self.state.save();
+        }
+        let typing = ctx.egui_wants_keyboard_input();
+        if typing || self.state.dialog.is_some() || self.state.search.is_some() {
+            return;
+        }
+        if undo {
+            self.state.undo();
+        }
+        if redo {
+            self.state.redo();
+        }
+        let (search, delete, duplicate) = ctx.input_mut(|i| {
+            (
+                i.consume_key(Modifiers::SHIFT, Key::A) || i.consume_key(Modifiers::NONE, Key::Tab),
+                i.consume_key(Modifiers::NONE, Key::Delete)
+                    || i.consume_key(Modifiers::NONE, Key::X),
+                i.consume_key(Modifiers::SHIFT, Key::D),
+            )
+        });
+        if search {
+            self.open_search(ctx);
+        }
+        if ctx.input_mut(|i| i.consume_key(Modifiers::NONE, Key::Home)) {
+            self.frame_all();
+        }
+        let selected = self.selected(ctx);
+        if delete {
+            self.state.remove_nodes(&selected);
+        }
+        if duplicate {
+            self.state.duplicate(&selected);
+        }
+    }
+
+    fn menu_bar(&mut self, ui: &mut Ui) {
+        egui::Panel::top("matgraph-menu").show(ui, |ui| {
+            egui::MenuBar::new().ui(ui, |ui| {
+                ui.menu_button("File", |ui| {
+                    if ui.button("New").clicked()
+                        && let Some(p) = self.state.request(Pending::New)
+                    {
+                        self.run_pending(p, ui.ctx());
+                    }
+                    if ui.button("Open…").clicked() {
+                        self.state.dialog = Some(Dialog::Open {
+                            path: String::new(),
+                        });
+                    }
+                    if ui.button("Save  (Ctrl+S)").clicked() {
+                        let _ = self.state.save();
+                    }
+                    if ui.button("Save as…").clicked() {
+                        self.state.dialog = Some(Dialog::SaveAs {
+                            path: self
+                                .state
+                                .path
+                                .as_ref()
+                                .map_or("untitled.json".into(), |p| p.display().to_string()),
+                        });
+                    }
+                });
+                ui.menu_button("Edit", |ui| {
+                    if ui
+                        .add_enabled(
+                            self.state.history.can_undo(),
+                            egui::Button::new("Undo  (Ctrl+Z)"),
+                        )
+                        .clicked()
+                    {
+                        self.state.undo();
+                    }
+                    if ui
+                        .add_enabled(
+                            self.state.history.can_redo(),
+                            egui::Button::new("Redo  (Ctrl+Shift+Z)"),
+                        )
+                        .clicked()
+                    {
+                        self.state.redo();
+                    }
+                    if ui.button("Add node…  (Shift+A)").clicked() {
+                        let ctx = ui.ctx().clone();
+                        self.open_search(&ctx);
+                    }
+                });
+                ui.menu_button("View", |ui| {
+                    if ui.button("Frame all  (Home)").clicked() {
+                        self.frame_all();
+                    }
+                    ui.checkbox(&mut self.state.code.open, "Generated code");
+                    ui.checkbox(&mut self.state.preview.enabled, "Preview");
+                });
+                ui.separator();
+                ui.label(self.title());
+            });
+        });
+    }
+
+    fn bottom_panel(&mut self, ui: &mut Ui) {
+        egui::Panel::bottom("matgraph-problems")
+            .resizable(true)
+            .default_size(110.0)
+            .show(ui, |ui| {
+                if let Some(s) = &self.state.status {
+                    ui.label(egui::RichText::new(s).color(Color32::from_rgb(230, 200, 120)));
+                }
+                let errors: Vec<(Option<String>, String)> = self
+                    .state
+                    .doc
+                    .errors()
+                    .iter()
+                    .map(|e| {
+                        let node = match e {
+                            crate::GraphError::Cycle { nodes } => nodes.first().cloned(),
+                            e => e.node().map(str::to_owned),
+                        };
+                        (node, e.to_string())
+                    })
+                    .collect();
+                let shader = if errors.is_empty() {
+                    let graph = self.state.doc.graph().cloned();
+                    let generated = self.state.code.generated(graph.as_ref());
+                    generated
+                        .text
+                        .as_ref()
+                        .err()
+                        .map(|e| (generated.error_node.clone(), e.clone()))
+                } else {
+                    None
+                };
+                ui.strong(format!(
+                    "Problems ({})",
+                    errors.len() + usize::from(shader.is_some())
+                ));
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    for (node, message) in errors.iter().chain(shader.iter()) {
+                        let r = ui.selectable_label(
+                            node.is_some() && node == &self.state.focus,
+                            egui::RichText::new(message).color(Color32::from_rgb(255, 120, 110)),
+                        );
+                        if r.clicked() && node.is_some() {
+                            self.state.focus = node.clone();
+                        }
+                    }
+                });
+            });
+    }
+
+    fn side_panel(&mut self, ui: &mut Ui) {
+        egui::Panel::right("matgraph-side")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                ui.strong("Preview (CPU)");
+                match (self.state.preview.texture(), &self.state.preview.message) {
+                    (_, Some(m)) => {
+                        ui.label(m);
+                    }
+                    (Some(t), None) => {
+                        ui.image((t.id(), egui::vec2(192.0, 192.0)));
+                    }
+                    (None, None) if self.state.preview.enabled => {
+                        ui.label("rendering…");
+                    }
+                    _ => {
+                        ui.weak("off");
+                    }
+                }
+                ui.separator();
+                egui::ScrollArea::vertical().show(ui, |ui| self.inspector(ui));
+            });
+    }
+
+    fn inspector(&mut self, ui: &mut Ui) {
+        let Some(id) = self.state.focus.clone() else {
+            ui.weak("Click a node's title to see its documentation.");
+            return;
+        };
+        let Some(t) = self.state.doc.node_type(&id).cloned() else {
+            ui.weak(format!("node '{id}'"));
+            return;
+        };
+        ui.heading(&id);
+        ui.label(format!("{} · {}", t.name(), t.category()));
+        if let Some(g) = self.state.doc.generic(&id).filter(|_| t.is_generic()) {
+            ui.label(format!("T = {g}"));
+        }
+        for e in self.state.doc.node_errors(&id) {
+            ui.colored_label(Color32::from_rgb(255, 120, 110), e);
+        }
+        ui.label(t.summary());
+        if !t.source_doc().is_empty() {
+            ui.separator();
+            ui.label(t.source_doc());
+        }
+        ui.separator();
+        for i in t.inputs() {
+            let ty = self
+                .state
+                .doc
+                .port_type(&id, i.ty)
+                .map_or("T".into(), |t| t.name().to_owned());
+            let unit = if i.unit.is_empty() {
+                String::new()
+            } else {
+                format!(" [{}]", i.unit)
+            };
+            ui.label(egui::RichText::new(format!("{} : {ty}{unit}", i.name)).strong());
+            if !i.doc.is_empty() {
+                ui.label(i.doc);
+            }
+        }
+        for o in t.outputs() {
+            let ty = self
+                .state
+                .doc
+                .port_type(&id, o.ty)
+                .map_or("T".into(), |t| t.name().to_owned());
+            ui.label(egui::RichText::new(format!("out {} : {ty}", o.name)).strong());
+            if !o.doc.is_empty() {
+                ui.label(o.doc);
+            }
+        }
+    }
+
+    fn code_panel(&mut self, ui: &mut Ui) {
+        egui::Panel::right("matgraph-code")
+            .resizable(true)
+            .default_size(460.0)
+            .show(ui, |ui| {
+                let mut export = false;
+                ui.horizontal(|ui| {
+                    ui.strong("Generated code");
+                    for (k, t) in TARGETS.iter().enumerate() {
+                        ui.selectable_value(
+                            &mut self.state.code.target,
+                            k,
+                            t.name().to_uppercase(),
+                        );
+                    }
+                });
+                let graph = self.state.doc.graph().cloned();
+                let focus = self.state.focus.clone();
+                let generated = self.state.code.generated(graph.as_ref()).clone();
+                let text = match &generated.text {
+                    Ok(t) => t.clone(),
+                    Err(e) => {
+                        ui.colored_label(Color32::from_rgb(255, 120, 110), e);
+                        return;
+                    }
+                };
+                ui.horizontal(|ui| {
+                    if ui.button("Copy").clicked() {
+                        ui.ctx().copy_text(text.clone());
+                        self.state.status = Some("code copied".into());
+                    }
+                    export = ui.button("Export").clicked();
+                });
+                if export {
+                    let base = self
+                        .state
+                        .path
+                        .clone()
+                        .unwrap_or_else(|| "untitled.json".into());
+                    let out = base.with_extension(extension(generated.target));
+                    self.state.status = Some(match super::files::save(&out, &text) {
+                        Ok(()) => format!("exported {}", out.display()),
+                        Err(e) => e,
+                    });
+                }
+                let lines = focus
+                    .as_deref()
+                    .map(|f| node_lines(&text, &generated.spans, f))
+                    .unwrap_or_default();
+                let mut job = egui::text::LayoutJob::default();
+                let mono = egui::FontId::monospace(11.0);
+                for (k, line) in text.split_inclusive('\n').enumerate() {
+                    let on = lines.binary_search(&k).is_ok();
+                    job.append(
+                        line,
+                        0.0,
+                        egui::TextFormat {
+                            font_id: mono.clone(),
+                            color: if on {
+                                Color32::WHITE
+                            } else {
+                                Color32::from_gray(170)
+                            },
+                            background: if on {
+                                Color32::from_rgb(60, 70, 120)
+                            } else {
+                                Color32::TRANSPARENT
+                            },
+                            ..Default::default()
+                        },
+                    );
+                }
+                let mut area = egui::ScrollArea::both();
+                if focus != self.state.code.scrolled_for
+                    && let Some(&first) = lines.first()
+                {
+                    let row = ui.ctx().fonts_mut(|f| f.row_height(&mono));
+                    area = area.vertical_scroll_offset((first as f32 - 3.0).max(0.0) * row);
+                    self.state.code.scrolled_for = focus.clone();
+                }
+                area.show(ui, |ui| {
+                    ui.add(egui::Label::new(job).selectable(true));
+                });
+            });
+    }
+
+    fn search_window(&mut self, ctx: &egui::Context) {
+        let Some(mut search) = self.state.search.take() else {
+            return;
+        };
+        let screen = Some(self.to_screen * egui::pos2(search.pos[0], search.pos[1]))
+            .filter(|p| p.x.is_finite() && p.y.is_finite())
+            .unwrap_or(egui::pos2(200.0, 200.0));
+        let mut result = None;
+        egui::Window::new("Add node")
+            .id(egui::Id::new("matgraph-search"))
+            .collapsible(false)
+            .resizable(false)
+            .default_pos(screen)
+            .show(ctx, |ui| {
+                result = search_ui::show(ui, &mut search, self.state.doc.registry());
+            });
+        match result {
+            None => self.state.search = Some(search),
+            Some(Err(())) => {}
+            Some(Ok(pick)) => {
+                if let Ok(id) = self.state.add_node(&pick.type_name, search.pos)
+                    && let (Some((node, port, filter)), Some(k)) = (&search.wire, pick.port)
+                    && let Some(t) = self.state.doc.node_type(&id).cloned()
+                {
+                    let _ = match filter {
+                        super::search::WireFilter::InputAccepting(_) => {
+                            self.state.connect(node, port, &id, t.inputs()[k].name)
+                        }
+                        super::search::WireFilter::OutputFeeding(_) => {
+                            self.state.connect(&id, t.outputs()[k].name, node, port)
+                        }
+                    };
+                }
+            }
+        }
+    }
+
+    fn dialogs(&mut self, ctx: &egui::Context) {
+        let Some(mut dialog) = self.state.dialog.take() else {
+            return;
+        };
+        let mut keep = true;
+        let mut run = None;
+        egui::Modal::new(egui::Id::new("matgraph-dialog")).show(ctx, |ui| match &mut dialog {
+            Dialog::Recover { path, doc } => {
+                ui.heading("Recover unsaved changes?");
+                ui.label(format!(
+                    "{} holds changes that were not saved.",
+                    path.display()
+                ));
+                ui.horizontal(|ui| {
+                    if ui.button("Recover").clicked() {
+                        self.state.recover((**doc).clone());
+                        keep = false;
+                    }
+                    if ui.button("Discard").clicked() {
+                        let _ = std::fs::remove_file(&*path);
+                        keep = false;
+                    }
+                });
+            }
+            Dialog::Discard { then } => {
+                ui.heading("Unsaved changes");
+                ui.label("Save the changes to this graph first?");
+                ui.horizontal(|ui| {
+                    if ui.button("Save").clicked()
+                        && self.state.path.is_some()
+                        && self.state.save().is_ok()
+                    {
+                        run = Some(then.clone());
+                        keep = false;
+                    }
+                    if ui.button("Discard").clicked() {
+                        super::files::discard_recovery(self.state.path.as_deref());
+                        run = Some(then.clone());
+                        keep = false;
+                    }
+                    if ui.button("Cancel").clicked() {
+                        keep = false;
+                    }
+                });
+            }
+            Dialog::SaveAs { path } | Dialog::Open { path } => {
+                ui.label("File:");
+                ui.text_edit_singleline(path);
+                ui.horizontal(|ui| {
+                    if ui.button("OK").clicked() || ui.input(|i| i.key_pressed(Key::Enter)) {
+                        run = Some(Pending::Open(std::path::PathBuf::from(path.as_str())));
+                        keep = false;
+                    }
+                    if ui.button("Cancel").clicked() {
+                        keep = false;
+                    }
+                });
+            }
+        });
+        // Save as and Open share the path field; tell them apart here.
+        if let (Some(Pending::Open(p)), Dialog::SaveAs { .. }) = (&run, &dialog) {
+            let _ = self.state.save_as(p);
+            run = None;
+        }
+        if keep {
+            self.state.dialog = Some(dialog);
+        } else if let Some(p) = run {
+            match (&dialog, p) {
+                (Dialog::Open { .. }, Pending::Open(path)) => {
+                    if let Some(p) = self.state.request(Pending::Open(path)) {
+                        self.run_pending(p, ctx);
+                    }
+                }
+                (_, p) => self.run_pending(p, ctx),
+            }
+        }
+    }
+
+    fn run_pending(&mut self, p: Pending, ctx: &egui::Context) {
+        match p {
+            Pending::Close => {
+                self.state.allow_close = true;
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+            Pending::Open(path) => {
+                if self.state.load(&path).is_ok() {
+                    self.frame_in = 1;
+                    self.revealed = 0;
+                }
+            }
+            Pending::New => {
+                let registry = self.state.doc.registry();
+                self.state = EditorState::untitled(registry);
+            }
+        }
+    }
+
+    fn close_request(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.state.allow_close {
+            if self.state.dirty() {
+                ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+                self.state.dialog = Some(Dialog::Discard {
+                    then: Pending::Close,
+                });
+            } else {
+                super::files::discard_recovery(self.state.path.as_deref());
+            }
+        }
+    }
+}

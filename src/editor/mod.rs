@@ -1,0 +1,105 @@
+//! The node editor (`matgraph edit`), on eframe (wgpu backend) and egui-snarl; built with
+//! the default cargo feature `editor`. It reaches the core only through the public API: the
+//! document it edits is a [`crate::GraphDocument`], checked by the loader after every edit.
+//!
+//! Modules: [`model`] (the document and its validation), [`undo`], [`state`] (every edit,
+//! files, autosave), [`view`] and [`viewer`] (the canvas), [`widgets`] (value editors),
+//! [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
+//! (CPU swatch), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
+
+pub mod app;
+pub mod code;
+pub mod files;
+pub mod headless;
+pub mod model;
+pub mod preview;
+pub mod search;
+pub mod search_ui;
+pub mod state;
+pub mod undo;
+pub mod view;
+pub mod viewer;
+pub mod widgets;
+
+pub use app::EditorApp;
+pub use state::EditorState;
+
+use std::path::Path;
+
+/// Why the editor could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum EditorError {
+    /// No display to open a window on.
+    #[error(
+        "matgraph edit: no display (DISPLAY and WAYLAND_DISPLAY are unset); run it in a desktop session or under Xvfb, or render the editor headless with --screenshot out.png"
+    )]
+    NoDisplay,
+    /// The graph file could not be opened.
+    #[error("{0}")]
+    Open(String),
+    /// eframe failed (no GPU adapter, a window-system error).
+    #[error("matgraph edit: {0}")]
+    Window(String),
+}
+
+/// Whether a window system is reachable (X11 `DISPLAY` or `WAYLAND_DISPLAY` set).
+pub fn has_display() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+}
+
+/// The editor state for `file`: the file when it exists, else an empty graph that saves to it.
+pub fn state_for(file: Option<&Path>) -> Result<EditorState, EditorError> {
+    let registry = crate::Registry::builtin();
+    Ok(match file {
+        Some(f) if f.exists() => EditorState::open(f, registry).map_err(EditorError::Open)?,
+        Some(f) => {
+            let mut s = EditorState::untitled(registry);
+            s.path = Some(f.to_owned());
+            s
+        }
+        None => EditorState::untitled(registry),
+    })
+}
+
+/// The editor in an eframe window, with the window title kept up to date.
+struct WindowApp {
+    app: EditorApp,
+    title: String,
+}
+
+impl eframe::App for WindowApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let title = self.app.title();
+        if title != self.title {
+            ui.ctx()
+                .send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
+        self.app.ui(ui);
+    }
+}
+
+/// Opens the editor window on `file` (eframe, wgpu backend).
+pub fn run_window(file: Option<&Path>) -> Result<(), EditorError> {
+    if !has_display() {
+        return Err(EditorError::NoDisplay);
+    }
+    let app = EditorApp::new(state_for(file)?);
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default().with_inner_size([1400.0, 900.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "matgraph",
+        options,
+        Box::new(move |_cc| {
+            Ok(Box::new(WindowApp {
+                app,
+                title: String::new(),
+            }))
+        }),
+    )
+    .map_err(|e| EditorError::Window(e.to_string()))
+}

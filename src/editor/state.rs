@@ -1,0 +1,355 @@
+//! The editor's state and every edit it makes, free of drawing: each edit goes through
+//! [`EditorState::edit`], which records the undo step, and a structural one rebuilds the
+//! canvas from the document.
+
+use super::files;
+use super::model::EditorDoc;
+use super::undo::History;
+use super::view::{NodeView, build_snarl};
+use crate::document::GraphDocument;
+use crate::registry::Registry;
+use egui_snarl::Snarl;
+use std::path::{Path, PathBuf};
+
+/// Seconds without an edit after which a changed document is autosaved.
+pub const AUTOSAVE_AFTER: f64 = 2.0;
+
+/// A question the editor is waiting for an answer to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Dialog {
+    /// A recovery file from a crash differs from the file: recover it or discard it.
+    Recover {
+        /// The recovery file.
+        path: PathBuf,
+        /// Its document.
+        doc: Box<GraphDocument>,
+    },
+    /// Unsaved changes would be lost by `then`.
+    Discard {
+        /// What was asked for.
+        then: Pending,
+    },
+    /// Save under a new path (typed in).
+    SaveAs {
+        /// The path being typed.
+        path: String,
+    },
+    /// Open a file (path typed in).
+    Open {
+        /// The path being typed.
+        path: String,
+    },
+}
+
+/// An action that discards the document, held until the user answers [`Dialog::Discard`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pending {
+    /// Close the window.
+    Close,
+    /// Open this file.
+    Open(PathBuf),
+    /// Start an empty graph.
+    New,
+}
+
+/// The editor: the document, its history and file, and what the UI shows.
+pub struct EditorState {
+    /// The document and its validation.
+    pub doc: EditorDoc,
+    /// Undo and redo.
+    pub history: History,
+    /// The file, once saved or opened.
+    pub path: Option<PathBuf>,
+    /// The canonical text last saved or opened (the document is dirty when it differs).
+    pub saved: String,
+    /// The last message for the user (a refused wire, a save).
+    pub status: Option<String>,
+    /// The canvas' nodes: node `k` is the document's node `k`.
+    pub snarl: Snarl<NodeView>,
+    /// The node shown in the side panel (the selection, or a problem clicked).
+    pub focus: Option<String>,
+    /// The open question, if any.
+    pub dialog: Option<Dialog>,
+    /// The add-node search, when open.
+    pub search: Option<super::search_ui::SearchState>,
+    /// The code panel.
+    pub code: super::code::CodeState,
+    /// The preview swatch.
+    pub preview: super::preview::Preview,
+    /// Time (egui seconds) of the last edit not yet autosaved.
+    pub unsaved_since: Option<f64>,
+    /// Whether the app may close now (the user answered the discard prompt).
+    pub allow_close: bool,
+}
+
+impl EditorState {
+    /// An editor on `doc`, saved at `path` (if any) as `saved`.
+    pub fn new(doc: GraphDocument, path: Option<PathBuf>, registry: &'static Registry) -> Self {
+        let doc = EditorDoc::new(doc, registry);
+        let saved = doc.canonical_json();
+        let snarl = build_snarl(&doc);
+        let mut state = EditorState {
+            doc,
+            history: History::default(),
+            path,
+            saved,
+            status: None,
+            snarl,
+            focus: None,
+            dialog: None,
+            search: None,
+            code: Default::default(),
+            preview: super::preview::Preview::new(),
+            unsaved_since: None,
+            allow_close: false,
+        };
+        state.offer_recovery();
+        state
+    }
+
+    /// An editor on the graph file `path`.
+    pub fn open(path: &Path, registry: &'static Registry) -> Result<Self, String> {
+        let doc = files::open(path)?;
+        Ok(EditorState::new(doc, Some(path.to_owned()), registry))
+    }
+
+    /// An empty, untitled graph.
+    pub fn untitled(registry: &'static Registry) -> Self {
+        EditorState::new(
+            EditorDoc::empty("untitled", registry).doc().clone(),
+            None,
+            registry,
+        )
+    }
+
+    /// Whether the document differs from the file.
+    pub fn dirty(&self) -> bool {
+        self.doc.canonical_json() != self.saved
+    }
+
+    /// Applies `f` to the document as one undo step (`key`: consecutive edits with the same
+    /// key coalesce, as a slider drag does). `structural` edits rebuild the canvas.
+    pub fn edit<R>(
+        &mut self,
+        key: Option<&str>,
+        structural: bool,
+        f: impl FnOnce(&mut EditorDoc) -> Result<R, String>,
+    ) -> Result<R, String> {
+        let before = self.doc.doc().clone();
+        let result = f(&mut self.doc);
+        match &result {
+            Ok(_) if self.doc.doc() != &before => {
+                self.history.record(before, key);
+                if structural {
+                    self.snarl = build_snarl(&self.doc);
+                }
+                self.changed();
+            }
+            Ok(_) => {}
+            Err(message) => self.status = Some(message.clone()),
+        }
+        result
+    }
+
+    /// Adds a node of `type_name` at canvas position `pos`; returns its id.
+    pub fn add_node(&mut self, type_name: &str, pos: [f32; 2]) -> Result<String, String> {
+        let id = self.edit(None, true, |d| d.add_node(type_name, pos))?;
+        self.status = Some(format!("added '{id}'"));
+        self.focus = Some(id.clone());
+        Ok(id)
+    }
+
+    /// Links `from.output` to `to.input`, or refuses with the loader's message (kept in
+    /// [`EditorState::status`]).
+    pub fn connect(
+        &mut self,
+        from: &str,
+        output: &str,
+        to: &str,
+        input: &str,
+    ) -> Result<(), String> {
+        self.edit(None, true, |d| d.connect(from, output, to, input))
+    }
+
+    /// Removes the link or literal of `node.input`.
+    pub fn clear_input(&mut self, node: &str, input: &str) {
+        let _ = self.edit(None, true, |d| {
+            d.clear_input(node, input);
+            Ok(())
+        });
+    }
+
+    /// Writes a literal on `node.input`; `key` coalesces a drag.
+    pub fn set_input(
+        &mut self,
+        node: &str,
+        input: &str,
+        value: serde_json::Value,
+        key: Option<&str>,
+    ) {
+        let _ = self.edit(key, false, |d| {
+            d.set_input(node, input, value);
+            Ok(())
+        });
+    }
+
+    /// Removes nodes.
+    pub fn remove_nodes(&mut self, ids: &[String]) {
+        if ids.is_empty() {
+            return;
+        }
+        let _ = self.edit(None, true, |d| {
+            d.remove_nodes(ids);
+            Ok(())
+        });
+        if self.focus.as_ref().is_some_and(|f| ids.contains(f)) {
+            self.focus = None;
+        }
+    }
+
+    /// Duplicates nodes beside themselves; returns the copies' ids.
+    pub fn duplicate(&mut self, ids: &[String]) -> Vec<String> {
+        if ids.is_empty() {
+            return Vec::new();
+        }
+        self.edit(None, true, |d| Ok(d.duplicate(ids, [40.0, 40.0])))
+            .unwrap_or_default()
+    }
+
+    /// Moves nodes (a drag: coalesced until [`History::seal`]).
+    pub fn move_nodes(&mut self, moves: &[(String, [f32; 2])]) {
+        let _ = self.edit(Some("move"), false, |d| {
+            for (id, p) in moves {
+                d.set_position(id, *p);
+            }
+            Ok(())
+        });
+    }
+
+    /// Undoes the last step.
+    pub fn undo(&mut self) {
+        if let Some(doc) = self.history.undo(self.doc.doc()) {
+            self.doc.replace(doc);
+            self.snarl = build_snarl(&self.doc);
+            self.changed();
+            self.status = Some("undone".into());
+        }
+    }
+
+    /// Redoes the last undone step.
+    pub fn redo(&mut self) {
+        if let Some(doc) = self.history.redo(self.doc.doc()) {
+            self.doc.replace(doc);
+            self.snarl = build_snarl(&self.doc);
+            self.changed();
+            self.status = Some("redone".into());
+        }
+    }
+
+    /// Saves to the file (asks for a path when untitled).
+    pub fn save(&mut self) -> Result<(), String> {
+        match self.path.clone() {
+            Some(p) => self.save_as(&p),
+            None => {
+                self.dialog = Some(Dialog::SaveAs {
+                    path: "untitled.json".into(),
+                });
+                Ok(())
+            }
+        }
+    }
+
+    /// Saves in canonical form to `path`, atomically, and makes it the document's file.
+    pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
+        let text = self.doc.canonical_json();
+        let result = files::save(path, &text);
+        match &result {
+            Ok(()) => {
+                files::discard_recovery(self.path.as_deref());
+                self.path = Some(path.to_owned());
+                files::discard_recovery(Some(path));
+                self.saved = text;
+                self.unsaved_since = None;
+                self.status = Some(format!("saved {}", path.display()));
+            }
+            Err(e) => self.status = Some(e.clone()),
+        }
+        result
+    }
+
+    /// Writes the recovery file now (the autosave).
+    pub fn autosave(&mut self) {
+        let path = files::recovery_path(self.path.as_deref());
+        match files::save(&path, &self.doc.canonical_json()) {
+            Ok(()) => self.unsaved_since = None,
+            Err(e) => self.status = Some(format!("autosave: {e}")),
+        }
+    }
+
+    /// Autosaves when the last edit is [`AUTOSAVE_AFTER`] seconds old at time `now`.
+    pub fn tick(&mut self, now: f64) {
+        if self.unsaved_since.is_some_and(|t| t < 0.0) {
+            self.unsaved_since = Some(now);
+        }
+        if let Some(t) = self.unsaved_since
+            && now - t >= AUTOSAVE_AFTER
+        {
+            self.autosave();
+        }
+    }
+
+    /// Takes the recovery file's document as the current one (an undoable step).
+    pub fn recover(&mut self, doc: GraphDocument) {
+        let _ = self.edit(None, true, |d| {
+            d.replace(doc);
+            Ok(())
+        });
+        self.status = Some("recovered the autosaved changes".into());
+    }
+
+    /// Asks for `then`, through the discard prompt when there are unsaved changes.
+    pub fn request(&mut self, then: Pending) -> Option<Pending> {
+        if self.dirty() {
+            self.dialog = Some(Dialog::Discard { then });
+            None
+        } else {
+            Some(then)
+        }
+    }
+
+    /// Replaces the editor with the file `path` (after the discard prompt).
+    pub fn load(&mut self, path: &Path) -> Result<(), String> {
+        let registry = self.doc.registry();
+        match EditorState::open(path, registry) {
+            Ok(s) => {
+                let preview = std::mem::take(&mut self.preview);
+                *self = s;
+                self.preview = preview;
+                self.preview.invalidate();
+                Ok(())
+            }
+            Err(e) => {
+                self.status = Some(e.clone());
+                Err(e)
+            }
+        }
+    }
+
+    fn changed(&mut self) {
+        // Negative: set to the frame's time by the next tick.
+        self.unsaved_since = Some(-1.0);
+        self.code.invalidate();
+        self.preview.invalidate();
+    }
+
+    fn offer_recovery(&mut self) {
+        if let Some((path, doc)) =
+            files::pending_recovery(self.path.as_deref(), &self.doc.canonical_json())
+        {
+            self.dialog = Some(Dialog::Recover {
+                path,
+                doc: Box::new(doc),
+            });
+        }
+    }
+}

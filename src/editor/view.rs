@@ -1,0 +1,141 @@
+//! The canvas' model: one snarl node per document node, wires from the document's links,
+//! and the colours of categories and socket types.
+
+use super::model::{EditorDoc, link_of};
+use crate::node::Category;
+use crate::types::SocketType;
+use egui::Color32;
+use egui_snarl::{InPinId, NodeId, OutPinId, Snarl};
+
+/// A canvas node: the id of the document node it shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeView {
+    /// The document node's id.
+    pub id: String,
+}
+
+/// Horizontal and vertical spacing of the automatic layout of nodes without a position.
+pub const LAYOUT_STEP: [f32; 2] = [220.0, 140.0];
+
+/// The canvas of `doc`: node `k` is document node `k`, at its position (nodes without one
+/// laid out in columns by link depth), and one wire per link.
+pub fn build_snarl(doc: &EditorDoc) -> Snarl<NodeView> {
+    build_snarl_prefix(doc, usize::MAX)
+}
+
+/// The canvas of the first `count` nodes of `doc` and the links between them. Showing a
+/// file's nodes one more per frame fixes their stacking to file order (later nodes on top):
+/// egui-snarl 0.12 stacks nodes that appear in the same frame in `HashSet` order, which
+/// varies from run to run.
+pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
+    let d = doc.doc();
+    let count = count.min(d.nodes.len());
+    let mut snarl = Snarl::new();
+    let depth = depths(doc);
+    let mut rows = std::collections::HashMap::<usize, usize>::new();
+    for (k, n) in d.nodes.iter().enumerate().take(count) {
+        let pos = n.position.unwrap_or_else(|| {
+            let row = rows.entry(depth[k]).or_default();
+            *row += 1;
+            [
+                depth[k] as f32 * LAYOUT_STEP[0],
+                (*row - 1) as f32 * LAYOUT_STEP[1],
+            ]
+        });
+        let id = snarl.insert_node(egui::pos2(pos[0], pos[1]), NodeView { id: n.id.clone() });
+        debug_assert_eq!(id, NodeId(k));
+    }
+    for (k, n) in d.nodes.iter().enumerate().take(count) {
+        let Some(t) = doc.registry().get(&n.node_type) else {
+            continue;
+        };
+        for (i, decl) in t.inputs().iter().enumerate() {
+            let Some((src, out)) = n
+                .inputs
+                .get(decl.name)
+                .and_then(link_of)
+                .and_then(|l| l.split_once('.'))
+            else {
+                continue;
+            };
+            let (Some(s), Some(st)) = (doc.index(src).filter(|&s| s < count), doc.node_type(src))
+            else {
+                continue;
+            };
+            let Some(o) = st.output_index(out) else {
+                continue;
+            };
+            snarl.connect(
+                OutPinId {
+                    node: NodeId(s),
+                    output: o,
+                },
+                InPinId {
+                    node: NodeId(k),
+                    input: i,
+                },
+            );
+        }
+    }
+    snarl
+}
+
+/// Link depth of every node (0 for nodes no link reaches), for the automatic layout.
+fn depths(doc: &EditorDoc) -> Vec<usize> {
+    let d = doc.doc();
+    let mut depth = vec![0usize; d.nodes.len()];
+    // Relax at most n times: a cycle cannot loop forever.
+    for _ in 0..d.nodes.len() {
+        let mut changed = false;
+        for (k, n) in d.nodes.iter().enumerate() {
+            for v in n.inputs.values() {
+                if let Some(s) = link_of(v)
+                    .and_then(|l| l.split_once('.'))
+                    .and_then(|(s, _)| doc.index(s))
+                    && depth[k] < depth[s] + 1
+                {
+                    depth[k] = depth[s] + 1;
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    depth
+}
+
+/// The header colour of a category (Blender's shader editor families where they match).
+pub fn category_color(c: Category) -> Color32 {
+    match c {
+        Category::Input => Color32::from_rgb(0x83, 0x31, 0x4a),
+        Category::Geometry => Color32::from_rgb(0x7a, 0x2e, 0x5c),
+        Category::Math => Color32::from_rgb(0x24, 0x6b, 0x83),
+        Category::Vector => Color32::from_rgb(0x3c, 0x3c, 0x83),
+        Category::Color => Color32::from_rgb(0x6c, 0x6c, 0x1e),
+        Category::Optics => Color32::from_rgb(0x1e, 0x6e, 0x4a),
+        Category::Skin => Color32::from_rgb(0x9a, 0x5a, 0x3c),
+        Category::Pbr => Color32::from_rgb(0x2a, 0x7a, 0x2a),
+        Category::Bubble => Color32::from_rgb(0x7a, 0x4a, 0x9a),
+        Category::Texture => Color32::from_rgb(0xa0, 0x5a, 0x1e),
+        Category::Water => Color32::from_rgb(0x1e, 0x5a, 0xa0),
+    }
+}
+
+/// The pin and wire colour of a socket type (grey floats, purple vectors, yellow colours as
+/// in Blender).
+pub fn socket_color(t: SocketType) -> Color32 {
+    match t {
+        SocketType::Float => Color32::from_rgb(0xa1, 0xa1, 0xa1),
+        SocketType::Vec2 => Color32::from_rgb(0x4f, 0x9f, 0xd8),
+        SocketType::Vec3 => Color32::from_rgb(0x63, 0x63, 0xc7),
+        SocketType::Vec4 => Color32::from_rgb(0x9a, 0x5c, 0xd6),
+        SocketType::Color => Color32::from_rgb(0xc7, 0xc7, 0x29),
+        SocketType::Int => Color32::from_rgb(0x3f, 0xb8, 0x6b),
+        SocketType::Bool => Color32::from_rgb(0xcc, 0xa6, 0xd6),
+    }
+}
+
+/// The colour of a generic pin whose `T` is not known yet.
+pub const GENERIC_UNKNOWN: Color32 = Color32::from_rgb(0x60, 0x60, 0x60);

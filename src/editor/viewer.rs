@@ -1,0 +1,375 @@
+//! The canvas viewer (egui-snarl's [`SnarlViewer`]): node headers coloured by category, pins
+//! by socket type (generic pins square), values edited in place. It only reads the document
+//! and queues [`Action`]s, which the app applies after the frame through the state's edits.
+
+use super::model::EditorDoc;
+use super::search::WireFilter;
+use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
+use super::widgets::{current_lanes, port_hover, value_editor};
+use crate::node::PortType;
+use egui::{Color32, Stroke, Ui};
+use egui_snarl::ui::{AnyPins, PinInfo, PinShape, SnarlViewer};
+use egui_snarl::{InPin, NodeId, OutPin, Snarl};
+
+/// What the user asked for on the canvas during a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Link an output to an input.
+    Connect {
+        /// Source node id.
+        from: String,
+        /// Source output name.
+        output: String,
+        /// Target node id.
+        to: String,
+        /// Target input name.
+        input: String,
+    },
+    /// Remove the link of an input.
+    Disconnect {
+        /// Node id.
+        node: String,
+        /// Input name.
+        input: String,
+    },
+    /// Write a literal on an input (coalesced per input while the pointer is held).
+    SetInput {
+        /// Node id.
+        node: String,
+        /// Input name.
+        input: String,
+        /// The literal.
+        value: serde_json::Value,
+    },
+    /// Open the add-node search at a canvas position, for a wire dropped there.
+    Search {
+        /// Canvas position.
+        pos: [f32; 2],
+        /// The dropped wire: its node id, port name, and what the new node must offer.
+        wire: Option<(String, String, WireFilter)>,
+    },
+    /// Show this node in the side panel.
+    Focus(String),
+    /// Delete these nodes.
+    Remove(Vec<String>),
+    /// Duplicate these nodes.
+    Duplicate(Vec<String>),
+}
+
+/// The viewer of one frame.
+pub struct Viewer<'a> {
+    /// The document (read only).
+    pub doc: &'a EditorDoc,
+    /// Whether sliders span the hard range (Ctrl held).
+    pub hard: bool,
+    /// The actions queued this frame.
+    pub actions: Vec<Action>,
+    /// The canvas → screen transform snarl used this frame.
+    pub to_screen: Option<egui::emath::TSTransform>,
+    /// The shader generator's error (naga's, mapped to a node) and its node.
+    pub shader_error: Option<(String, String)>,
+    /// A transform to impose this frame (frame all), canvas → screen.
+    pub set_transform: Option<egui::emath::TSTransform>,
+}
+
+impl Viewer<'_> {
+    /// The loader's errors at node `id`, and the shader generator's when it names `id`.
+    fn errors_of(&self, id: &str) -> Vec<String> {
+        let mut errors = self.doc.node_errors(id);
+        if let Some((node, message)) = &self.shader_error
+            && node == id
+        {
+            errors.push(message.clone());
+        }
+        errors
+    }
+
+    fn id<'s>(&self, snarl: &'s Snarl<NodeView>, node: NodeId) -> &'s str {
+        &snarl[node].id
+    }
+
+    fn pin(&self, node: &str, port: PortType) -> PinInfo {
+        let (fill, shape) = match (self.doc.port_type(node, port), port) {
+            (Some(t), PortType::Fixed(_)) => (socket_color(t), PinShape::Circle),
+            (Some(t), PortType::Generic) => (socket_color(t), PinShape::Square),
+            (None, _) => (GENERIC_UNKNOWN, PinShape::Square),
+        };
+        PinInfo::default()
+            .with_shape(shape)
+            .with_fill(fill)
+            .with_wire_color(fill)
+    }
+}
+
+impl SnarlViewer<NodeView> for Viewer<'_> {
+    fn title(&mut self, node: &NodeView) -> String {
+        // The id alone keeps nodes narrow (the bundled graphs leave 200 units per column);
+        // the type is in the hover, the header colour and the side panel.
+        node.id.clone()
+    }
+
+    fn show_header(
+        &mut self,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let id = self.id(snarl, node).to_owned();
+        let errors = self.errors_of(&id);
+        let title = self.title(&snarl[node]);
+        ui.horizontal(|ui| {
+            let label = ui.add(
+                egui::Label::new(egui::RichText::new(title).strong().color(Color32::WHITE))
+                    .sense(egui::Sense::click()),
+            );
+            if label.clicked() {
+                self.actions.push(Action::Focus(id.clone()));
+            }
+            if !errors.is_empty() {
+                ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
+                    .on_hover_text(errors.join("\n"));
+            }
+        });
+    }
+
+    fn header_frame(
+        &mut self,
+        default: egui::Frame,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        snarl: &Snarl<NodeView>,
+    ) -> egui::Frame {
+        match self.doc.node_type(&snarl[node].id) {
+            Some(t) => default.fill(category_color(t.category())),
+            None => default.fill(Color32::from_rgb(0x50, 0x20, 0x20)),
+        }
+    }
+
+    fn node_frame(
+        &mut self,
+        default: egui::Frame,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        snarl: &Snarl<NodeView>,
+    ) -> egui::Frame {
+        if self.errors_of(&snarl[node].id).is_empty() {
+            default
+        } else {
+            default.stroke(Stroke::new(2.0, Color32::from_rgb(230, 60, 50)))
+        }
+    }
+
+    fn inputs(&mut self, node: &NodeView) -> usize {
+        self.doc.node_type(&node.id).map_or(0, |t| t.inputs().len())
+    }
+
+    fn outputs(&mut self, node: &NodeView) -> usize {
+        self.doc
+            .node_type(&node.id)
+            .map_or(0, |t| t.outputs().len())
+    }
+
+    #[allow(refining_impl_trait)]
+    fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
+        let id = self.id(snarl, pin.id.node).to_owned();
+        let Some(t) = self.doc.node_type(&id).cloned() else {
+            return PinInfo::default();
+        };
+        let decl = &t.inputs()[pin.id.input];
+        let ty = self.doc.port_type(&id, decl.ty);
+        let ty_name = ty.map_or("T".to_owned(), |t| t.name().to_owned());
+        let info = self.pin(&id, decl.ty);
+        // Compact editors: the bundled graphs' positions leave ~200 points per column.
+        ui.spacing_mut().slider_width = 40.0;
+        ui.spacing_mut().interact_size.x = 36.0;
+        ui.horizontal(|ui| {
+            ui.label(decl.name)
+                .on_hover_text(port_hover(&ty_name, decl.unit, decl.doc));
+            if pin.remotes.is_empty() {
+                let written = self.doc.node(&id).and_then(|n| n.inputs.get(decl.name));
+                let ty = ty.unwrap_or(crate::types::SocketType::Float);
+                let generic = self
+                    .doc
+                    .generic(&id)
+                    .unwrap_or(crate::types::SocketType::Float);
+                let default = t.default_for(pin.id.input, generic);
+                let lanes = current_lanes(decl, ty, written, &default);
+                if let Some(value) = value_editor(ui, decl, ty, &lanes, self.hard) {
+                    self.actions.push(Action::SetInput {
+                        node: id.clone(),
+                        input: decl.name.to_owned(),
+                        value,
+                    });
+                }
+            }
+        });
+        info
+    }
+
+    #[allow(refining_impl_trait)]
+    fn show_output(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
+        let id = self.id(snarl, pin.id.node).to_owned();
+        let Some(t) = self.doc.node_type(&id).cloned() else {
+            return PinInfo::default();
+        };
+        let decl = &t.outputs()[pin.id.output];
+        let ty_name = self
+            .doc
+            .port_type(&id, decl.ty)
+            .map_or("T".to_owned(), |t| t.name().to_owned());
+        ui.label(decl.name)
+            .on_hover_text(port_hover(&ty_name, decl.unit, decl.doc));
+        self.pin(&id, decl.ty)
+    }
+
+    fn current_transform(
+        &mut self,
+        to_global: &mut egui::emath::TSTransform,
+        _: &mut Snarl<NodeView>,
+    ) {
+        if let Some(t) = self.set_transform.take() {
+            *to_global = t;
+        }
+        self.to_screen = Some(*to_global);
+    }
+
+    fn has_on_hover_popup(&mut self, _: &NodeView) -> bool {
+        true
+    }
+
+    fn show_on_hover_popup(
+        &mut self,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        if let Some(t) = self.doc.node_type(&snarl[node].id) {
+            ui.strong(format!("{}  ({})", t.name(), t.category()));
+            ui.label(t.summary());
+        }
+    }
+
+    fn connect(&mut self, from: &OutPin, to: &InPin, snarl: &mut Snarl<NodeView>) {
+        let (src, dst) = (
+            self.id(snarl, from.id.node).to_owned(),
+            self.id(snarl, to.id.node).to_owned(),
+        );
+        let (Some(st), Some(dt)) = (self.doc.node_type(&src), self.doc.node_type(&dst)) else {
+            return;
+        };
+        self.actions.push(Action::Connect {
+            from: src,
+            output: st.outputs()[from.id.output].name.to_owned(),
+            to: dst,
+            input: dt.inputs()[to.id.input].name.to_owned(),
+        });
+    }
+
+    fn disconnect(&mut self, _from: &OutPin, to: &InPin, snarl: &mut Snarl<NodeView>) {
+        self.drop_inputs(to, snarl);
+    }
+
+    fn drop_inputs(&mut self, pin: &InPin, snarl: &mut Snarl<NodeView>) {
+        let id = self.id(snarl, pin.id.node).to_owned();
+        if let Some(t) = self.doc.node_type(&id) {
+            self.actions.push(Action::Disconnect {
+                node: id,
+                input: t.inputs()[pin.id.input].name.to_owned(),
+            });
+        }
+    }
+
+    fn drop_outputs(&mut self, pin: &OutPin, snarl: &mut Snarl<NodeView>) {
+        for r in &pin.remotes {
+            let id = self.id(snarl, r.node).to_owned();
+            if let Some(t) = self.doc.node_type(&id) {
+                self.actions.push(Action::Disconnect {
+                    node: id,
+                    input: t.inputs()[r.input].name.to_owned(),
+                });
+            }
+        }
+    }
+
+    fn has_graph_menu(&mut self, _: egui::Pos2, _: &mut Snarl<NodeView>) -> bool {
+        true
+    }
+
+    fn show_graph_menu(&mut self, pos: egui::Pos2, ui: &mut Ui, _: &mut Snarl<NodeView>) {
+        self.actions.push(Action::Search {
+            pos: [pos.x, pos.y],
+            wire: None,
+        });
+        ui.close();
+    }
+
+    fn has_dropped_wire_menu(&mut self, _: AnyPins, _: &mut Snarl<NodeView>) -> bool {
+        true
+    }
+
+    fn show_dropped_wire_menu(
+        &mut self,
+        pos: egui::Pos2,
+        ui: &mut Ui,
+        pins: AnyPins,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let wire = match pins {
+            AnyPins::Out(&[p, ..]) => {
+                let id = self.id(snarl, p.node).to_owned();
+                self.doc.node_type(&id).and_then(|t| {
+                    let decl = &t.outputs()[p.output];
+                    let ty = self.doc.port_type(&id, decl.ty)?;
+                    Some((id, decl.name.to_owned(), WireFilter::InputAccepting(ty)))
+                })
+            }
+            AnyPins::In(&[p, ..]) => {
+                let id = self.id(snarl, p.node).to_owned();
+                self.doc.node_type(&id).and_then(|t| {
+                    let decl = &t.inputs()[p.input];
+                    let ty = self.doc.port_type(&id, decl.ty)?;
+                    Some((id, decl.name.to_owned(), WireFilter::OutputFeeding(ty)))
+                })
+            }
+            _ => None,
+        };
+        self.actions.push(Action::Search {
+            pos: [pos.x, pos.y],
+            wire,
+        });
+        ui.close();
+    }
+
+    fn has_node_menu(&mut self, _: &NodeView) -> bool {
+        true
+    }
+
+    fn show_node_menu(
+        &mut self,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let id = self.id(snarl, node).to_owned();
+        if ui.button("Duplicate").clicked() {
+            self.actions.push(Action::Duplicate(vec![id.clone()]));
+            ui.close();
+        }
+        if ui.button("Delete").clicked() {
+            self.actions.push(Action::Remove(vec![id.clone()]));
+            ui.close();
+        }
+        if ui.button("Show docs").clicked() {
+            self.actions.push(Action::Focus(id));
+            ui.close();
+        }
+    }
+}

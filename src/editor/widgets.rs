@@ -1,0 +1,111 @@
+//! In-place editors of unlinked input values: sliders over the soft range (the hard range
+//! while Ctrl is held), linear colours shown in sRGB, vectors, enum combos and toggles.
+
+use crate::node::InputDecl;
+use crate::types::SocketType;
+use crate::value::{Value, json_f32};
+use egui::{SliderClamping, Ui};
+
+/// The value `written` (the literal in the file, or `None` for the default `default`) of an
+/// input of type `ty` as lanes, an enum input as its index.
+pub fn current_lanes(
+    decl: &InputDecl,
+    ty: SocketType,
+    written: Option<&serde_json::Value>,
+    default: &Value,
+) -> Vec<f32> {
+    if let Some(serde_json::Value::String(name)) = written
+        && let Some(k) = decl.choices.iter().position(|c| c == name)
+    {
+        return vec![k as f32];
+    }
+    written
+        .and_then(|j| Value::from_json(ty, j).or_else(|| Value::infer_json(j)?.convert(ty)))
+        .unwrap_or(*default)
+        .lanes()
+        .to_vec()
+}
+
+/// Shows the editor of an input of type `ty` holding `lanes`; returns the new literal when
+/// the user changed it. `hard` widens a slider to the hard range.
+pub fn value_editor(
+    ui: &mut Ui,
+    decl: &InputDecl,
+    ty: SocketType,
+    lanes: &[f32],
+    hard: bool,
+) -> Option<serde_json::Value> {
+    let lane = |k: usize| lanes.get(k).copied().unwrap_or(0.0);
+    match ty {
+        SocketType::Float => {
+            let mut v = lane(0);
+            let range = if hard {
+                decl.hard.or(decl.soft)
+            } else {
+                decl.soft.or(decl.hard)
+            };
+            let r = match range {
+                Some(r) if r.min.is_finite() && r.max.is_finite() => ui.add(
+                    egui::Slider::new(&mut v, r.min..=r.max)
+                        .clamping(SliderClamping::Never)
+                        .max_decimals(4),
+                ),
+                _ => ui.add(egui::DragValue::new(&mut v).speed(0.01).max_decimals(4)),
+            };
+            (r.changed() && v.is_finite()).then(|| json_f32(v))
+        }
+        SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => {
+            let mut v: Vec<f32> = (0..ty.width()).map(lane).collect();
+            let mut changed = false;
+            ui.horizontal(|ui| {
+                for x in &mut v {
+                    changed |= ui
+                        .add(egui::DragValue::new(x).speed(0.01).max_decimals(3))
+                        .changed();
+                }
+            });
+            changed.then(|| serde_json::Value::Array(v.into_iter().map(json_f32).collect()))
+        }
+        SocketType::Color => {
+            // egui's picker takes linear RGB and shows (and lets the user type) sRGB.
+            let mut c = [lane(0), lane(1), lane(2)];
+            let changed = ui.color_edit_button_rgb(&mut c).changed();
+            changed.then(|| serde_json::Value::Array(c.into_iter().map(json_f32).collect()))
+        }
+        SocketType::Int if !decl.choices.is_empty() => {
+            let mut k = lane(0) as usize;
+            let before = k;
+            egui::ComboBox::from_id_salt(ui.id().with(decl.name))
+                .selected_text(decl.choices.get(k).copied().unwrap_or("?"))
+                .show_ui(ui, |ui| {
+                    for (i, c) in decl.choices.iter().enumerate() {
+                        ui.selectable_value(&mut k, i, *c);
+                    }
+                });
+            (k != before).then(|| serde_json::Value::String(decl.choices[k].to_owned()))
+        }
+        SocketType::Int => {
+            let mut v = lane(0) as i32;
+            let changed = ui.add(egui::DragValue::new(&mut v)).changed();
+            changed.then(|| serde_json::Value::from(v))
+        }
+        SocketType::Bool => {
+            let mut b = lane(0) != 0.0;
+            let changed = ui.checkbox(&mut b, "").changed();
+            changed.then_some(serde_json::Value::Bool(b))
+        }
+    }
+}
+
+/// The hover text of a port: its type, unit and doc.
+pub fn port_hover(ty: &str, unit: &str, doc: &str) -> String {
+    let mut s = ty.to_owned();
+    if !unit.is_empty() {
+        s.push_str(&format!(" [{unit}]"));
+    }
+    if !doc.is_empty() {
+        s.push('\n');
+        s.push_str(doc);
+    }
+    s
+}
