@@ -130,7 +130,7 @@ fn mgr_material_fs(
     let has = |a: Attribute| shader.attributes.contains(&a);
     if has(Attribute::UvDx) || has(Attribute::UvDy) {
         s.push_str(
-            "    let uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, mgr_mesh_uvs[i1], mgr_mesh_uvs[i2], p);\n",
+            "    let uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, mgr_mesh_uvs[i1], mgr_mesh_uvs[i2], vec2<u32>(xy.xy));\n",
         );
     }
     let call = if shader.attributes.is_empty() {

@@ -22,6 +22,10 @@ struct MgrObject {
 // apparent positions (snell.rs apparent_mesh); shading keeps mgr_positions.
 @group(0) @binding(4) var<storage, read> mgr_drawn: array<vec4<f32>>;
 
+// No interpolated attributes: the fragment stage rebuilds the CPU's barycentrics itself
+// (mgr_barycentrics). Hardware perspective interpolation at 4 samples on lavapipe does not
+// land on the sample positions (measured: checker edges moved), and screen-linear a/w
+// varyings go wrong where the near plane clips a triangle.
 struct MgrSurface {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) object: u32,

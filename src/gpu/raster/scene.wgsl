@@ -295,13 +295,14 @@ fn mgr_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
 
-// gbuffer.rs uv_derivatives (there in f64): the screen-space derivatives (∂uv/∂x, ∂uv/∂y)
-// per pixel of the uv of the triangle (p0, p1, p2) with uvs (u0, u1, u2) at its point p,
-// from the camera ray and the triangle's plane; (dx, dy) packed in a vec4.
+// gbuffer.rs uv_derivatives (there in f64): the 2 × 2 quad's fine differences of the uv on
+// the plane of the triangle (p0, p1, p2) with uvs (u0, u1, u2) between pixel centres, at
+// pixel `pixel`, as dpdxFine/dpdyFine give them; (dx, dy) packed in a vec4, 0 where a ray is
+// parallel to the plane or the triangle is degenerate.
 fn mgr_uv_derivatives(
     p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
     u0: vec2<f32>, u1: vec2<f32>, u2: vec2<f32>,
-    p: vec3<f32>,
+    pixel: vec2<u32>,
 ) -> vec4<f32> {
     let f = mgr_frame;
     let e1 = p1 - p0;
@@ -309,28 +310,30 @@ fn mgr_uv_derivatives(
     let du1 = u1 - u0;
     let du2 = u2 - u0;
     let n = cross(e1, e2);
-    let d = p - f.origin;
-    let nd = dot(n, d);
     let g11 = dot(e1, e1);
     let g12 = dot(e1, e2);
     let g22 = dot(e2, e2);
     let det = g11 * g22 - g12 * g12;
-    if (nd == 0.0 || det == 0.0) {
-        return vec4<f32>(0.0);
-    }
-    let s = dot(d, f.forward);
-    let dd = array<vec3<f32>, 2>(
-        f.right * (2.0 * f.tan_half_y * f.aspect / f.width),
-        -f.up * (2.0 * f.tan_half_y / f.height),
-    );
-    var out = array<vec2<f32>, 2>();
-    for (var k = 0; k < 2; k++) {
-        let dp = s * (dd[k] - d * (dot(n, dd[k]) / nd));
-        let r1 = dot(e1, dp);
-        let r2 = dot(e2, dp);
+    let x0 = f32(pixel.x & ~1u) + 0.5;
+    let y0 = f32(pixel.y & ~1u) + 0.5;
+    let xc = f32(pixel.x) + 0.5;
+    let yc = f32(pixel.y) + 0.5;
+    let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
+    var uv = array<vec2<f32>, 4>();
+    var ok = det != 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = mgr_ray(at[k]);
+        let nd = dot(n, d);
+        ok = ok && nd != 0.0;
+        let q = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
+        let r1 = dot(e1, q);
+        let r2 = dot(e2, q);
         let a = (g22 * r1 - g12 * r2) / det;
         let b = (g11 * r2 - g12 * r1) / det;
-        out[k] = du1 * a + du2 * b;
+        uv[k] = du1 * a + du2 * b;
     }
-    return vec4<f32>(out[0], out[1]);
+    if (!ok) {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(uv[1] - uv[0], uv[3] - uv[2]);
 }
