@@ -79,6 +79,7 @@ mod tests {
             nodes: Vec::new(),
             outputs: Vec::new(),
             parameters: Vec::new(),
+            variants: Default::default(),
             scene: None,
         }
     }
