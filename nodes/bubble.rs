@@ -456,7 +456,7 @@ pub fn all() -> Vec<NodeType> {
             )
             .input(In::vec3("view", [0.0, 0.0, 1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit direction from the surface to the eye (V)."))
             .input(In::vec3("normal", [0.0, 0.0, 1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit surface normal (N)."))
-            .input(In::float("thickness", 1.0).range(0.0, 2.0).hard(-1e4, 1e4).doc("Film thickness d scaling both vectors."))
+            .input(In::float("thickness", 1.0).range(0.0, 2.0).hard(-10.0, 10.0).doc("Film thickness d scaling both vectors."))
             .input(In::float("n1", 1.0).range(1.0, 2.0).hard(1e-3, 100.0).doc("Refractive index outside (air, the paper's 1)."))
             .input(In::float("n2", 1.33).range(1.0, 2.0).hard(1e-3, 100.0).doc("Refractive index of the film (the paper's 1.33)."))
             .output(Out::vec3("vector").doc("d·R + d·T, the paper's final vector."))
