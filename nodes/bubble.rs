@@ -42,7 +42,7 @@ pub fn one_minus_exp_neg(x: f32) -> f32 {
     if x > 87.0 {
         return 1.0;
     }
-    let n = (x * 1.442695_f32 + 0.5).floor();
+    let n = (x * std::f32::consts::LOG2_E + 0.5).floor();
     let r = (x - n * 0.693_145_75_f32) - n * 1.428_606_8e-6_f32;
     let q = r
         * (1.0
