@@ -690,7 +690,15 @@ pub(crate) fn render_scene_pass(
     })
 }
 
-/// Clears a material target to "no material" (alpha −1).
+/// The clear colour of a material target: "no material here" (alpha −1).
+const NO_MATERIAL: wgpu::Color = wgpu::Color {
+    r: 0.0,
+    g: 0.0,
+    b: 0.0,
+    a: -1.0,
+};
+
+/// Clears a material target to [`NO_MATERIAL`].
 fn clear(enc: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
     enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("mgr clear"),
@@ -699,12 +707,7 @@ fn clear(enc: &mut wgpu::CommandEncoder, view: &wgpu::TextureView) {
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color {
-                    r: 0.0,
-                    g: 0.0,
-                    b: 0.0,
-                    a: -1.0,
-                }),
+                load: wgpu::LoadOp::Clear(NO_MATERIAL),
                 store: wgpu::StoreOp::Store,
             },
         })],
@@ -1139,12 +1142,7 @@ pub(crate) fn render_frame(
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 0.0,
-                            g: 0.0,
-                            b: 0.0,
-                            a: -1.0,
-                        }),
+                        load: wgpu::LoadOp::Clear(NO_MATERIAL),
                         store: wgpu::StoreOp::Store,
                     },
                 })],
