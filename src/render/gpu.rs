@@ -1,7 +1,8 @@
 //! `render --gpu`: the whole frame drawn by the GPU rasteriser ([`crate::gpu::raster`]), with
-//! the scene textures drawn by GPU passes. Where the rasteriser cannot draw a frame (an image
-//! environment, a sample count without a standard MSAA pattern on the device, a frame over
-//! the device's limits) the caller falls back to the hybrid path and says why.
+//! the scene textures drawn by GPU passes. Every scene, environment, sample count and frame
+//! size is drawn there (sample counts without MSAA on the device as jittered passes, frames
+//! over the device's limits in tiles); the CPU rasteriser is never used. The one error is a
+//! device without the feature the rasteriser needs.
 
 use super::{HdrImage, RenderError, RenderOptions, RenderTimings, Roles, SCENE_TEXTURE_MAX};
 use crate::gpu::GpuContext;
@@ -11,18 +12,6 @@ use crate::plan::ParamValues;
 use crate::scene::{Mesh, Scene, ScenePass};
 use crate::texture::{Image, Texture, TextureSet};
 use std::time::Instant;
-
-/// Why the GPU rasteriser cannot draw this render, if it cannot.
-pub(super) fn unsupported(
-    ctx: &GpuContext,
-    scene: &Scene,
-    options: &RenderOptions,
-) -> Option<String> {
-    if let Err(why) = scene.gpu_supported() {
-        return Some(why);
-    }
-    raster::unsupported(ctx, options.width, options.height, options.samples.max(1))
-}
 
 /// The textures the GPU render binds: the caller's images and the scene textures the graph
 /// samples, drawn on the GPU (their mip chains built here).
@@ -48,7 +37,7 @@ fn textures(
             super::ENVIRONMENT_MAP_WIDTH,
             super::ENVIRONMENT_MAP_WIDTH / 2,
         );
-        let data = raster::render_environment(ctx, scene, w, h)?;
+        let data = raster::render_environment(ctx, scene, options.environment.as_ref(), w, h)?;
         let image = Image::new(w, h, data).map_err(texture_error)?;
         set.insert(
             key("environment"),
@@ -66,7 +55,8 @@ fn textures(
         if !wanted.contains(&name) {
             continue;
         }
-        let rgb = raster::render_scene_pass(ctx, scene, tw, th, pass)?;
+        let rgb =
+            raster::render_scene_pass(ctx, scene, options.environment.as_ref(), tw, th, pass)?;
         let image = Image::new(
             tw,
             th,
@@ -91,6 +81,9 @@ pub(super) fn render(
     time: f32,
     t: &mut RenderTimings,
 ) -> Result<HdrImage, RenderError> {
+    if let Some(why) = raster::unavailable(ctx) {
+        return Err(crate::plan::EvalError::Gpu(why).into());
+    }
     let start = Instant::now();
     let set = textures(ctx, graph, scene, options)?;
     t.gbuffer = start.elapsed();
@@ -111,7 +104,13 @@ pub(super) fn render(
         mesh: &mesh,
     };
     let (w, h) = (options.width, options.height);
-    let (pixels, rt) = raster::render_frame(ctx, scene, (w, h, options.samples.max(1)), &input)?;
+    let (pixels, rt) = raster::render_frame(
+        ctx,
+        scene,
+        options.environment.as_ref(),
+        (w, h, options.samples.max(1)),
+        &input,
+    )?;
     t.compile = rt.compile;
     t.upload = rt.upload;
     t.draw = rt.draw;

@@ -557,18 +557,10 @@ pub fn render_timed(
     }
 
     if options.backend == Backend::Gpu {
+        // The GPU rasteriser draws every render (render/gpu.rs): no fallback.
         let ctx = crate::gpu::GpuContext::shared()?;
-        match gpu::unsupported(ctx, scene, options) {
-            None => {
-                let image = gpu::render(ctx, graph, scene, options, &roles, &params, time, &mut t)?;
-                return Ok((image, t));
-            }
-            Some(why) => {
-                t.fallback = Some(format!(
-                    "the GPU rasteriser cannot draw {why}: rasterising on the CPU, shading on the GPU"
-                ))
-            }
-        }
+        let image = gpu::render(ctx, graph, scene, options, &roles, &params, time, &mut t)?;
+        return Ok((image, t));
     }
 
     let start = Instant::now();

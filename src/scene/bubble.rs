@@ -336,6 +336,39 @@ impl BackdropShader {
         }
     }
 
+    /// The parameters as the GPU rasteriser's `MgrBackdrop` (src/gpu/raster/backdrop.wgsl):
+    /// size, intensities; mix, amount, tiles, time; velocities; light, strength; tint,
+    /// sharpness; opacity.
+    pub(crate) fn words(&self) -> [f32; 24] {
+        let b = &self.backdrop;
+        [
+            b.size[0],
+            b.size[1],
+            b.intensity_a,
+            b.intensity_b,
+            b.mix,
+            b.amount,
+            b.tiles,
+            self.time,
+            b.velocity_a[0],
+            b.velocity_a[1],
+            b.velocity_b[0],
+            b.velocity_b[1],
+            b.light[0],
+            b.light[1],
+            b.light[2],
+            b.strength,
+            b.tint[0],
+            b.tint[1],
+            b.tint[2],
+            b.sharpness,
+            b.opacity,
+            0.0,
+            0.0,
+            0.0,
+        ]
+    }
+
     /// The quad's uv at world point `p` (0, 0 at the top left seen from `+z`).
     pub(crate) fn uv(&self, p: Vec3) -> Vec2 {
         let [w, h] = self.backdrop.size;

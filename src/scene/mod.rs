@@ -96,7 +96,7 @@ pub use kind::{
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
-pub(crate) use packed::{PackedScene, ScenePass};
+pub(crate) use packed::{PackedScene, ScenePass, Viewport};
 pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;
@@ -181,16 +181,18 @@ impl Scene {
     }
 
     /// The default lights of a kind: the `day` sun, plus for the ball a cool point fill
-    /// light at `(3.5, 2, 3)` (colour (0.55, 0.6, 0.7), intensity 3).
+    /// light at `(3, 3.5, 1)` (colour (0.55, 0.6, 0.7), intensity 10), to the right and high
+    /// enough that its shadow falls on the visible floor left of the ball (centre
+    /// `(−1.2, 0, −0.4)`), opposite the sun's: every light's shadow is seen.
     pub fn default_lights(kind: &SceneKind) -> Vec<Light> {
         let day = Light::preset("day").expect("built-in preset");
         match kind {
             SceneKind::Ball(_) => vec![
                 day,
                 Light::Point(PointLight {
-                    position: [3.5, 2.0, 3.0],
+                    position: [3.0, 3.5, 1.0],
                     color: [0.55, 0.6, 0.7],
-                    intensity: 3.0,
+                    intensity: 10.0,
                 }),
             ],
             SceneKind::Water(_) | SceneKind::Bubble(_) => vec![day],

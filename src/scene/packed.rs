@@ -6,7 +6,7 @@
 use glam::{Vec3, Vec4};
 
 use super::Scene;
-use super::environment::{AmbientCube, Environment};
+use super::environment::{AmbientCube, EnvLookup, Environment};
 use super::kind::SceneKind;
 use super::objects::{ABOVE_WATER, Albedo, BELOW_WATER, Geometry, Shape};
 use super::shade::Prepared;
@@ -59,6 +59,37 @@ pub(crate) struct PackedScene {
     pub objects: Vec<u32>,
     /// The ambient cube of built-in shading.
     pub ambient: AmbientCube,
+    /// `MgrBackdrop` (24 floats): the bubble scene's backdrop and time, zero elsewhere.
+    pub backdrop: Vec<f32>,
+    /// Whether the scene textures hold the bubble backdrop's maps (slots 0–5,
+    /// `BubbleMaps::named` order).
+    pub backdrop_maps: bool,
+    /// Whether the environment image is given (the scene texture after the maps).
+    pub env_image: bool,
+}
+
+/// The part of a frame one pass draws: a tile of `size` pixels from pixel `origin`, and in
+/// a jittered pass the sample's sub-pixel offset (its position in the pixel minus the
+/// centre), so that the pass's pixel centres lie on that sample of every pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Viewport {
+    /// The tile's first pixel in the frame.
+    pub origin: [u32; 2],
+    /// The tile's size, pixels.
+    pub size: [u32; 2],
+    /// Sub-pixel offset of the pass's sample from the pixel centre, in (−0.5, 0.5]².
+    pub jitter: [f32; 2],
+}
+
+impl Viewport {
+    /// The whole `width × height` frame at the pixel centres.
+    pub(crate) fn whole(width: u32, height: u32) -> Viewport {
+        Viewport {
+            origin: [0, 0],
+            size: [width, height],
+            jitter: [0.0, 0.0],
+        }
+    }
 }
 
 fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
@@ -66,25 +97,13 @@ fn bits(v: &[f32]) -> impl Iterator<Item = u32> + '_ {
 }
 
 impl Scene {
-    /// Whether the GPU rasteriser can draw this scene, or what it cannot draw: an image
-    /// environment (looked up by the caller's closure, which the GPU cannot call), the
-    /// bubble scene (its backdrop shader is not ported yet).
-    pub(crate) fn gpu_supported(&self) -> Result<(), String> {
-        if let Environment::Image(_) = &self.environment {
-            return Err("an image environment".into());
-        }
-        match &self.kind {
-            SceneKind::Bubble(_) => Err("the bubble scene (its backdrop shader)".into()),
-            _ => Ok(()),
-        }
-    }
-
-    /// The scene packed for the GPU rasteriser.
-    pub(crate) fn packed(&self) -> PackedScene {
+    /// The scene packed for the GPU rasteriser; `image` looks up the environment image of
+    /// an image environment (for the ambient cube; the GPU samples the image itself).
+    pub(crate) fn packed(&self, image: Option<&EnvLookup>) -> PackedScene {
         let geometry: Geometry = self.geometry();
         let sun = self.sun_direction();
         let env = &self.environment;
-        let ambient = AmbientCube::from_radiance(|d| env.ambient_radiance(d, sun, None));
+        let ambient = AmbientCube::from_radiance(|d| env.ambient_radiance(d, sun, image));
         let mut lights = Vec::new();
         for light in &self.lights {
             let (kind, a, b) = match Prepared::new(light) {
@@ -124,6 +143,9 @@ impl Scene {
             ranges: Vec::new(),
             objects: Vec::new(),
             ambient,
+            backdrop: vec![0.0; 24],
+            backdrop_maps: matches!(self.kind, SceneKind::Bubble(_)),
+            env_image: matches!(env, Environment::Image(_)) && image.is_some(),
         };
         for (k, obj) in geometry.objects.iter().enumerate() {
             let base = packed.positions.len() as u32;
@@ -146,13 +168,11 @@ impl Scene {
             });
             let skip = obj.caster.map_or(u32::MAX, |c| c as u32);
             let words: [f32; 16] = match &obj.albedo {
-                // The bubble's unlit backdrop (a scene the GPU rasteriser leaves to the
-                // hybrid path, `gpu_supported`) packs as white.
-                Albedo::Unlit(_) => {
-                    packed.objects.extend([0, skip, first / 3, 0]);
-                    let mut w = [0.0; 16];
-                    w[8..11].copy_from_slice(&[1.0; 3]);
-                    w
+                // The bubble's unlit backdrop: kind 2, its parameters in `backdrop`.
+                Albedo::Unlit(shader) => {
+                    packed.objects.extend([2, skip, first / 3, 0]);
+                    packed.backdrop = shader.words().to_vec();
+                    [0.0; 16]
                 }
                 &Albedo::Constant(c) => {
                     packed.objects.extend([0, skip, first / 3, 0]);
@@ -192,14 +212,16 @@ impl Scene {
         packed
     }
 
-    /// The `MgrFrame` uniform (384 bytes) of a `width × height` pass: the camera, the sky,
-    /// the ambient cube, the counts and, for `pass`, the mirror and the clip plane.
+    /// The `MgrFrame` uniform (448 bytes) of a `width × height` pass: the camera, the sky,
+    /// the ambient cube, the counts, for `pass` the mirror and the clip plane, the tile and
+    /// jitter of `view`, the environment and the scene texture slots.
     pub(crate) fn frame_uniform(
         &self,
         packed: &PackedScene,
         width: u32,
         height: u32,
         pass: ScenePass,
+        view: &Viewport,
     ) -> Vec<u8> {
         let cam = self.camera.frame(width, height);
         let water = matches!(self.kind, SceneKind::Water(_));
@@ -258,7 +280,36 @@ impl Scene {
             }
             SceneKind::Ball(_) | SceneKind::Bubble(_) => w.extend([0.0; 24]),
         }
-        debug_assert_eq!(w.len(), 96);
+        // The tile: frame clip x, y to the tile's (scale 1, offset 0 for the whole frame).
+        let (fw, fh) = (width as f64, height as f64);
+        let (tw, th) = (view.size[0] as f64, view.size[1] as f64);
+        let ox = view.origin[0] as f64 + view.jitter[0] as f64;
+        let oy = view.origin[1] as f64 + view.jitter[1] as f64;
+        w.extend([
+            (fw / tw) as f32,
+            ((fw - tw - 2.0 * ox) / tw) as f32,
+            (fh / th) as f32,
+            ((th - fh + 2.0 * oy) / th) as f32,
+        ]);
+        w.extend([
+            ox as f32,
+            oy as f32,
+            view.origin[0] as f32,
+            view.origin[1] as f32,
+        ]);
+        let (mode, turn, intensity) = match &self.environment {
+            Environment::Sky(_) => (0.0, 0.0, 1.0),
+            Environment::Image(img) => (
+                if packed.env_image { 2.0 } else { 1.0 },
+                -img.rotation_deg.to_radians(),
+                img.intensity,
+            ),
+        };
+        let (sin, cos) = turn.sin_cos();
+        w.extend([mode, cos, sin, intensity]);
+        let slots = [if packed.backdrop_maps { 6u32 } else { 0 }, 0, 0, 0];
+        w.extend(slots.map(f32::from_bits));
+        debug_assert_eq!(w.len(), 112);
         bytemuck::cast_slice(&w).to_vec()
     }
 }

@@ -68,7 +68,7 @@ pub(super) struct FragmentRoles {
 /// the scene (`scene.wgsl`), group 2 the mesh (displaced positions, rebuilt normals, uvs).
 pub(super) fn fragment_source(shader: &ShaderModule, roles: &FragmentRoles) -> String {
     let mut s = format!("enable primitive_index;\n{}\n", shader.source);
-    s.push_str(include_str!("scene.wgsl"));
+    s.push_str(&super::scene_source());
     s.push_str(
         r#"
 @group(2) @binding(0) var<storage, read> mgr_mesh_positions: array<vec4<f32>>;
@@ -109,7 +109,7 @@ fn mgr_material_fs(
     }
     let uv0 = mgr_mesh_uvs[i0];
     let uv = uv0 * b0 + mgr_mesh_uvs[i1] * bc.x + mgr_mesh_uvs[i2] * bc.y;
-    let screen_uv = vec2<f32>(xy.x / mgr_frame.width, xy.y / mgr_frame.height) + vec2<f32>(f32(sample) * 0.0);
+    let screen_uv = mgr_screen_uv(xy.xy) + vec2<f32>(f32(sample) * 0.0);
     var view = mgr_frame.origin - p;
     let vl2 = dot(view, view);
     if (vl2 > 0.0) {

@@ -2,7 +2,7 @@
 // them: one pass of src/scene/shade.rs shade_frame. Needs scene.wgsl.
 
 // A built-in surface's albedo and shadow skip (src/scene/objects.rs Object and Albedo):
-// kind.x 0 constant (c0), 1 checker (u.xyz, v0 = u.w, v.xyz, size = v.w, colours c0 and
+// kind.x 0 constant (c0), 2 unlit (the bubble backdrop, backdrop.wgsl), 1 checker (u.xyz, v0 = u.w, v.xyz, size = v.w, colours c0 and
 // c1); kind.y its own caster, skipped (0xffffffff: none); kind.z its first triangle.
 struct MgrObject {
     kind: vec4<u32>,
@@ -55,6 +55,9 @@ fn mgr_albedo(o: MgrObject, p: vec3<f32>) -> vec3<f32> {
 
 // Shading::surface: two-sided Lambert under the lights with hard shadows, plus ambient.
 fn mgr_surface(o: MgrObject, p: vec3<f32>, n0: vec3<f32>, eye: vec3<f32>) -> vec3<f32> {
+    if (o.kind.x == 2u) {
+        return mgr_backdrop_radiance(p);
+    }
     let albedo = mgr_albedo(o, p);
     var n = n0;
     if (dot(n, eye - p) < 0.0) {

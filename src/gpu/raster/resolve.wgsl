@@ -6,7 +6,8 @@
 @group(0) @binding(0) var mgr_scene: MGR_TEXTURE;
 @group(0) @binding(1) var mgr_material: MGR_TEXTURE;
 @group(0) @binding(2) var<storage, read_write> mgr_pixels: array<f32>;
-// Width, height, samples; then the hardware sample index of each CPU sample.
+// Width, height, samples (and in mgr_accumulate_main the pass); then the hardware sample
+// index of each CPU sample.
 @group(0) @binding(3) var<uniform> mgr_resolve: array<vec4<u32>, 5>;
 
 @compute @workgroup_size(8, 8)
@@ -32,4 +33,33 @@ fn mgr_resolve_main(@builtin(global_invocation_id) id: vec3<u32>) {
     mgr_pixels[i] = px.x;
     mgr_pixels[i + 1u] = px.y;
     mgr_pixels[i + 2u] = px.z;
+}
+
+// One jittered pass (mod.rs accumulate): its one sample per pixel composited as above and
+// added to the pixel's sum (pass 0 stores it), the sum divided by the sample count after
+// the last pass: mgr_resolve_main's arithmetic, in the CPU's sample order.
+@compute @workgroup_size(8, 8)
+fn mgr_accumulate_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let dims = mgr_resolve[0];
+    if (id.x >= dims.x || id.y >= dims.y) {
+        return;
+    }
+    let xy = vec2<i32>(id.xy);
+    let bg = textureLoad(mgr_scene, xy, 0).xyz;
+    let m = textureLoad(mgr_material, xy, 0);
+    var c = bg;
+    if (m.w >= 0.0) {
+        c = m.xyz * m.w + bg * (1.0 - m.w);
+    }
+    let i = 3u * (id.y * dims.x + id.x);
+    var sum = c;
+    if (dims.w > 0u) {
+        sum = vec3<f32>(mgr_pixels[i], mgr_pixels[i + 1u], mgr_pixels[i + 2u]) + c;
+    }
+    if (dims.w + 1u == dims.z) {
+        sum = sum / f32(dims.z);
+    }
+    mgr_pixels[i] = sum.x;
+    mgr_pixels[i + 1u] = sum.y;
+    mgr_pixels[i + 2u] = sum.z;
 }

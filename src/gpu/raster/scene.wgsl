@@ -39,6 +39,18 @@ struct MgrFrame {
     seabed_phase: vec4<f32>,
     // The bumps (amplitude, k_x, k_z, phase) of src/scene/kind.rs BUMPS.
     bumps: array<vec4<f32>, 4>,
+    // The tile of the frame this pass draws (packed.rs Viewport): clip-space scale and
+    // offset (sx, tx, sy, ty) taking the whole frame's clip x and y to the tile's.
+    tile_clip: vec4<f32>,
+    // The frame position of the tile's fragment (0, 0) minus (0.5, 0.5) plus the sample's
+    // sub-pixel offset in a jittered pass (xy), and the tile's first pixel (zw).
+    tile_offset: vec4<f32>,
+    // The environment: x 0 the sky, 1 the default sky scaled by w (an image environment
+    // without its image), 2 the image (scene texture slots.x) scaled by w, seen turned by
+    // the angle whose cosine and sine are y and z.
+    env: vec4<f32>,
+    // Scene texture slots: x the environment image, y the bubble backdrop's first map.
+    slots: vec4<u32>,
 }
 
 // Prepared light (src/scene/shade.rs Prepared): kind.x 0 directional, 1 point;
@@ -60,6 +72,9 @@ struct MgrCaster {
 @group(1) @binding(0) var<uniform> mgr_frame: MgrFrame;
 @group(1) @binding(1) var<storage, read> mgr_lights: array<MgrLight>;
 @group(1) @binding(2) var<storage, read> mgr_casters: array<MgrCaster>;
+// Bindings 3–5: the scene's textures (the bubble backdrop's maps, the environment image),
+// sampled by mgs_sample_texture (texture.rs SAMPLE_WGSL, prefixed mgs_), prepended by
+// mod.rs scene_source.
 
 // CameraFrame::to_view, then the projection of CameraFrame::project_view as a clip-space
 // position whose depth is near / w (1/w up to the scale: larger is nearer, as the CPU
@@ -69,25 +84,47 @@ fn mgr_clip_position(p: vec3<f32>) -> vec4<f32> {
     let d = p - f.origin;
     let v = vec3<f32>(dot(d, f.right), dot(d, f.up), -dot(d, f.forward));
     let w = -v.z;
-    return vec4<f32>(v.x / (f.tan_half_y * f.aspect), v.y / f.tan_half_y, f.near, w);
+    let x = v.x / (f.tan_half_y * f.aspect);
+    let y = v.y / f.tan_half_y;
+    // The tile: an affine map of the frame's normalised coordinates, exact (scale 1,
+    // offset 0) for a whole frame.
+    let t = f.tile_clip;
+    return vec4<f32>(x * t.x + w * t.y, y * t.z + w * t.w, f.near, w);
 }
 
-// CameraFrame::ray_direction through pixel coordinates xy (top-left origin), unnormalised
-// (its forward component is 1).
-fn mgr_ray(xy: vec2<f32>) -> vec3<f32> {
+// The frame's pixel coordinates of a fragment position in the tile (and, in a jittered
+// pass, at the sample's offset).
+fn mgr_frame_xy(frag: vec2<f32>) -> vec2<f32> {
+    return frag + mgr_frame.tile_offset.xy;
+}
+
+// The frame's `screen_uv` at a fragment (gbuffer.rs: ((x + jx) / width, (y + jy) / height)).
+fn mgr_screen_uv(frag: vec2<f32>) -> vec2<f32> {
+    let xy = mgr_frame_xy(frag);
+    return vec2<f32>(xy.x / mgr_frame.width, xy.y / mgr_frame.height);
+}
+
+// mgr_ray at a fragment position of the tile.
+fn mgr_ray(frag: vec2<f32>) -> vec3<f32> {
+    return mgr_ray_frame(mgr_frame_xy(frag));
+}
+
+// CameraFrame::ray_direction through the frame's pixel coordinates xy (top-left origin),
+// unnormalised (its forward component is 1).
+fn mgr_ray_frame(xy: vec2<f32>) -> vec3<f32> {
     let f = mgr_frame;
     let ndc_x = 2.0 * xy.x / f.width - 1.0;
     let ndc_y = 1.0 - 2.0 * xy.y / f.height;
     return f.forward + f.right * (ndc_x * f.tan_half_y * f.aspect) + f.up * (ndc_y * f.tan_half_y);
 }
 
-// CameraFrame::ray_direction.
-fn mgr_ray_direction(xy: vec2<f32>) -> vec3<f32> {
-    return normalize(mgr_ray(xy));
+// CameraFrame::ray_direction at a fragment position of the tile.
+fn mgr_ray_direction(frag: vec2<f32>) -> vec3<f32> {
+    return normalize(mgr_ray(frag));
 }
 
 // The perspective-correct barycentrics (b1, b2) of the triangle (a, b, c), as drawn, at
-// the sample at pixel coordinates xy, clamped to [0, 1] as the CPU rasteriser's
+// the sample at fragment position xy of the tile, clamped to [0, 1] as the CPU rasteriser's
 // (raster.rs rasterize_rows): where the eye ray through the sample meets the triangle's
 // plane, a + b1 (b − a) + b2 (c − a) (Möller and Trumbore, "Fast, minimum storage
 // ray-triangle intersection", JGT 1997). Computed from the whole triangle, so clipping does
@@ -115,8 +152,26 @@ fn mgr_lerp(a: vec3<f32>, b: vec3<f32>, s: f32) -> vec3<f32> {
     return a * (1.0 - s) + b * s;
 }
 
-// Sky::radiance(d, sun, with_sun).
+// Environment::radiance: the sky (its sun disc and halo with with_sun), or an image
+// environment turned into the image's frame and looked up as render/mod.rs
+// environment_lookup does (equirect_uv, bilinear, repeat, level 0).
 fn mgr_sky(d: vec3<f32>, with_sun: bool) -> vec3<f32> {
+    let e = mgr_frame.env;
+    if (e.x == 2.0) {
+        // image_or_default: rotation about +y by −rotation_deg.
+        let r = vec3<f32>(e.y * d.x + e.z * d.z, d.y, -e.z * d.x + e.y * d.z);
+        let uv = vec2<f32>(0.5 + atan2(r.x, -r.z) / 6.2831855, acos(clamp(r.y, -1.0, 1.0)) / 3.1415927);
+        return e.w * mgs_sample_texture(mgr_frame.slots.x, uv, 0.0, 0u, 1u).xyz;
+    }
+    let c = mgr_sky_gradient(d, with_sun);
+    if (e.x == 1.0) {
+        return e.w * c;
+    }
+    return c;
+}
+
+// Sky::radiance(d, sun, with_sun).
+fn mgr_sky_gradient(d: vec3<f32>, with_sun: bool) -> vec3<f32> {
     let f = mgr_frame;
     if (d.y < 0.0) {
         let t = mgr_smoothstep(0.0, 0.1, -d.y);
@@ -314,15 +369,17 @@ fn mgr_uv_derivatives(
     let g12 = dot(e1, e2);
     let g22 = dot(e2, e2);
     let det = g11 * g22 - g12 * g12;
-    let x0 = f32(pixel.x & ~1u) + 0.5;
-    let y0 = f32(pixel.y & ~1u) + 0.5;
-    let xc = f32(pixel.x) + 0.5;
-    let yc = f32(pixel.y) + 0.5;
+    // The frame's pixel of the tile's `pixel` (tiles start on even pixels: the quads stay).
+    let q = pixel + vec2<u32>(f.tile_offset.zw);
+    let x0 = f32(q.x & ~1u) + 0.5;
+    let y0 = f32(q.y & ~1u) + 0.5;
+    let xc = f32(q.x) + 0.5;
+    let yc = f32(q.y) + 0.5;
     let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
     var uv = array<vec2<f32>, 4>();
     var ok = det != 0.0;
     for (var k = 0; k < 4; k++) {
-        let d = mgr_ray(at[k]);
+        let d = mgr_ray_frame(at[k]);
         let nd = dot(n, d);
         ok = ok && nd != 0.0;
         let q = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
