@@ -460,11 +460,21 @@ fn scene_textures(
             Ok(Arc::new(buffers(&pack)))
         }
         None => {
+            // The maps alone (or nothing) pack the same every frame: once per device.
             let key = format!("scene textures/{}", packed.backdrop_maps);
-            let pack = set
-                .pack()
-                .map_err(|e| gpu_err("packing the scene textures", e))?;
-            Ok(cached(s, &key, || buffers(&pack)))
+            let mut failed = None;
+            let made = cached(s, &key, || match set.pack() {
+                Ok(pack) => Some(buffers(&pack)),
+                Err(e) => {
+                    failed = Some(gpu_err("packing the scene textures", e));
+                    None
+                }
+            });
+            match (&*made, failed) {
+                (_, Some(e)) => Err(e),
+                (Some(b), None) => Ok(Arc::new(b.clone())),
+                (None, None) => Err(EvalError::Gpu("packing the scene textures failed".into())),
+            }
         }
     }
 }
