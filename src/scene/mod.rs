@@ -181,18 +181,18 @@ impl Scene {
     }
 
     /// The default lights of a kind: the `day` sun, plus for the ball a cool point fill
-    /// light at `(3, 3.5, 1)` (colour (0.55, 0.6, 0.7), intensity 10), to the right and high
-    /// enough that its shadow falls on the visible floor left of the ball (centre
-    /// `(−1.2, 0, −0.4)`), opposite the sun's: every light's shadow is seen.
+    /// light at `(3, 3.5, −2)` (colour (0.55, 0.6, 0.7), intensity 16), right, behind and
+    /// high, so that its shadow falls on the floor in front of the ball on the left (centre
+    /// `(−1.2, 0, 0.8)`), in view and apart from the sun's: every light's shadow is seen.
     pub fn default_lights(kind: &SceneKind) -> Vec<Light> {
         let day = Light::preset("day").expect("built-in preset");
         match kind {
             SceneKind::Ball(_) => vec![
                 day,
                 Light::Point(PointLight {
-                    position: [3.0, 3.5, 1.0],
+                    position: [3.0, 3.5, -2.0],
                     color: [0.55, 0.6, 0.7],
-                    intensity: 10.0,
+                    intensity: 16.0,
                 }),
             ],
             SceneKind::Water(_) | SceneKind::Bubble(_) => vec![day],
