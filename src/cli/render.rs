@@ -53,6 +53,10 @@ pub struct Args {
     /// Rasterise on the CPU and shade the G-buffer on the GPU (the hybrid path).
     #[arg(long, conflicts_with = "cpu")]
     pub gpu_compute: bool,
+    /// How --gpu binds the material's textures: texture_2d + samplers with mips (hardware, the
+    /// GPU's own filtering) or storage buffers filtered as on the CPU, bit for bit (exact).
+    #[arg(long, default_value = "hardware", value_parser = ["hardware", "exact"])]
+    pub textures: String,
     /// Evaluate the material on the CPU (the default).
     #[arg(long)]
     pub cpu: bool,
@@ -262,6 +266,8 @@ pub fn run(args: &Args) -> CliResult {
                 environment,
                 memory_budget: MEMORY_BUDGET - reserve,
                 band_rows: None,
+                texture_mode: matgraph::wgsl::TextureMode::from_name(&args.textures)
+                    .unwrap_or_default(),
             };
             // One still at --time, or frame k at t0 + k/fps.
             let times: Vec<Option<f32>> = match &frames {

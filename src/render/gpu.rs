@@ -3,7 +3,7 @@
 //! environment, a sample count without a standard MSAA pattern on the device, a frame over
 //! the device's limits) the caller falls back to the hybrid path and says why.
 
-use super::{HdrImage, RenderError, RenderOptions, RenderTimings, Roles, SCENE_TEXTURE_MAX};
+use super::{HdrImage, RenderError, RenderOptions, RenderTimings, SCENE_TEXTURE_MAX};
 use crate::gpu::GpuContext;
 use crate::gpu::raster::{self, MaterialInput};
 use crate::graph::Graph;
@@ -80,13 +80,11 @@ fn textures(
 }
 
 /// Renders on the GPU rasteriser; `t` gets the stages' times.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn render(
     ctx: &GpuContext,
     graph: &Graph,
     scene: &Scene,
     options: &RenderOptions,
-    roles: &Roles,
     params: &ParamValues,
     time: f32,
     t: &mut RenderTimings,
@@ -97,14 +95,7 @@ pub(super) fn render(
     let mesh: Mesh = scene.material_mesh();
     let input = MaterialInput {
         graph,
-        color: roles.color.clone(),
-        emission: roles.emission.clone(),
-        alpha: roles
-            .alpha
-            .as_ref()
-            .and_then(|n| graph.outputs().iter().find(|o| &o.name == n))
-            .map(|o| (o.name.clone(), o.ty)),
-        displacement: roles.displacement.clone(),
+        texture_mode: options.texture_mode,
         params,
         time,
         textures: &set,

@@ -114,6 +114,9 @@ pub struct RenderOptions {
     pub memory_budget: u64,
     /// Rows per band, overriding [`plan_memory`]'s choice (tests force tiny bands).
     pub band_rows: Option<u32>,
+    /// How the GPU rasteriser (`Backend::Gpu`) binds the material's textures: hardware
+    /// samplers (the default) or exact storage buffers (the CPU's filtering, bit for bit).
+    pub texture_mode: crate::wgsl::TextureMode,
 }
 
 impl Default for RenderOptions {
@@ -129,6 +132,7 @@ impl Default for RenderOptions {
             environment: None,
             memory_budget: MEMORY_BUDGET,
             band_rows: None,
+            texture_mode: crate::wgsl::TextureMode::Hardware,
         }
     }
 }
@@ -560,7 +564,7 @@ pub fn render_timed(
         let ctx = crate::gpu::GpuContext::shared()?;
         match gpu::unsupported(ctx, scene, options) {
             None => {
-                let image = gpu::render(ctx, graph, scene, options, &roles, &params, time, &mut t)?;
+                let image = gpu::render(ctx, graph, scene, options, &params, time, &mut t)?;
                 return Ok((image, t));
             }
             Some(why) => {
