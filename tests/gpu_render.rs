@@ -172,7 +172,13 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
             let (hw, _) = render_timed(
                 &graph,
                 &scene,
-                &options_in(&graph, Some(&path), spp, Backend::Gpu, TextureMode::Hardware),
+                &options_in(
+                    &graph,
+                    Some(&path),
+                    spp,
+                    Backend::Gpu,
+                    TextureMode::Hardware,
+                ),
             )
             .unwrap();
             let name = format!("{} (hardware)", graph.name);

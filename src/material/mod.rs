@@ -324,10 +324,7 @@ impl Material {
     /// A parameter block at the library module's layout (it computes every output, so its
     /// members may differ from [`Material::params`]'s), with the graph's values.
     pub fn library_params(&self) -> ParamBlock {
-        ParamBlock::new(
-            self.library.uniforms.clone(),
-            self.params.values().clone(),
-        )
+        ParamBlock::new(self.library.uniforms.clone(), self.params.values().clone())
     }
 
     /// Whether the module binds a parameter block (binding 0).
@@ -437,8 +434,7 @@ fn validate(
             message,
         }),
     };
-    let module =
-        naga::front::wgsl::parse_str(source).map_err(|e| err(e.emit_to_string(source)))?;
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| err(e.emit_to_string(source)))?;
     // Per-sample interpolation is core WebGPU (naga's MULTISAMPLED_SHADING).
     let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),

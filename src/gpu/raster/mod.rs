@@ -824,7 +824,9 @@ fn displace(
         .iter()
         .find(|o| o.name == name)
         .map(|o| o.field.clone())
-        .ok_or_else(|| EvalError::Gpu(format!("output '{name}' missing from the library module")))?;
+        .ok_or_else(|| {
+            EvalError::Gpu(format!("output '{name}' missing from the library module"))
+        })?;
     let src = material::displacement_source(material.library_wgsl(), &library.attributes, &field);
     let c = wgpu::ShaderStages::COMPUTE;
     let pipes = cached(s, &format!("displace/{src}"), || {
@@ -964,9 +966,7 @@ pub(crate) fn render_frame(
         let start = Instant::now();
         let options = MaterialOptions {
             textures: m.texture_mode,
-            float32_filterable: ctx
-                .features()
-                .contains(wgpu::Features::FLOAT32_FILTERABLE),
+            float32_filterable: ctx.features().contains(wgpu::Features::FLOAT32_FILTERABLE),
             // The CPU shades every sample.
             sample_shading: spp > 1,
             // Displaced by `displace`, in the CPU's order (normals from the displaced mesh).
