@@ -375,7 +375,7 @@ impl ScenePipelines {
             "mgr objects",
             &[
                 (0, vf, Kind::Storage),
-                (1, f, Kind::Storage),
+                (1, vf, Kind::Storage),
                 (2, f, Kind::Storage),
                 (3, f, Kind::Storage),
                 (4, vf, Kind::Storage),
@@ -393,7 +393,12 @@ impl ScenePipelines {
             "mgr objects",
             &m,
             "mgr_object_vs",
-            "mgr_object_fs",
+            // Varyings at 1 sample per pixel, the CPU's barycentrics rebuilt under MSAA.
+            if spp == 1 {
+                "mgr_object_fs"
+            } else {
+                "mgr_object_sample_fs"
+            },
             &pl,
             spp,
             true,
