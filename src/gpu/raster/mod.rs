@@ -977,19 +977,30 @@ pub(crate) fn render_frame(
             // Displaced by `displace`, in the CPU's order (normals from the displaced mesh).
             displaced_vertices: true,
         };
-        let material = Material::new(m.graph, &options).map_err(material_err)?;
-        let source = material
-            .wgsl_with_hooks(&material::hooks())
-            .map_err(material_err)?;
+        // Generated and validated once per graph and options on the device: later frames
+        // (an animation) only write their parameters and time.
+        let made = cached(
+            s,
+            &format!("material/{options:?}/{}", m.graph.to_json()),
+            || -> Result<(Material, String), MaterialError> {
+                let material = Material::new(m.graph, &options)?;
+                let source = material.wgsl_with_hooks(&material::hooks())?;
+                Ok((material, source))
+            },
+        );
+        let (material, source) = match &*made {
+            Ok((material, source)) => (material, source),
+            Err(e) => return Err(material_err(e.clone())),
+        };
         let gpu = SceneGpu::new(s, scene, spp);
-        let pipes = cached(s, &format!("material/{spp}/{source}"), || {
+        let pipes = cached(s, &format!("material pipeline/{spp}/{source}"), || {
             let mat_layout = s
                 .device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                     label: Some("mgr material"),
                     entries: &material.bind_group_layout_entries(),
                 });
-            let fm = module(s, "mgr material", &source);
+            let fm = module(s, "mgr material", source);
             let pl = pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout]);
             let surface = material::pipeline(s, &fm, &pl, spp);
             (mat_layout, surface)
@@ -1039,7 +1050,7 @@ pub(crate) fn render_frame(
                     contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
                     usage: wgpu::BufferUsages::VERTEX,
                 }),
-            Some(_) => displace(ctx, &mut enc, &material, m, &index)?,
+            Some(_) => displace(ctx, &mut enc, material, m, &index)?,
         };
         t.upload = start.elapsed();
 
