@@ -65,9 +65,17 @@ fn draw<DB: DrawingBackend>(
     spec: &PlotSpec,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
     root.fill(&WHITE)?;
+    // The cost axis is logarithmic: a family's costs span decades (the spectral film).
     let x_max = spec.points.iter().map(|p| p.cost).fold(0.0f64, f64::max);
+    let x_min = spec
+        .points
+        .iter()
+        .map(|p| p.cost)
+        .filter(|c| *c > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let x_min = if x_min.is_finite() { x_min / 1.6 } else { 1.0 };
     let y_max = spec.points.iter().map(|p| p.error).fold(0.0f64, f64::max);
-    let x_max = if x_max > 0.0 { x_max * 1.25 } else { 1.0 };
+    let x_max = if x_max > 0.0 { x_max * 1.6 } else { 10.0 };
     // Below 0 a little, so that the reference (error 0) is inside the chart and drawn.
     let y_max = if y_max > 0.0 { y_max * 1.2 } else { 1.0 };
     let mut chart = ChartBuilder::on(&root)
@@ -75,10 +83,12 @@ fn draw<DB: DrawingBackend>(
         .margin(16)
         .x_label_area_size(44)
         .y_label_area_size(64)
-        .build_cartesian_2d(0f64..x_max, -0.04 * y_max..y_max)?;
+        .build_cartesian_2d((x_min..x_max).log_scale(), -0.04 * y_max..y_max)?;
     chart
         .configure_mesh()
         .x_desc(&spec.x_label)
+        .x_label_formatter(&|v| format!("{}", super::round_sig(*v, 2)))
+        .y_label_formatter(&|v| format!("{}", super::round_sig(*v, 3)))
         .y_desc(&spec.y_label)
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 13))
@@ -87,7 +97,7 @@ fn draw<DB: DrawingBackend>(
     let mut front: Vec<(f64, f64)> = spec
         .points
         .iter()
-        .filter(|p| p.front)
+        .filter(|p| p.front && p.cost > 0.0)
         .map(|p| (p.cost, p.error))
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
