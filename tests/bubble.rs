@@ -445,6 +445,25 @@ fn render_at(time: f32, size: u32) -> Vec<[f32; 3]> {
         .pixels
 }
 
+/// `RenderOptions::time` moves the scene as well as the material: the bubble rendered at
+/// `time: Some(t)` from a scene at time 0 is the bubble of a scene at time `t`.
+#[test]
+fn the_time_override_moves_the_bubble_too() {
+    let at_four = render_at(4.0, 32);
+    let scene = Scene::preset("bubble").unwrap();
+    assert_eq!(scene.time, 0.0);
+    let options = RenderOptions {
+        width: 32,
+        height: 32,
+        time: Some(4.0),
+        ..RenderOptions::default()
+    };
+    let overridden = render(&graph("bubble.json"), &scene, &options)
+        .unwrap()
+        .pixels;
+    assert!(overridden == at_four, "time override and scene time agree");
+}
+
 #[test]
 fn the_bubble_scene_renders_deterministically_and_moves() {
     let a = render_at(1.0, 48);
