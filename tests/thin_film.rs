@@ -494,8 +494,8 @@ fn rgb3_is_the_film_at_three_wavelengths() {
             rng.range(1.0, 2.5),
         );
         let (r, _) = thin_film(cos, d, nf, 1.0, 1.0, RGB3);
-        for c in 0..3 {
-            let (want, _) = abeles(cos as f64, RGB3_NM[c] as f64, d as f64, nf as f64, 1.0, 1.0);
+        for (c, nm) in RGB3_NM.iter().enumerate() {
+            let (want, _) = abeles(cos as f64, *nm as f64, d as f64, nf as f64, 1.0, 1.0);
             assert!(
                 (v3(r)[c] - want).abs() < 2e-5,
                 "cos {cos} d {d} nf {nf}: {r} vs {want}"
