@@ -235,6 +235,16 @@ pub fn markdown(r: &FamilyReport) -> String {
             if row.front { "●" } else { "" }
         );
     }
+    let mut counts: Vec<usize> = r.rows.iter().map(|row| row.expressions).collect();
+    counts.sort_unstable();
+    if counts.windows(2).any(|w| w[0] == w[1]) {
+        let _ = writeln!(
+            out,
+            "\nVariants with the same expression count differ only in a node's enum or bool \
+             input: that node's one WGSL function holds every method and takes the choice as an \
+             argument, so the count cannot tell them apart; their CPU times can."
+        );
+    }
     let _ = writeln!(out, "\nVariants:\n");
     for row in &r.rows {
         let _ = writeln!(out, "- `{}`: {}.", row.name, row.doc);

@@ -138,7 +138,7 @@ pub fn pick_variants(
     max_error: f64,
     textures: Option<Arc<TextureSet>>,
 ) -> Result<Vec<Pick>, PickError> {
-    if !(max_error >= 0.0) {
+    if max_error.is_nan() || max_error < 0.0 {
         return Err(PickError::BadBound(max_error));
     }
     let batch = node_samples(PICK_SAMPLES, PICK_SEED);
