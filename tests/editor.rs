@@ -339,7 +339,7 @@ fn snapshot_of_the_editor_on_pbr_gold() {
     assert!(
         h.state().state.preview.texture().is_some(),
         "{:?}",
-        h.state().state.preview.message
+        h.state().state.preview.message()
     );
     h.run_steps(2);
     // Anti-aliased wires that cross blend in an order that varies run to run: 10 of the
@@ -426,4 +426,221 @@ fn the_code_panel_highlights_the_focused_nodes_wgsl() {
             code.text
         );
     }
+}
+
+/// A harness without a renderer, preview on (renders on the GPU where there is an adapter,
+/// else on the CPU).
+fn preview_harness(mut state: EditorState) -> Harness<'static, EditorApp> {
+    state.dialog = None;
+    state.preview.enabled = true;
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_max_steps(64)
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+}
+
+/// A primary click at screen position `pos`.
+fn click_at(h: &mut Harness<'static, EditorApp>, pos: egui::Pos2) {
+    h.event(egui::Event::PointerMoved(pos));
+    h.run();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::default(),
+        });
+    }
+    h.run();
+}
+
+/// Steps `h` until the canvas and every preview swatch are settled (at most two minutes).
+fn settle(h: &mut Harness<'static, EditorApp>) {
+    let start = std::time::Instant::now();
+    h.step();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    assert!(
+        h.state().state.preview.settled(),
+        "the preview did not finish"
+    );
+}
+
+#[test]
+fn orbiting_rotates_the_camera_about_its_target() {
+    use matgraph::editor::preview::Orbit;
+    use matgraph::scene::Scene;
+    let base = Scene::preset("ball").unwrap().camera;
+    // The default orbit is the scene's camera, bit for bit.
+    assert_eq!(Orbit::default().camera(&base), base);
+    // Yaw θ about +y through the target: x' = x cos θ + z sin θ, z' = −x sin θ + z cos θ
+    // (the rotation matrix, in f64), y unchanged; zoom scales the offset.
+    let mut seed = 0x2545_f491_u32;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed as f32 / u32::MAX as f32
+    };
+    let mut cases = vec![(90.0f32, 1.0f32), (180.0, 1.0), (-45.0, 2.0)];
+    for _ in 0..8 {
+        cases.push((next() * 720.0 - 360.0, 0.25 + next() * 3.75));
+    }
+    for (yaw, zoom) in cases {
+        let o = Orbit {
+            yaw_deg: yaw,
+            pitch_deg: 0.0,
+            zoom,
+        };
+        let c = o.camera(&base);
+        let (t, p) = (base.target, base.position);
+        let (x, y, z) = (
+            (p[0] - t[0]) as f64,
+            (p[1] - t[1]) as f64,
+            (p[2] - t[2]) as f64,
+        );
+        let th = (yaw as f64).to_radians();
+        let k = zoom as f64;
+        let want = [
+            t[0] as f64 + k * (x * th.cos() + z * th.sin()),
+            t[1] as f64 + k * y,
+            t[2] as f64 + k * (-x * th.sin() + z * th.cos()),
+        ];
+        for a in 0..3 {
+            assert!(
+                (c.position[a] as f64 - want[a]).abs() < 2e-5 * (1.0 + k * 5.1),
+                "yaw {yaw} zoom {zoom}: {:?} vs {want:?}",
+                c.position
+            );
+        }
+        assert_eq!((c.target, c.fov_y_deg), (base.target, base.fov_y_deg));
+    }
+    // Pitch raises the elevation by its angle and keeps the distance; it stops at 85°.
+    let r = |c: &matgraph::scene::Camera| {
+        let d: Vec<f64> = (0..3)
+            .map(|a| (c.position[a] - c.target[a]) as f64)
+            .collect();
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        (len, (d[1] / len).asin().to_degrees())
+    };
+    let (r0, e0) = r(&base);
+    let (r1, e1) = r(&Orbit {
+        pitch_deg: 30.0,
+        ..Default::default()
+    }
+    .camera(&base));
+    assert!(
+        (r1 - r0).abs() < 1e-5 && (e1 - e0 - 30.0).abs() < 1e-4,
+        "{e0} {e1}"
+    );
+    let (_, e2) = r(&Orbit {
+        pitch_deg: 170.0,
+        ..Default::default()
+    }
+    .camera(&base));
+    assert!((e2 - 85.0).abs() < 1e-4, "{e2}");
+}
+
+#[test]
+fn a_parameter_change_re_renders_without_recompiling() {
+    let state = EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    // The parameters panel lists the graph's exposed parameter (the canvas has the node
+    // and brdf's input of the same name).
+    h.get_by_label("Parameters");
+    assert_eq!(h.get_all_by_label("roughness").count(), 3);
+    let (compiles, renders, before) = {
+        let p = &h.state().state.preview;
+        assert!(p.message().is_none(), "{:?}", p.message());
+        (p.compiles(), p.renders(), p.pixels().unwrap().to_vec())
+    };
+    assert_eq!(compiles, 1, "one program for the main swatch");
+    matgraph::editor::preview_ui::set_parameter(
+        &mut h.state_mut().state,
+        "roughness",
+        "roughness",
+        serde_json::json!(0.9),
+    );
+    settle(&mut h);
+    {
+        let p = &h.state().state.preview;
+        assert_eq!(
+            p.compiles(),
+            compiles,
+            "a parameter change must not recompile"
+        );
+        assert_eq!(p.renders(), renders + 1);
+        let after = p.pixels().unwrap();
+        let changed = before.iter().zip(after).filter(|(a, b)| a != b).count();
+        assert!(
+            changed > 1000,
+            "a rougher gold ball looks different: {changed} bytes"
+        );
+    }
+    // The document holds the new value (saved with the file, undoable).
+    assert_eq!(
+        h.state().state.doc.node("roughness").unwrap().inputs["value"],
+        serde_json::json!(0.9)
+    );
+    // Orbiting and time re-render the same program too.
+    h.state_mut().state.preview.orbit.yaw_deg = 40.0;
+    h.state_mut().state.preview.clock.time = 1.5;
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles);
+    // A structural edit (a literal baked into the shader) rebuilds it.
+    h.state_mut()
+        .state
+        .set_input("brdf", "metallic", serde_json::json!(0.5), None);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles + 1);
+}
+
+#[test]
+fn a_node_preview_is_toggled_on_the_node_and_shows_the_graph_cut_there() {
+    use matgraph::editor::preview::{CUT_OUTPUT, cut_at};
+    let state = EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    // The cut graphs: the brdf reads the light, so its swatch is lit (`color`); the
+    // environment lookup does not (unlit).
+    let doc = state.doc.doc().clone();
+    let lit = cut_at(&doc, "brdf", Registry::builtin()).unwrap();
+    assert_eq!(lit.outputs().len(), 1);
+    assert_eq!(lit.outputs()[0].name, "color");
+    let unlit = cut_at(&doc, "env", Registry::builtin()).unwrap();
+    assert_eq!(unlit.outputs()[0].name, CUT_OUTPUT);
+    assert!(cut_at(&doc, "nope", Registry::builtin()).is_err());
+
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.nodes_on().count(), 0);
+    // Each node header has a toggle; click the one of the first node (geo, file order).
+    let rects: Vec<egui::Rect> = h.get_all_by_label("👁").map(|n| n.rect()).collect();
+    assert_eq!(rects.len(), 12, "one toggle per node");
+    // Accessibility rects of canvas widgets are in canvas coordinates.
+    let pos = h.state().to_screen() * rects[0].center();
+    click_at(&mut h, pos);
+    let on: Vec<String> = h
+        .state()
+        .state
+        .preview
+        .nodes_on()
+        .map(str::to_owned)
+        .collect();
+    assert_eq!(on.len(), 1, "{on:?}");
+    settle(&mut h);
+    let p = &h.state().state.preview;
+    assert!(
+        p.node_texture(&on[0]).is_some(),
+        "{:?}",
+        p.node_message(&on[0])
+    );
+    // Toggled off again from the state (the node menu does the same).
+    let id = on[0].clone();
+    h.state_mut().state.preview.toggle_node(&id);
+    h.run();
+    assert!(h.state().state.preview.node_texture(&id).is_none());
 }

@@ -5,7 +5,7 @@
 //! Modules: [`model`] (the document and its validation), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`] and [`viewer`] (the canvas), [`widgets`] (value editors),
 //! [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
-//! (CPU swatch), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
+//! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
 pub mod code;
@@ -13,6 +13,7 @@ pub mod files;
 pub mod headless;
 pub mod model;
 pub mod preview;
+pub mod preview_ui;
 pub mod search;
 pub mod search_ui;
 pub mod state;

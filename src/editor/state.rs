@@ -325,7 +325,6 @@ impl EditorState {
                 let preview = std::mem::take(&mut self.preview);
                 *self = s;
                 self.preview = preview;
-                self.preview.invalidate();
                 Ok(())
             }
             Err(e) => {
@@ -339,7 +338,6 @@ impl EditorState {
         // Negative: set to the frame's time by the next tick.
         self.unsaved_since = Some(-1.0);
         self.code.invalidate();
-        self.preview.invalidate();
     }
 
     fn offer_recovery(&mut self) {
