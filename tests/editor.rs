@@ -547,7 +547,10 @@ fn orbiting_rotates_the_camera_about_its_target() {
 
 #[test]
 fn a_parameter_change_re_renders_without_recompiling() {
-    let state = EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    // A copy, so that the autosave of the edits lands in the scratch folder.
+    let file = scratch("parameter").join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let state = EditorState::open(&file, Registry::builtin()).unwrap();
     let mut h = preview_harness(state);
     settle(&mut h);
     // The parameters panel lists the graph's exposed parameter (the canvas has the node
@@ -643,4 +646,191 @@ fn a_node_preview_is_toggled_on_the_node_and_shows_the_graph_cut_there() {
     h.state_mut().state.preview.toggle_node(&id);
     h.run();
     assert!(h.state().state.preview.node_texture(&id).is_none());
+}
+
+#[test]
+fn recent_files_are_kept_newest_first_and_open_from_the_menu() {
+    use matgraph::editor::files::{RECENT_MAX, Recent};
+    let dir = scratch("recent");
+    let store = dir.join("config").join("recent.json");
+    let mut s = untitled();
+    s.recent = Some(Recent::load(&store));
+    assert!(s.recent.as_ref().unwrap().files.is_empty());
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    s.save_as(&a).unwrap();
+    s.save_as(&b).unwrap();
+    s.save_as(&a).unwrap();
+    // Newest first, once each, absolute; and on disk.
+    let want = vec![a.clone(), b.clone()];
+    assert_eq!(s.recent.as_ref().unwrap().files, want);
+    assert_eq!(Recent::load(&store).files, want);
+    // At most RECENT_MAX.
+    let mut r = Recent::load(&dir.join("other.json"));
+    for k in 0..RECENT_MAX + 3 {
+        r.push(&dir.join(format!("g{k}.json"))).unwrap();
+    }
+    assert_eq!(r.files.len(), RECENT_MAX);
+    assert_eq!(r.files[0], dir.join(format!("g{}.json", RECENT_MAX + 2)));
+    // File → Open Recent → b.json opens it.
+    s.recent = Some(Recent::load(&store));
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label("Open Recent ⏵").click();
+    h.run();
+    h.get_by_label(b.display().to_string().as_str()).click();
+    h.run();
+    assert_eq!(h.state().state.path.as_deref(), Some(b.as_path()));
+    assert_eq!(
+        Recent::load(&store).files[..2],
+        [b.clone(), a.clone()],
+        "opening puts it first"
+    );
+}
+
+/// Sets `path`'s modification time `secs` seconds ahead (file systems with coarse times).
+fn touch_ahead(path: &Path, secs: u64) {
+    let f = std::fs::File::options().write(true).open(path).unwrap();
+    f.set_modified(std::time::SystemTime::now() + std::time::Duration::from_secs(secs))
+        .unwrap();
+}
+
+#[test]
+fn a_file_changed_on_disk_is_reloaded_or_asked_about() {
+    use matgraph::editor::state::DISK_POLL;
+    let dir = scratch("reload");
+    let file = dir.join("g.json");
+    let mut s = untitled();
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    s.save_as(&file).unwrap();
+    let mut now = 10.0;
+    assert!(!s.check_disk(now), "unchanged");
+    // Another program writes the file: reloaded, no question (nothing unsaved).
+    let mut other = untitled();
+    other.add_node("geometry", [0.0, 0.0]).unwrap();
+    other.add_node("checker", [300.0, 0.0]).unwrap();
+    other.save_as(&file).unwrap();
+    touch_ahead(&file, 5);
+    now += DISK_POLL / 2.0;
+    assert!(!s.check_disk(now), "not polled again this soon");
+    now += DISK_POLL;
+    assert!(s.check_disk(now));
+    assert_eq!(node_types(&s), ["geometry", "checker"]);
+    assert!(!s.dirty());
+    // With unsaved changes it asks; "Keep mine" keeps them.
+    s.remove_nodes(&["checker".to_owned()]);
+    touch_ahead(&file, 10);
+    now += DISK_POLL;
+    assert!(!s.check_disk(now));
+    assert!(matches!(s.dialog, Some(Dialog::Changed { .. })));
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("Keep mine").click();
+    h.run();
+    assert!(h.state().state.dialog.is_none());
+    assert_eq!(node_types(&h.state().state), ["geometry"]);
+    // Asked once per change: no new question until the file changes again.
+    let s = &mut h.state_mut().state;
+    assert!(!s.check_disk(now + 2.0 * DISK_POLL) && s.dialog.is_none());
+    touch_ahead(&file, 20);
+    s.check_disk(now + 4.0 * DISK_POLL);
+    assert!(matches!(s.dialog, Some(Dialog::Changed { .. })));
+    h.run();
+    h.get_by_label("Reload (drop my changes)").click();
+    h.run();
+    assert_eq!(node_types(&h.state().state), ["geometry", "checker"]);
+    assert!(!h.state().state.dirty());
+}
+
+#[test]
+fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
+    use matgraph::editor::layout::{ROW_GAP, depths, needs_arranging, node_height};
+    let registry = Registry::builtin();
+    let file = matgraph::editor::files::open(Path::new("graphs/pbr_gold.json")).unwrap();
+    // The bundled file has overlapping nodes (brdf and radiance, 160 apart).
+    assert!(needs_arranging(&file, registry));
+    let s = EditorState::open(Path::new("graphs/pbr_gold.json"), registry).unwrap();
+    let doc = s.doc.doc();
+    assert!(!needs_arranging(doc, registry), "arranged on open");
+    assert!(!s.dirty(), "the layout alone does not make the graph dirty");
+    assert!(s.status.as_deref().unwrap().contains("arranged"));
+    // Longest-path depths of pbr_gold, by hand: geo, roughness 0; incident, n_dot_v,
+    // env_lod, brdf 1; mirror, env_fresnel, radiance 2; env_uv 3; env 4; reflection 5.
+    let want = [
+        ("geo", 0),
+        ("roughness", 0),
+        ("brdf", 1),
+        ("radiance", 2),
+        ("incident", 1),
+        ("mirror", 2),
+        ("env_uv", 3),
+        ("env_lod", 1),
+        ("env", 4),
+        ("n_dot_v", 1),
+        ("env_fresnel", 2),
+        ("reflection", 5),
+    ];
+    let depth = depths(doc);
+    let mut column_x = [f32::NAN; 6];
+    for (id, d) in want {
+        let k = s.doc.index(id).unwrap();
+        assert_eq!(depth[k], d, "{id}");
+        // One x per column, left to right by depth.
+        let [x, _] = doc.nodes[k].position.unwrap();
+        if column_x[d].is_nan() {
+            column_x[d] = x;
+        }
+        assert_eq!(x, column_x[d], "{id}");
+    }
+    assert_eq!(column_x[0], 0.0);
+    assert!(
+        column_x.windows(2).all(|w| w[0] + 160.0 < w[1]),
+        "{column_x:?}"
+    );
+    // A column stacks its nodes with the gap: the two sources, geo (8 outputs) above
+    // roughness (first in file order, same barycentre rule).
+    let y = |id: &str| s.doc.node(id).unwrap().position.unwrap()[1];
+    let outputs = registry.get("geometry").unwrap().outputs().len();
+    assert_eq!(outputs, 8);
+    assert_eq!(y("geo"), 0.0);
+    assert_eq!(y("roughness"), 30.0 + 18.0 * 8.0 + ROW_GAP);
+    assert_eq!(node_height(0, 8), 174.0);
+    // View → Arrange on a graph with no positions is one undoable edit.
+    let mut u = untitled();
+    u.add_node("geometry", [0.0, 0.0]).unwrap();
+    u.add_node("dot", [0.0, 0.0]).unwrap();
+    u.connect("geometry", "normal", "dot", "a").unwrap();
+    u.arrange();
+    let [x, y] = u.doc.node("dot").unwrap().position.unwrap();
+    assert!(x >= 160.0 + 60.0 && y == 0.0, "{x} {y}");
+    assert_eq!(u.doc.node("geometry").unwrap().position, Some([0.0, 0.0]));
+    u.undo();
+    assert_eq!(u.doc.node("dot").unwrap().position, Some([0.0, 0.0]));
+}
+
+#[test]
+fn edit_arrange_rewrites_the_file_arranged_and_canonical() {
+    let dir = scratch("arrange");
+    let file = dir.join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(["edit", "--arrange"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = matgraph::GraphDocument::parse(&text).unwrap();
+    assert!(!matgraph::editor::layout::needs_arranging(
+        &doc,
+        Registry::builtin()
+    ));
+    let g = matgraph::Graph::from_json(&text, Registry::builtin()).unwrap();
+    assert_eq!(g.to_json(), text, "canonical");
 }

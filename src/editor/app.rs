@@ -58,6 +58,12 @@ impl EditorApp {
         self.revealed >= self.state.doc.doc().nodes.len() && self.frame_in == 0
     }
 
+    /// Arranges the nodes (View → Arrange) and frames them.
+    pub fn arrange(&mut self) {
+        self.state.arrange();
+        self.frame_all();
+    }
+
     /// The canvas → screen transform of the last frame (accessibility rects of canvas
     /// widgets are in canvas coordinates).
     pub fn to_screen(&self) -> egui::emath::TSTransform {
@@ -104,6 +110,13 @@ impl EditorApp {
         }
         let now = ctx.input(|i| i.time);
         self.state.tick(now);
+        if self.state.check_disk(now) {
+            // The reloaded file's nodes are shown one per frame again.
+            self.revealed = 0;
+        }
+        if self.state.path.is_some() {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(super::state::DISK_POLL));
+        }
         if self.state.unsaved_since.is_some() {
             ctx.request_repaint_after(std::time::Duration::from_millis(500));
         }
@@ -379,6 +392,24 @@ impl EditorApp {
                             path: String::new(),
                         });
                     }
+                    let recent = self
+                        .state
+                        .recent
+                        .as_ref()
+                        .map(|r| r.files.clone())
+                        .unwrap_or_default();
+                    ui.add_enabled_ui(!recent.is_empty(), |ui| {
+                        ui.menu_button("Open Recent", |ui| {
+                            for f in recent {
+                                if ui.button(f.display().to_string()).clicked() {
+                                    ui.close();
+                                    if let Some(p) = self.state.request(Pending::Open(f)) {
+                                        self.run_pending(p, ui.ctx());
+                                    }
+                                }
+                            }
+                        });
+                    });
                     if ui.button("Save  (Ctrl+S)").clicked() {
                         let _ = self.state.save();
                     }
@@ -419,6 +450,10 @@ impl EditorApp {
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
                         self.frame_all();
+                    }
+                    if ui.button("Arrange").clicked() {
+                        self.arrange();
+                        ui.close();
                     }
                     ui.checkbox(&mut self.state.code.open, "Generated code");
                     ui.checkbox(&mut self.state.preview.enabled, "Preview");
@@ -681,6 +716,7 @@ impl EditorApp {
         };
         let mut keep = true;
         let mut run = None;
+        let mut reload = false;
         egui::Modal::new(egui::Id::new("matgraph-dialog")).show(ctx, |ui| match &mut dialog {
             Dialog::Recover { path, doc } => {
                 ui.heading("Recover unsaved changes?");
@@ -720,6 +756,22 @@ impl EditorApp {
                     }
                 });
             }
+            Dialog::Changed { path } => {
+                ui.heading("Changed on disk");
+                ui.label(format!(
+                    "{} changed on disk, and this graph has unsaved changes.",
+                    path.display()
+                ));
+                ui.horizontal(|ui| {
+                    if ui.button("Reload (drop my changes)").clicked() {
+                        reload = true;
+                        keep = false;
+                    }
+                    if ui.button("Keep mine").clicked() {
+                        keep = false;
+                    }
+                });
+            }
             Dialog::SaveAs { path } | Dialog::Open { path } => {
                 ui.label("File:");
                 ui.text_edit_singleline(path);
@@ -739,7 +791,10 @@ impl EditorApp {
             let _ = self.state.save_as(p);
             run = None;
         }
-        if keep {
+        if reload {
+            self.state.reload();
+            self.revealed = 0;
+        } else if keep {
             self.state.dialog = Some(dialog);
         } else if let Some(p) = run {
             match (&dialog, p) {
