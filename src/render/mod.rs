@@ -533,6 +533,18 @@ pub fn render_timed(
     let mut t = RenderTimings::default();
     let roles = roles(graph)?;
     let time = options.time.unwrap_or(scene.time);
+    // The override moves the scene too (a bubble's path, the G-buffer's displacement), not
+    // only the material's `time` attribute.
+    let at_time;
+    let scene = if time == scene.time {
+        scene
+    } else {
+        at_time = Scene {
+            time,
+            ..scene.clone()
+        };
+        &at_time
+    };
     let Some(first) = roles.color.as_ref().or(roles.emission.as_ref()) else {
         return Err(EvalError::NoOutputs.into());
     };
