@@ -2,6 +2,7 @@
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
 pub mod bubble;
+pub mod ibl;
 pub mod image;
 pub mod input;
 pub mod math;
@@ -28,6 +29,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(ibl::all());
     v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());

@@ -43,18 +43,16 @@ fn textures(
         .filter_map(|n| n.texture.as_ref()?.scene_name())
         .collect();
     let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
-    if wanted.contains(&"environment") {
+    if wanted.iter().any(|w| super::is_environment_texture(w)) {
+        // The map is drawn on the GPU; its image-based-lighting tables are made from it on
+        // the CPU and uploaded (super::insert_environment_textures).
         let (w, h) = (
             super::ENVIRONMENT_MAP_WIDTH,
             super::ENVIRONMENT_MAP_WIDTH / 2,
         );
         let data = raster::render_environment(ctx, scene, w, h)?;
         let image = Image::new(w, h, data).map_err(texture_error)?;
-        set.insert(
-            key("environment"),
-            Texture::new(image, true).map_err(texture_error)?,
-        )
-        .map_err(texture_error)?;
+        super::insert_environment_textures(&mut set, &wanted, image).map_err(texture_error)?;
     }
     let (tw, th) = super::scene_texture_size(options.width, options.height);
     debug_assert!(tw.max(th) <= SCENE_TEXTURE_MAX);

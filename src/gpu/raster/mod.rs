@@ -215,6 +215,26 @@ fn bind(
     })
 }
 
+/// A bind group of `layout` with each resource at its own binding number.
+fn bind_entries(
+    s: &DeviceState,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[(u32, wgpu::BindingResource)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .iter()
+        .map(|(binding, r)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: r.clone(),
+        })
+        .collect();
+    s.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &entries,
+    })
+}
+
 fn module(s: &DeviceState, label: &str, source: &str) -> wgpu::ShaderModule {
     s.device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
@@ -732,10 +752,22 @@ pub(crate) fn render_environment(
         let c = wgpu::ShaderStages::COMPUTE;
         let pipes = cached(s, "environment", || {
             let scene_layout = scene_layout(s);
-            let l = layout(s, "mgr environment", &[(0, c, Kind::StorageRw)]);
+            let l = layout(
+                s,
+                "mgr environment",
+                &[
+                    (0, c, Kind::Storage),
+                    (1, c, Kind::Storage),
+                    (2, c, Kind::Storage),
+                    (3, c, Kind::Storage),
+                    (5, c, Kind::StorageRw),
+                    (6, c, Kind::Uniform),
+                ],
+            );
             let source = format!(
-                "{}\n{}",
+                "enable primitive_index;\n{}\n{}\n{}",
                 include_str!("scene.wgsl"),
+                include_str!("objects.wgsl"),
                 include_str!("envmap.wgsl")
             );
             let m = module(s, "mgr environment", &source);
@@ -760,13 +792,50 @@ pub(crate) fn render_environment(
                 casters.as_entire_binding(),
             ],
         );
+        // MgrEnvView: the rays' origin and the triangles they meet (none: the sky alone).
+        let (origin, triangles) = match scene.environment_origin() {
+            Some(o) => (o, packed.indices.len() as u32 / 3),
+            None => (glam::Vec3::ZERO, 0),
+        };
+        let view: [u32; 4] = [
+            origin.x.to_bits(),
+            origin.y.to_bits(),
+            origin.z.to_bits(),
+            triangles,
+        ];
+        let view = uniform(s, "mgr environment view", bytemuck::cast_slice(&view));
+        let positions = storage(
+            s,
+            "mgr positions",
+            bytemuck::cast_slice(&packed.positions),
+            16,
+        );
+        let normals = storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16);
+        let table = storage(
+            s,
+            "mgr object table",
+            bytemuck::cast_slice(&packed.objects),
+            80,
+        );
+        let index = index_buffer(s, &packed.indices);
         let bytes = w as u64 * h as u64 * 16;
         let out = s.buffer(
             "mgr environment",
             bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let g0 = bind(s, l, &[out.as_entire_binding()]);
+        let g0 = bind_entries(
+            s,
+            l,
+            &[
+                (0, positions.as_entire_binding()),
+                (1, normals.as_entire_binding()),
+                (2, table.as_entire_binding()),
+                (3, index.as_entire_binding()),
+                (5, out.as_entire_binding()),
+                (6, view.as_entire_binding()),
+            ],
+        );
         let mut enc = s.device.create_command_encoder(&Default::default());
         {
             let mut cp = enc.begin_compute_pass(&Default::default());
