@@ -486,3 +486,43 @@ fn bind_group(
         entries: &entries,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const WAVE: &str = r#"{ "version": 1, "name": "wave", "nodes": [
+      { "id": "geo", "type": "geometry" },
+      { "id": "h", "type": "dot", "inputs": { "a": { "link": "geo.position" }, "b": [0.15, 0.1, 0.05] } },
+      { "id": "d", "type": "mul", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "h.result" } } } ],
+      "outputs": [{ "name": "emission", "from": "geo.normal" }, { "name": "displacement", "from": "d.result" }] }"#;
+
+    /// The renderer options change the module as documented, and it stays valid.
+    #[test]
+    fn sample_shading_and_displaced_vertices_edit_the_render_module() {
+        let graph = Graph::from_json(WAVE, crate::Registry::builtin()).unwrap();
+        let plain = Material::new(&graph, &MaterialOptions::default()).unwrap();
+        assert!(plain.wgsl().contains("let q = mg_displaced(p, n, v.uv);"));
+        assert!(!plain.wgsl().contains("@interpolate(perspective, sample)"));
+        let m = Material::new(
+            &graph,
+            &MaterialOptions {
+                sample_shading: true,
+                displaced_vertices: true,
+                ..MaterialOptions::default()
+            },
+        )
+        .unwrap();
+        let src = m.wgsl();
+        assert_eq!(src.matches("@interpolate(perspective, sample)").count(), 3);
+        // mg_vertex no longer displaces (mg_displaced stays defined, uncalled).
+        let vertex = &src[src.find("fn mg_vertex(").unwrap()..];
+        let vertex = &vertex[..vertex.find("\n}\n").unwrap()];
+        assert!(!vertex.contains("mg_displaced("), "{vertex}");
+        assert!(vertex.contains("o.position = p;"));
+        // The same bindings, outputs and parameter block as the default module.
+        assert_eq!(m.render_module().bindings, plain.render_module().bindings);
+        assert_eq!(m.params().bytes(), plain.params().bytes());
+        assert!(m.wgsl_with_hooks(DEFAULT_HOOKS_WGSL).is_ok());
+    }
+}

@@ -169,3 +169,79 @@ fn mgr_displace(@builtin(global_invocation_id) id: vec3<u32>) {
     ));
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Camera;
+    use glam::Vec3;
+
+    /// SplitMix64 (Steele, Lea & Flood 2014): seeded draws in [lo, hi).
+    struct Rng(u64);
+    impl Rng {
+        fn uniform(&mut self, lo: f32, hi: f32) -> f32 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^= z >> 31;
+            lo + (hi - lo) * ((z >> 40) as f32 / (1u64 << 24) as f32)
+        }
+    }
+
+    /// The matrix projects as the CPU's `CameraFrame::project` (f64) does, to pixels, and its
+    /// depth `z / w` is `near / view depth`: preset cameras and seeded ones, at seeded points
+    /// in front of the camera and at round ones.
+    #[test]
+    fn view_proj_projects_as_the_cpu_camera() {
+        let mut rng = Rng(0x5eed_0010);
+        let mut cameras: Vec<Camera> = ["ball", "water"]
+            .iter()
+            .map(|p| crate::scene::Scene::preset(p).unwrap().camera)
+            .collect();
+        for _ in 0..8 {
+            cameras.push(Camera {
+                position: [0; 3].map(|_| rng.uniform(-4.0, 4.0)),
+                target: [0; 3].map(|_| rng.uniform(-1.0, 1.0)),
+                fov_y_deg: rng.uniform(20.0, 90.0),
+                near: rng.uniform(0.01, 0.2),
+            });
+        }
+        for cam in cameras {
+            let (w, h) = (640, 360);
+            let f = cam.frame(w, h);
+            let m = view_proj(&f);
+            let mut points: Vec<Vec3> = vec![Vec3::ZERO, Vec3::new(0.5, 0.25, -0.5)];
+            for _ in 0..64 {
+                points.push(Vec3::new(
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-2.0, 2.0),
+                ));
+            }
+            for p in points {
+                let depth = (p - f.origin).dot(f.forward);
+                let Some((px, py)) = f.project(p) else {
+                    continue;
+                };
+                let c = m * p.extend(1.0);
+                let (x, y) = (
+                    (0.5 + 0.5 * (c.x / c.w) as f64) * w as f64,
+                    (0.5 - 0.5 * (c.y / c.w) as f64) * h as f64,
+                );
+                // Pixels: the matrix rounds in f32 (|p|, |origin| up to 7 m).
+                let tol = 1e-4 * (1.0 + px.abs().max(py.abs()));
+                assert!(
+                    (x - px).abs() < tol && (y - py).abs() < tol,
+                    "{cam:?} {p}: ({x}, {y}) against ({px}, {py})"
+                );
+                let want = cam.near as f64 / depth as f64;
+                assert!(
+                    ((c.z / c.w) as f64 - want).abs() <= 1e-5 * want,
+                    "{cam:?} {p}: depth {} against {want}",
+                    c.z / c.w
+                );
+            }
+        }
+    }
+}
