@@ -3,6 +3,8 @@
 //! canonical form, recovery from an autosave, and a headless snapshot of a bundled graph.
 #![cfg(feature = "editor")]
 
+mod common;
+
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -479,13 +481,9 @@ fn orbiting_rotates_the_camera_about_its_target() {
     assert_eq!(Orbit::default().camera(&base), base);
     // Yaw θ about +y through the target: x' = x cos θ + z sin θ, z' = −x sin θ + z cos θ
     // (the rotation matrix, in f64), y unchanged; zoom scales the offset.
-    let mut seed = 0x2545_f491_u32;
-    let mut next = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed as f32 / u32::MAX as f32
-    };
+    let mut rng = common::rng::Rng(0x2545_f491);
+    // A uniform f32 in [0, 1) (24 bits: f32-exact).
+    let mut next = || (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
     let mut cases = vec![(90.0f32, 1.0f32), (180.0, 1.0), (-45.0, 2.0)];
     for _ in 0..8 {
         cases.push((next() * 720.0 - 360.0, 0.25 + next() * 3.75));
