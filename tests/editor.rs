@@ -351,6 +351,44 @@ fn snapshot_of_the_editor_on_pbr_gold() {
 }
 
 #[test]
+fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
+    if !gpu_or_skip("snapshot_of_the_editor_on_toon_ball_with_node_previews") {
+        return;
+    }
+    let mut state =
+        EditorState::open(Path::new("graphs/toon_ball.json"), Registry::builtin()).unwrap();
+    state.dialog = None;
+    state.focus = Some("bands".into());
+    // Node swatches on the checker albedo (unlit) and the toon bands (lit: they read N·L).
+    state.preview.toggle_node("albedo");
+    state.preview.toggle_node("bands");
+    // View → Arrange leaves room for the swatches.
+    state.arrange();
+    let app = EditorApp::new(state);
+    let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
+    h.run_steps(4);
+    let start = std::time::Instant::now();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        h.step();
+    }
+    let p = &h.state().state.preview;
+    assert!(p.texture().is_some(), "{:?}", p.message());
+    for id in ["albedo", "bands"] {
+        assert!(
+            p.node_texture(id).is_some(),
+            "{id}: {:?}",
+            p.node_message(id)
+        );
+    }
+    h.run_steps(2);
+    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(100);
+    h.snapshot_options("editor_toon_ball", &options);
+}
+
+#[test]
 fn a_wire_dropped_in_empty_space_offers_compatible_nodes_and_connects_the_pick() {
     use matgraph::SocketType;
     use matgraph::editor::search::WireFilter;
