@@ -364,6 +364,8 @@ fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
     state.preview.toggle_node("bands");
     // View → Arrange leaves room for the swatches.
     state.arrange();
+    // No autosave of that edit beside the bundled file.
+    state.unsaved_since = None;
     let app = EditorApp::new(state);
     let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
     h.run_steps(4);
@@ -372,6 +374,7 @@ fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
         && start.elapsed().as_secs() < 120
     {
         std::thread::sleep(std::time::Duration::from_millis(50));
+        h.state_mut().state.unsaved_since = None;
         h.step();
     }
     let p = &h.state().state.preview;
@@ -629,6 +632,17 @@ fn a_parameter_change_re_renders_without_recompiling() {
     // Orbiting and time re-render the same program too.
     h.state_mut().state.preview.orbit.yaw_deg = 40.0;
     h.state_mut().state.preview.clock.time = 1.5;
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles);
+    // ▶ plays: the time advances with the frames; ⏸ stops it.
+    h.get_by_label("▶").click();
+    h.run_steps(3);
+    assert!(h.state().state.preview.clock.playing);
+    let t = h.state().state.preview.clock.time;
+    assert!(t > 1.5, "{t}");
+    h.get_by_label("⏸").click();
+    h.run();
+    assert!(!h.state().state.preview.clock.playing);
     settle(&mut h);
     assert_eq!(h.state().state.preview.compiles(), compiles);
     // A structural edit (a literal baked into the shader) rebuilds it.
