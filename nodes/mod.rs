@@ -14,6 +14,7 @@ pub mod sunshine;
 pub mod texture;
 pub mod thin_film;
 pub mod toon_water;
+pub mod transmission;
 
 use crate::node::NodeType;
 
@@ -28,6 +29,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(transmission::all());
     v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());
