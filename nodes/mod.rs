@@ -2,6 +2,7 @@
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
 pub mod bubble;
+pub mod ibl;
 pub mod image;
 pub mod input;
 pub mod math;
@@ -30,6 +31,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(skin::all());
     v.extend(pbr::all());
     v.extend(transmission::all());
+    v.extend(ibl::all());
     v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());

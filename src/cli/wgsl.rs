@@ -28,6 +28,10 @@ pub struct Args {
     /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
     #[arg(long = "variant", value_name = "NAME=CHOICE")]
     pub variants: Vec<String>,
+    /// For each variant set, pick the cheapest choice whose node-space max abs error against
+    /// the set's default is within E (measured on the spot; said on stderr).
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
     /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -67,6 +71,13 @@ pub fn run(args: &Args) -> CliResult {
             ..MaterialOptions::default()
         };
         let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
         let textures =
             matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
         let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
@@ -86,6 +97,13 @@ pub fn run(args: &Args) -> CliResult {
             ));
         }
         let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
         let options = WgslOptions {
             plan: PlanOptions {
                 outputs: args.outputs.clone(),
