@@ -24,6 +24,7 @@ pub mod pretty;
 pub mod registry;
 pub mod render;
 pub mod scene;
+pub mod specialise;
 pub mod texture;
 pub mod types;
 pub mod value;

@@ -38,6 +38,29 @@ pub struct Args {
     /// bindings, vertex layout, parameter block offsets, lights, textures.
     #[arg(long, value_name = "FILE.json")]
     pub contract: Option<PathBuf>,
+    /// Compile against the graph's own scene at its time (docs/specialise.md) and print the
+    /// rewrites on standard error: `exact` folds what the scene fixes; `approx` also applies
+    /// the threshold rewrites.
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "exact",
+          value_parser = ["exact", "approx"])]
+    pub specialise: Option<String>,
+}
+
+/// The graph of `file`, specialised for its own scene when `mode` is set.
+pub fn specialised(
+    file: &std::path::Path,
+    variants: &[String],
+    mode: Option<&str>,
+) -> Result<matgraph::Graph, String> {
+    let graph = super::load_graph_with(file, variants)?;
+    let Some(mode) = mode else {
+        return Ok(graph);
+    };
+    let (scene, _) = super::scene::resolve(&graph, file, None, super::path_policy(false))?;
+    let s = matgraph::specialise::for_scene(&graph, &scene, Some(scene.time), mode == "approx")
+        .map_err(|e| format!("{}: {e}", file.display()))?;
+    eprint!("{}", s.listing());
+    Ok(s.graph)
 }
 
 /// Compiles the graph and prints or writes the shader (and the contract).
@@ -66,7 +89,7 @@ pub fn run(args: &Args) -> CliResult {
             textures,
             ..MaterialOptions::default()
         };
-        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = specialised(file, &args.variants, args.specialise.as_deref())?;
         let textures =
             matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
         let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
@@ -85,7 +108,7 @@ pub fn run(args: &Args) -> CliResult {
                 &"--contract describes the render module: use it with --entry render (the library module shares its group-0 bindings)",
             ));
         }
-        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = specialised(file, &args.variants, args.specialise.as_deref())?;
         let options = WgslOptions {
             plan: PlanOptions {
                 outputs: args.outputs.clone(),
