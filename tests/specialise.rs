@@ -531,3 +531,44 @@ fn specialised_wgsl_validates() {
     );
     assert!(fast.source.len() < full.source.len());
 }
+
+/// `matgraph wgsl --specialise` prints the rewrites on standard error and a smaller module;
+/// `matgraph render --specialise` renders.
+#[test]
+fn the_cli_specialises_wgsl_and_render() {
+    let exe = env!("CARGO_BIN_EXE_matgraph");
+    let graph = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/water_sunshine.json");
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(exe)
+            .args(args)
+            .env("XDG_RUNTIME_DIR", "/tmp")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
+    };
+    let g = graph.to_str().unwrap();
+    let full = run(&["wgsl", g]);
+    let fast = run(&["wgsl", g, "--specialise"]);
+    let listing = String::from_utf8_lossy(&fast.stderr);
+    assert!(listing.contains("specialised 'water_sunshine'"), "{listing}");
+    assert!(listing.contains("[time]: time fixed at"), "{listing}");
+    assert!(fast.stdout.len() < full.stdout.len());
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("w.png");
+    let out = run(&[
+        "render",
+        g,
+        "--specialise",
+        "--size",
+        "24x24",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("[time]"));
+    assert!(png.exists());
+}
