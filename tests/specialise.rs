@@ -555,7 +555,10 @@ fn the_cli_specialises_wgsl_and_render() {
     let full = run(&["wgsl", g]);
     let fast = run(&["wgsl", g, "--specialise"]);
     let listing = String::from_utf8_lossy(&fast.stderr);
-    assert!(listing.contains("specialised 'water_sunshine'"), "{listing}");
+    assert!(
+        listing.contains("specialised 'water_sunshine'"),
+        "{listing}"
+    );
     assert!(listing.contains("[time]: time fixed at"), "{listing}");
     assert!(fast.stdout.len() < full.stdout.len());
     let dir = tempfile::tempdir().unwrap();
