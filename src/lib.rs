@@ -23,6 +23,7 @@ pub mod plan;
 pub mod pretty;
 pub mod registry;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod specialise;
 pub mod texture;

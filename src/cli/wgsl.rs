@@ -28,6 +28,10 @@ pub struct Args {
     /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
     #[arg(long = "variant", value_name = "NAME=CHOICE")]
     pub variants: Vec<String>,
+    /// For each variant set, pick the cheapest choice whose node-space max abs error against
+    /// the set's default is within E (measured on the spot; said on stderr).
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
     /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -46,13 +50,12 @@ pub struct Args {
     pub specialise: Option<String>,
 }
 
-/// The graph of `file`, specialised for its own scene when `mode` is set.
+/// `graph` (loaded from `file`), specialised for its own scene when `mode` is set.
 pub fn specialised(
+    graph: matgraph::Graph,
     file: &std::path::Path,
-    variants: &[String],
     mode: Option<&str>,
 ) -> Result<matgraph::Graph, String> {
-    let graph = super::load_graph_with(file, variants)?;
     let Some(mode) = mode else {
         return Ok(graph);
     };
@@ -89,7 +92,15 @@ pub fn run(args: &Args) -> CliResult {
             textures,
             ..MaterialOptions::default()
         };
-        let graph = specialised(file, &args.variants, args.specialise.as_deref())?;
+        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
+        let graph = specialised(graph, file, args.specialise.as_deref())?;
         let textures =
             matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
         let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
@@ -108,7 +119,15 @@ pub fn run(args: &Args) -> CliResult {
                 &"--contract describes the render module: use it with --entry render (the library module shares its group-0 bindings)",
             ));
         }
-        let graph = specialised(file, &args.variants, args.specialise.as_deref())?;
+        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
+        let graph = specialised(graph, file, args.specialise.as_deref())?;
         let options = WgslOptions {
             plan: PlanOptions {
                 outputs: args.outputs.clone(),
