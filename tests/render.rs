@@ -374,8 +374,8 @@ fn scene_environment_matches_the_environment() {
           { "id": "env", "type": "image_texture", "texture": "scene:environment", "inputs": { "uv": { "link": "uv.uv" } } } ],
           "outputs": [{ "name": "emission", "from": "env.color" }] }"#,
     );
-    let scene =
-        Scene::from_json(r#"{ "kind": { "ball": { "backdrop": { "enabled": false } } } }"#).unwrap();
+    let scene = Scene::from_json(r#"{ "kind": { "ball": { "backdrop": { "enabled": false } } } }"#)
+        .unwrap();
     let size = 64;
     let img = render(
         &g,
