@@ -18,7 +18,7 @@ use glam::{Vec2, Vec3};
 
 use super::image::equirect_uv_of;
 
-/// Reads component `c` … of a vec3 port at sample `i` of a tile.
+/// Reads a vec3 port at sample `i` of a tile (component `c` at `c · TILE + i`).
 #[inline]
 fn vec3_at(port: &[f32], i: usize) -> Vec3 {
     Vec3::new(port[i], port[TILE + i], port[2 * TILE + i])

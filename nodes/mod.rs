@@ -15,6 +15,7 @@ pub mod sunshine;
 pub mod texture;
 pub mod thin_film;
 pub mod toon_water;
+pub mod transmission;
 
 use crate::node::NodeType;
 
@@ -29,6 +30,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(transmission::all());
     v.extend(ibl::all());
     v.extend(bubble::all());
     v.extend(texture::all());

@@ -25,6 +25,7 @@ pub mod registry;
 pub mod render;
 pub mod report;
 pub mod scene;
+pub mod specialise;
 pub mod texture;
 pub mod types;
 pub mod value;

@@ -3,6 +3,8 @@
 //! canonical form, recovery from an autosave, and a headless snapshot of a bundled graph.
 #![cfg(feature = "editor")]
 
+mod common;
+
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -349,6 +351,47 @@ fn snapshot_of_the_editor_on_pbr_gold() {
 }
 
 #[test]
+fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
+    if !gpu_or_skip("snapshot_of_the_editor_on_toon_ball_with_node_previews") {
+        return;
+    }
+    let mut state =
+        EditorState::open(Path::new("graphs/toon_ball.json"), Registry::builtin()).unwrap();
+    state.dialog = None;
+    state.focus = Some("bands".into());
+    // Node swatches on the checker albedo (unlit) and the toon bands (lit: they read N·L).
+    state.preview.toggle_node("albedo");
+    state.preview.toggle_node("bands");
+    // View → Arrange leaves room for the swatches.
+    state.arrange();
+    // No autosave of that edit beside the bundled file.
+    state.unsaved_since = None;
+    let app = EditorApp::new(state);
+    let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
+    h.run_steps(4);
+    let start = std::time::Instant::now();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        h.state_mut().state.unsaved_since = None;
+        h.step();
+    }
+    let p = &h.state().state.preview;
+    assert!(p.texture().is_some(), "{:?}", p.message());
+    for id in ["albedo", "bands"] {
+        assert!(
+            p.node_texture(id).is_some(),
+            "{id}: {:?}",
+            p.node_message(id)
+        );
+    }
+    h.run_steps(2);
+    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(100);
+    h.snapshot_options("editor_toon_ball", &options);
+}
+
+#[test]
 fn a_wire_dropped_in_empty_space_offers_compatible_nodes_and_connects_the_pick() {
     use matgraph::SocketType;
     use matgraph::editor::search::WireFilter;
@@ -479,13 +522,9 @@ fn orbiting_rotates_the_camera_about_its_target() {
     assert_eq!(Orbit::default().camera(&base), base);
     // Yaw θ about +y through the target: x' = x cos θ + z sin θ, z' = −x sin θ + z cos θ
     // (the rotation matrix, in f64), y unchanged; zoom scales the offset.
-    let mut seed = 0x2545_f491_u32;
-    let mut next = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed as f32 / u32::MAX as f32
-    };
+    let mut rng = common::rng::Rng(0x2545_f491);
+    // A uniform f32 in [0, 1) (24 bits: f32-exact).
+    let mut next = || (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
     let mut cases = vec![(90.0f32, 1.0f32), (180.0, 1.0), (-45.0, 2.0)];
     for _ in 0..8 {
         cases.push((next() * 720.0 - 360.0, 0.25 + next() * 3.75));
@@ -593,6 +632,17 @@ fn a_parameter_change_re_renders_without_recompiling() {
     // Orbiting and time re-render the same program too.
     h.state_mut().state.preview.orbit.yaw_deg = 40.0;
     h.state_mut().state.preview.clock.time = 1.5;
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles);
+    // ▶ plays: the time advances with the frames; ⏸ stops it.
+    h.get_by_label("▶").click();
+    h.run_steps(3);
+    assert!(h.state().state.preview.clock.playing);
+    let t = h.state().state.preview.clock.time;
+    assert!(t > 1.5, "{t}");
+    h.get_by_label("⏸").click();
+    h.run();
+    assert!(!h.state().state.preview.clock.playing);
     settle(&mut h);
     assert_eq!(h.state().state.preview.compiles(), compiles);
     // A structural edit (a literal baked into the shader) rebuilds it.

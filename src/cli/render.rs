@@ -91,6 +91,12 @@ pub struct Args {
     /// Read textures, scene files and environment images outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Compile each graph against its scene first and print the rewrites
+    /// (docs/specialise.md): `exact` folds what the scene fixes; `approx` also applies the
+    /// threshold rewrites (a thick film's incoherent limit).
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "exact",
+          value_parser = ["exact", "approx"])]
+    pub specialise: Option<String>,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -266,6 +272,17 @@ pub fn run(args: &Args) -> CliResult {
             if let Some(t) = args.time {
                 scene.time = t;
             }
+            let graph = match args.specialise.as_deref() {
+                None => graph,
+                Some(mode) => {
+                    // Animated frames keep time live; a still fixes it.
+                    let time = frames.is_none().then(|| args.time.unwrap_or(scene.time));
+                    let s = matgraph::specialise::for_scene(&graph, &scene, time, mode == "approx")
+                        .map_err(|e| format!("{}: {e}", file.display()))?;
+                    progress.suspend(|| eprint!("{}", s.listing()));
+                    s.graph
+                }
+            };
             let mut options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,

@@ -138,10 +138,22 @@ pub fn depths(doc: &GraphDocument) -> Vec<usize> {
 
 /// The arranged position (top-left corner) of every node of `doc`, in node order.
 pub fn arrange(doc: &GraphDocument, registry: &Registry) -> Vec<[f32; 2]> {
+    arrange_with(doc, registry, &|_| 0.0)
+}
+
+/// [`arrange`] with `extra(id)` points added to node `id`'s height (its preview swatch).
+pub fn arrange_with(
+    doc: &GraphDocument,
+    registry: &Registry,
+    extra: &dyn Fn(&str) -> f32,
+) -> Vec<[f32; 2]> {
     let n = doc.nodes.len();
     let depth = depths(doc);
     let src = sources(doc);
-    let size = sizes(doc, registry);
+    let mut size = sizes(doc, registry);
+    for (s, node) in size.iter_mut().zip(&doc.nodes) {
+        s.1 += extra(&node.id);
+    }
     let columns = depth.iter().copied().max().map_or(0, |d| d + 1);
     let mut row = vec![0.0f32; n];
     let mut pos = vec![[0.0f32; 2]; n];
@@ -196,8 +208,17 @@ pub fn needs_arranging(doc: &GraphDocument, registry: &Registry) -> bool {
 
 /// `doc` with every node at its arranged position.
 pub fn arranged(doc: &GraphDocument, registry: &Registry) -> GraphDocument {
+    arranged_with(doc, registry, &|_| 0.0)
+}
+
+/// `doc` with every node at its [`arrange_with`] position.
+pub fn arranged_with(
+    doc: &GraphDocument,
+    registry: &Registry,
+    extra: &dyn Fn(&str) -> f32,
+) -> GraphDocument {
     let mut d = doc.clone();
-    for (n, p) in d.nodes.iter_mut().zip(arrange(doc, registry)) {
+    for (n, p) in d.nodes.iter_mut().zip(arrange_with(doc, registry, extra)) {
         n.position = Some(p);
     }
     d

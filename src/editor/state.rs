@@ -147,11 +147,20 @@ impl EditorState {
         Ok(s)
     }
 
-    /// Arranges every node ([`super::layout::arrange`]) as one undoable edit.
+    /// Arranges every node ([`super::layout::arrange`]) as one undoable edit, with room
+    /// for the preview swatches that are on.
     pub fn arrange(&mut self) {
         let registry = self.doc.registry();
+        let on: Vec<String> = self.preview.nodes_on().map(str::to_owned).collect();
+        let extra = move |id: &str| {
+            if on.iter().any(|o| o == id) {
+                super::viewer::NODE_SWATCH_POINTS + 8.0
+            } else {
+                0.0
+            }
+        };
         let _ = self.edit(None, true, |d| {
-            let arranged = super::layout::arranged(d.doc(), registry);
+            let arranged = super::layout::arranged_with(d.doc(), registry, &extra);
             d.replace(arranged);
             Ok(())
         });
