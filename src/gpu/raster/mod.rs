@@ -1041,8 +1041,8 @@ pub(crate) fn render_frame(
         let options = MaterialOptions {
             textures: m.texture_mode,
             float32_filterable: ctx.features().contains(wgpu::Features::FLOAT32_FILTERABLE),
-            // The CPU shades every sample.
-            sample_shading: spp > 1,
+            // Under MSAA the varyings are rebuilt per sample ([`material::sample_source`]).
+            sample_shading: false,
             // Displaced by `displace`, in the CPU's order (normals from the displaced mesh).
             displaced_vertices: true,
         };
@@ -1050,10 +1050,21 @@ pub(crate) fn render_frame(
         // (an animation) only write their parameters and time.
         let made = cached(
             s,
-            &format!("material/{options:?}/{}", m.graph.to_json()),
+            &format!("material/{spp}/{options:?}/{}", m.graph.to_json()),
             || -> Result<(Material, String), MaterialError> {
                 let material = Material::new(m.graph, &options)?;
-                let source = material.wgsl_with_hooks(&material::hooks())?;
+                let hooked = material.wgsl_with_hooks(&material::hooks())?;
+                let source = match spp {
+                    1 => Some(hooked),
+                    _ => material::sample_source(&hooked),
+                }
+                .ok_or_else(|| MaterialError::Shader {
+                    graph: m.graph.name.clone(),
+                    source: Box::new(crate::wgsl::ShaderError::Naga {
+                        node: None,
+                        message: "the render module has no mg_fragment entry".into(),
+                    }),
+                })?;
                 Ok((material, source))
             },
         );
@@ -1070,11 +1081,26 @@ pub(crate) fn render_frame(
                     entries: &material.bind_group_layout_entries(),
                 });
             let fm = module(s, "mgr material", source);
-            let pl = pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout]);
-            let surface = material::pipeline(s, &fm, &pl, spp);
-            (mat_layout, surface)
+            let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+            let mesh_layout = layout(
+                s,
+                "mgr mesh",
+                &[(0, vf, Kind::Storage), (1, vf, Kind::Storage)],
+            );
+            let (fs, pl) = match spp {
+                1 => (
+                    "mg_fragment",
+                    pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout]),
+                ),
+                _ => (
+                    "mgr_material_sample_fs",
+                    pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout, &mesh_layout]),
+                ),
+            };
+            let surface = material::pipeline(s, &fm, fs, &pl, spp);
+            (mat_layout, surface, mesh_layout)
         });
-        let (mat_layout, surface) = (&pipes.0, &pipes.1);
+        let (mat_layout, surface, mesh_layout) = (&pipes.0, &pipes.1, &pipes.2);
         t.compile = start.elapsed();
 
         // Buffers: group 0 of the contract, the scene's group 1, the mesh.
@@ -1117,10 +1143,15 @@ pub(crate) fn render_frame(
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("mgr material vertices"),
                     contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
-                    usage: wgpu::BufferUsages::VERTEX,
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
                 }),
             Some(_) => displace(ctx, &mut enc, material, m, &index)?,
         };
+        let mesh_group = bind(
+            s,
+            mesh_layout,
+            &[vertices.as_entire_binding(), index.as_entire_binding()],
+        );
         t.upload = start.elapsed();
 
         // 2. The scene, 3. the material surface over its depth, 4. the resolve.
@@ -1153,6 +1184,9 @@ pub(crate) fn render_frame(
             rp.set_pipeline(surface);
             rp.set_bind_group(0, &mat_group, &[]);
             rp.set_bind_group(1, &frame, &[]);
+            if spp > 1 {
+                rp.set_bind_group(2, &mesh_group, &[]);
+            }
             rp.set_vertex_buffer(0, vertices.slice(..));
             rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
             if tri_count > 0 {
