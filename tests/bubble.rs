@@ -2,6 +2,10 @@
 //! reference written here from the geometry of the problem (angles, not the nodes'
 //! vector formulas), at round and seeded random f32 points; the bubble scene; the graphs.
 
+mod common;
+
+use common::rng::Rng;
+
 use glam::{Vec2, Vec3};
 use matgraph::nodes::bubble::{
     camera_blend, film_thickness, internal_vector, motion, one_minus_exp_neg, rim, texture_flow,
@@ -12,17 +16,8 @@ use matgraph::scene::{Scene, SceneError, SceneKind};
 use matgraph::{Registry, Value};
 use std::path::Path;
 
-/// A seeded SplitMix64 generator.
-struct Rng(u64);
-
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     /// Uniform in [lo, hi], an f32.
     fn range(&mut self, lo: f64, hi: f64) -> f32 {
         let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;
@@ -443,6 +438,25 @@ fn render_at(time: f32, size: u32) -> Vec<[f32; 3]> {
     render(&graph("bubble.json"), &scene, &options)
         .unwrap()
         .pixels
+}
+
+/// `RenderOptions::time` moves the scene as well as the material: the bubble rendered at
+/// `time: Some(t)` from a scene at time 0 is the bubble of a scene at time `t`.
+#[test]
+fn the_time_override_moves_the_bubble_too() {
+    let at_four = render_at(4.0, 32);
+    let scene = Scene::preset("bubble").unwrap();
+    assert_eq!(scene.time, 0.0);
+    let options = RenderOptions {
+        width: 32,
+        height: 32,
+        time: Some(4.0),
+        ..RenderOptions::default()
+    };
+    let overridden = render(&graph("bubble.json"), &scene, &options)
+        .unwrap()
+        .pixels;
+    assert!(overridden == at_four, "time override and scene time agree");
 }
 
 #[test]

@@ -3,6 +3,8 @@
 //! canonical form, recovery from an autosave, and a headless snapshot of a bundled graph.
 #![cfg(feature = "editor")]
 
+mod common;
+
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -339,13 +341,54 @@ fn snapshot_of_the_editor_on_pbr_gold() {
     assert!(
         h.state().state.preview.texture().is_some(),
         "{:?}",
-        h.state().state.preview.message
+        h.state().state.preview.message()
     );
     h.run_steps(2);
     // Anti-aliased wires that cross blend in an order that varies run to run: 10 of the
     // 1.26 M pixels differed between two runs, so allow 100.
     let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(100);
     h.snapshot_options("editor_pbr_gold", &options);
+}
+
+#[test]
+fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
+    if !gpu_or_skip("snapshot_of_the_editor_on_toon_ball_with_node_previews") {
+        return;
+    }
+    let mut state =
+        EditorState::open(Path::new("graphs/toon_ball.json"), Registry::builtin()).unwrap();
+    state.dialog = None;
+    state.focus = Some("bands".into());
+    // Node swatches on the checker albedo (unlit) and the toon bands (lit: they read N·L).
+    state.preview.toggle_node("albedo");
+    state.preview.toggle_node("bands");
+    // View → Arrange leaves room for the swatches.
+    state.arrange();
+    // No autosave of that edit beside the bundled file.
+    state.unsaved_since = None;
+    let app = EditorApp::new(state);
+    let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
+    h.run_steps(4);
+    let start = std::time::Instant::now();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        h.state_mut().state.unsaved_since = None;
+        h.step();
+    }
+    let p = &h.state().state.preview;
+    assert!(p.texture().is_some(), "{:?}", p.message());
+    for id in ["albedo", "bands"] {
+        assert!(
+            p.node_texture(id).is_some(),
+            "{id}: {:?}",
+            p.node_message(id)
+        );
+    }
+    h.run_steps(2);
+    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(100);
+    h.snapshot_options("editor_toon_ball", &options);
 }
 
 #[test]
@@ -426,4 +469,418 @@ fn the_code_panel_highlights_the_focused_nodes_wgsl() {
             code.text
         );
     }
+}
+
+/// A harness without a renderer, preview on (renders on the GPU where there is an adapter,
+/// else on the CPU).
+fn preview_harness(mut state: EditorState) -> Harness<'static, EditorApp> {
+    state.dialog = None;
+    state.preview.enabled = true;
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_max_steps(64)
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+}
+
+/// A primary click at screen position `pos`.
+fn click_at(h: &mut Harness<'static, EditorApp>, pos: egui::Pos2) {
+    h.event(egui::Event::PointerMoved(pos));
+    h.run();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::default(),
+        });
+    }
+    h.run();
+}
+
+/// Steps `h` until the canvas and every preview swatch are settled (at most two minutes).
+fn settle(h: &mut Harness<'static, EditorApp>) {
+    let start = std::time::Instant::now();
+    h.step();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    assert!(
+        h.state().state.preview.settled(),
+        "the preview did not finish"
+    );
+}
+
+#[test]
+fn orbiting_rotates_the_camera_about_its_target() {
+    use matgraph::editor::preview::Orbit;
+    use matgraph::scene::Scene;
+    let base = Scene::preset("ball").unwrap().camera;
+    // The default orbit is the scene's camera, bit for bit.
+    assert_eq!(Orbit::default().camera(&base), base);
+    // Yaw θ about +y through the target: x' = x cos θ + z sin θ, z' = −x sin θ + z cos θ
+    // (the rotation matrix, in f64), y unchanged; zoom scales the offset.
+    let mut rng = common::rng::Rng(0x2545_f491);
+    // A uniform f32 in [0, 1) (24 bits: f32-exact).
+    let mut next = || (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
+    let mut cases = vec![(90.0f32, 1.0f32), (180.0, 1.0), (-45.0, 2.0)];
+    for _ in 0..8 {
+        cases.push((next() * 720.0 - 360.0, 0.25 + next() * 3.75));
+    }
+    for (yaw, zoom) in cases {
+        let o = Orbit {
+            yaw_deg: yaw,
+            pitch_deg: 0.0,
+            zoom,
+        };
+        let c = o.camera(&base);
+        let (t, p) = (base.target, base.position);
+        let (x, y, z) = (
+            (p[0] - t[0]) as f64,
+            (p[1] - t[1]) as f64,
+            (p[2] - t[2]) as f64,
+        );
+        let th = (yaw as f64).to_radians();
+        let k = zoom as f64;
+        let want = [
+            t[0] as f64 + k * (x * th.cos() + z * th.sin()),
+            t[1] as f64 + k * y,
+            t[2] as f64 + k * (-x * th.sin() + z * th.cos()),
+        ];
+        for a in 0..3 {
+            assert!(
+                (c.position[a] as f64 - want[a]).abs() < 2e-5 * (1.0 + k * 5.1),
+                "yaw {yaw} zoom {zoom}: {:?} vs {want:?}",
+                c.position
+            );
+        }
+        assert_eq!((c.target, c.fov_y_deg), (base.target, base.fov_y_deg));
+    }
+    // Pitch raises the elevation by its angle and keeps the distance; it stops at 85°.
+    let r = |c: &matgraph::scene::Camera| {
+        let d: Vec<f64> = (0..3)
+            .map(|a| (c.position[a] - c.target[a]) as f64)
+            .collect();
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        (len, (d[1] / len).asin().to_degrees())
+    };
+    let (r0, e0) = r(&base);
+    let (r1, e1) = r(&Orbit {
+        pitch_deg: 30.0,
+        ..Default::default()
+    }
+    .camera(&base));
+    assert!(
+        (r1 - r0).abs() < 1e-5 && (e1 - e0 - 30.0).abs() < 1e-4,
+        "{e0} {e1}"
+    );
+    let (_, e2) = r(&Orbit {
+        pitch_deg: 170.0,
+        ..Default::default()
+    }
+    .camera(&base));
+    assert!((e2 - 85.0).abs() < 1e-4, "{e2}");
+}
+
+#[test]
+fn a_parameter_change_re_renders_without_recompiling() {
+    // A copy, so that the autosave of the edits lands in the scratch folder.
+    let file = scratch("parameter").join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let state = EditorState::open(&file, Registry::builtin()).unwrap();
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    // The parameters panel lists the graph's exposed parameter (the canvas has the node
+    // and brdf's input of the same name).
+    h.get_by_label("Parameters");
+    assert_eq!(h.get_all_by_label("roughness").count(), 3);
+    let (compiles, renders, before) = {
+        let p = &h.state().state.preview;
+        assert!(p.message().is_none(), "{:?}", p.message());
+        (p.compiles(), p.renders(), p.pixels().unwrap().to_vec())
+    };
+    assert_eq!(compiles, 1, "one program for the main swatch");
+    matgraph::editor::preview_ui::set_parameter(
+        &mut h.state_mut().state,
+        "roughness",
+        "roughness",
+        serde_json::json!(0.9),
+    );
+    settle(&mut h);
+    {
+        let p = &h.state().state.preview;
+        assert_eq!(
+            p.compiles(),
+            compiles,
+            "a parameter change must not recompile"
+        );
+        assert_eq!(p.renders(), renders + 1);
+        let after = p.pixels().unwrap();
+        let changed = before.iter().zip(after).filter(|(a, b)| a != b).count();
+        assert!(
+            changed > 1000,
+            "a rougher gold ball looks different: {changed} bytes"
+        );
+    }
+    // The document holds the new value (saved with the file, undoable).
+    assert_eq!(
+        h.state().state.doc.node("roughness").unwrap().inputs["value"],
+        serde_json::json!(0.9)
+    );
+    // Orbiting and time re-render the same program too.
+    h.state_mut().state.preview.orbit.yaw_deg = 40.0;
+    h.state_mut().state.preview.clock.time = 1.5;
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles);
+    // ▶ plays: the time advances with the frames; ⏸ stops it.
+    h.get_by_label("▶").click();
+    h.run_steps(3);
+    assert!(h.state().state.preview.clock.playing);
+    let t = h.state().state.preview.clock.time;
+    assert!(t > 1.5, "{t}");
+    h.get_by_label("⏸").click();
+    h.run();
+    assert!(!h.state().state.preview.clock.playing);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles);
+    // A structural edit (a literal baked into the shader) rebuilds it.
+    h.state_mut()
+        .state
+        .set_input("brdf", "metallic", serde_json::json!(0.5), None);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles + 1);
+}
+
+#[test]
+fn a_node_preview_is_toggled_on_the_node_and_shows_the_graph_cut_there() {
+    use matgraph::editor::preview::{CUT_OUTPUT, cut_at};
+    let state = EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    // The cut graphs: the brdf reads the light, so its swatch is lit (`color`); the
+    // environment lookup does not (unlit).
+    let doc = state.doc.doc().clone();
+    let lit = cut_at(&doc, "brdf", Registry::builtin()).unwrap();
+    assert_eq!(lit.outputs().len(), 1);
+    assert_eq!(lit.outputs()[0].name, "color");
+    let unlit = cut_at(&doc, "env", Registry::builtin()).unwrap();
+    assert_eq!(unlit.outputs()[0].name, CUT_OUTPUT);
+    assert!(cut_at(&doc, "nope", Registry::builtin()).is_err());
+
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.nodes_on().count(), 0);
+    // Each node header has a toggle; click the one of the first node (geo, file order).
+    let rects: Vec<egui::Rect> = h.get_all_by_label("👁").map(|n| n.rect()).collect();
+    assert_eq!(rects.len(), 12, "one toggle per node");
+    // Accessibility rects of canvas widgets are in canvas coordinates.
+    let pos = h.state().to_screen() * rects[0].center();
+    click_at(&mut h, pos);
+    let on: Vec<String> = h
+        .state()
+        .state
+        .preview
+        .nodes_on()
+        .map(str::to_owned)
+        .collect();
+    assert_eq!(on.len(), 1, "{on:?}");
+    settle(&mut h);
+    let p = &h.state().state.preview;
+    assert!(
+        p.node_texture(&on[0]).is_some(),
+        "{:?}",
+        p.node_message(&on[0])
+    );
+    // Toggled off again from the state (the node menu does the same).
+    let id = on[0].clone();
+    h.state_mut().state.preview.toggle_node(&id);
+    h.run();
+    assert!(h.state().state.preview.node_texture(&id).is_none());
+}
+
+#[test]
+fn recent_files_are_kept_newest_first_and_open_from_the_menu() {
+    use matgraph::editor::files::{RECENT_MAX, Recent};
+    let dir = scratch("recent");
+    let store = dir.join("config").join("recent.json");
+    let mut s = untitled();
+    s.recent = Some(Recent::load(&store));
+    assert!(s.recent.as_ref().unwrap().files.is_empty());
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    s.save_as(&a).unwrap();
+    s.save_as(&b).unwrap();
+    s.save_as(&a).unwrap();
+    // Newest first, once each, absolute; and on disk.
+    let want = vec![a.clone(), b.clone()];
+    assert_eq!(s.recent.as_ref().unwrap().files, want);
+    assert_eq!(Recent::load(&store).files, want);
+    // At most RECENT_MAX.
+    let mut r = Recent::load(&dir.join("other.json"));
+    for k in 0..RECENT_MAX + 3 {
+        r.push(&dir.join(format!("g{k}.json"))).unwrap();
+    }
+    assert_eq!(r.files.len(), RECENT_MAX);
+    assert_eq!(r.files[0], dir.join(format!("g{}.json", RECENT_MAX + 2)));
+    // File → Open Recent → b.json opens it.
+    s.recent = Some(Recent::load(&store));
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("File").click();
+    h.run();
+    h.get_by_label("Open Recent ⏵").click();
+    h.run();
+    h.get_by_label(b.display().to_string().as_str()).click();
+    h.run();
+    assert_eq!(h.state().state.path.as_deref(), Some(b.as_path()));
+    assert_eq!(
+        Recent::load(&store).files[..2],
+        [b.clone(), a.clone()],
+        "opening puts it first"
+    );
+}
+
+/// Sets `path`'s modification time `secs` seconds ahead (file systems with coarse times).
+fn touch_ahead(path: &Path, secs: u64) {
+    let f = std::fs::File::options().write(true).open(path).unwrap();
+    f.set_modified(std::time::SystemTime::now() + std::time::Duration::from_secs(secs))
+        .unwrap();
+}
+
+#[test]
+fn a_file_changed_on_disk_is_reloaded_or_asked_about() {
+    use matgraph::editor::state::DISK_POLL;
+    let dir = scratch("reload");
+    let file = dir.join("g.json");
+    let mut s = untitled();
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    s.save_as(&file).unwrap();
+    let mut now = 10.0;
+    assert!(!s.check_disk(now), "unchanged");
+    // Another program writes the file: reloaded, no question (nothing unsaved).
+    let mut other = untitled();
+    other.add_node("geometry", [0.0, 0.0]).unwrap();
+    other.add_node("checker", [300.0, 0.0]).unwrap();
+    other.save_as(&file).unwrap();
+    touch_ahead(&file, 5);
+    now += DISK_POLL / 2.0;
+    assert!(!s.check_disk(now), "not polled again this soon");
+    now += DISK_POLL;
+    assert!(s.check_disk(now));
+    assert_eq!(node_types(&s), ["geometry", "checker"]);
+    assert!(!s.dirty());
+    // With unsaved changes it asks; "Keep mine" keeps them.
+    s.remove_nodes(&["checker".to_owned()]);
+    touch_ahead(&file, 10);
+    now += DISK_POLL;
+    assert!(!s.check_disk(now));
+    assert!(matches!(s.dialog, Some(Dialog::Changed { .. })));
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("Keep mine").click();
+    h.run();
+    assert!(h.state().state.dialog.is_none());
+    assert_eq!(node_types(&h.state().state), ["geometry"]);
+    // Asked once per change: no new question until the file changes again.
+    let s = &mut h.state_mut().state;
+    assert!(!s.check_disk(now + 2.0 * DISK_POLL) && s.dialog.is_none());
+    touch_ahead(&file, 20);
+    s.check_disk(now + 4.0 * DISK_POLL);
+    assert!(matches!(s.dialog, Some(Dialog::Changed { .. })));
+    h.run();
+    h.get_by_label("Reload (drop my changes)").click();
+    h.run();
+    assert_eq!(node_types(&h.state().state), ["geometry", "checker"]);
+    assert!(!h.state().state.dirty());
+}
+
+#[test]
+fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
+    use matgraph::editor::layout::{ROW_GAP, depths, needs_arranging, node_height};
+    let registry = Registry::builtin();
+    let file = matgraph::editor::files::open(Path::new("graphs/pbr_gold.json")).unwrap();
+    // The bundled file has overlapping nodes (brdf and radiance, 160 apart).
+    assert!(needs_arranging(&file, registry));
+    let s = EditorState::open(Path::new("graphs/pbr_gold.json"), registry).unwrap();
+    let doc = s.doc.doc();
+    assert!(!needs_arranging(doc, registry), "arranged on open");
+    assert!(!s.dirty(), "the layout alone does not make the graph dirty");
+    assert!(s.status.as_deref().unwrap().contains("arranged"));
+    // Longest-path depths of pbr_gold, by hand: geo, roughness 0; incident, n_dot_v,
+    // env_lod, brdf 1; mirror, env_fresnel, radiance 2; env_uv 3; env 4; reflection 5.
+    let want = [
+        ("geo", 0),
+        ("roughness", 0),
+        ("brdf", 1),
+        ("radiance", 2),
+        ("incident", 1),
+        ("mirror", 2),
+        ("env_uv", 3),
+        ("env_lod", 1),
+        ("env", 4),
+        ("n_dot_v", 1),
+        ("env_fresnel", 2),
+        ("reflection", 5),
+    ];
+    let depth = depths(doc);
+    let mut column_x = [f32::NAN; 6];
+    for (id, d) in want {
+        let k = s.doc.index(id).unwrap();
+        assert_eq!(depth[k], d, "{id}");
+        // One x per column, left to right by depth.
+        let [x, _] = doc.nodes[k].position.unwrap();
+        if column_x[d].is_nan() {
+            column_x[d] = x;
+        }
+        assert_eq!(x, column_x[d], "{id}");
+    }
+    assert_eq!(column_x[0], 0.0);
+    assert!(
+        column_x.windows(2).all(|w| w[0] + 160.0 < w[1]),
+        "{column_x:?}"
+    );
+    // A column stacks its nodes with the gap: the two sources, geo (8 outputs) above
+    // roughness (first in file order, same barycentre rule).
+    let y = |id: &str| s.doc.node(id).unwrap().position.unwrap()[1];
+    let outputs = registry.get("geometry").unwrap().outputs().len();
+    assert_eq!(outputs, 8);
+    assert_eq!(y("geo"), 0.0);
+    assert_eq!(y("roughness"), 30.0 + 18.0 * 8.0 + ROW_GAP);
+    assert_eq!(node_height(0, 8), 174.0);
+    // View → Arrange on a graph with no positions is one undoable edit.
+    let mut u = untitled();
+    u.add_node("geometry", [0.0, 0.0]).unwrap();
+    u.add_node("dot", [0.0, 0.0]).unwrap();
+    u.connect("geometry", "normal", "dot", "a").unwrap();
+    u.arrange();
+    let [x, y] = u.doc.node("dot").unwrap().position.unwrap();
+    assert!(x >= 160.0 + 60.0 && y == 0.0, "{x} {y}");
+    assert_eq!(u.doc.node("geometry").unwrap().position, Some([0.0, 0.0]));
+    u.undo();
+    assert_eq!(u.doc.node("dot").unwrap().position, Some([0.0, 0.0]));
+}
+
+#[test]
+fn edit_arrange_rewrites_the_file_arranged_and_canonical() {
+    let dir = scratch("arrange");
+    let file = dir.join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(["edit", "--arrange"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc = matgraph::GraphDocument::parse(&text).unwrap();
+    assert!(!matgraph::editor::layout::needs_arranging(
+        &doc,
+        Registry::builtin()
+    ));
+    let g = matgraph::Graph::from_json(&text, Registry::builtin()).unwrap();
+    assert_eq!(g.to_json(), text, "canonical");
 }

@@ -11,6 +11,8 @@
 //! with its reason. Run with `-- --nocapture` to see the measured errors.
 
 mod common;
+
+use common::rng::Rng;
 use common::{bundled_graphs, gpu_context as context};
 
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
@@ -100,17 +102,8 @@ impl Errors {
     }
 }
 
-/// A seeded SplitMix64 generator.
-struct Rng(u64);
-
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     /// Uniform in [lo, hi].
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         let u = (self.next() >> 40) as f64 / (1u64 << 24) as f64;

@@ -1,5 +1,6 @@
 //! The GPU rasteriser (`render --gpu`) against the CPU reference renderer: every bundled
-//! graph (the bubble scene's backdrop included) at 1 and 4 samples per pixel, a displaced
+//! graph (the bubble scene's backdrop included) at 1 and 4 samples per pixel in both texture
+//! modes (exact within the bound, hardware within its stated bound), a displaced
 //! graph at 1 and 4 (displacement and normals on the GPU), every sample count 1, 2, 3, 4,
 //! 8 (MSAA where the device has it, jittered passes elsewhere), an image environment, a
 //! frame drawn in tiles under a forced tile limit, the proof that the GPU path never uses
@@ -22,6 +23,7 @@ use matgraph::gpu::Backend;
 use matgraph::render::{HdrImage, RenderOptions, render_timed};
 use matgraph::scene::{Mesh, Scene, cpu_raster_frames};
 use matgraph::texture::{Image, Texture};
+use matgraph::wgsl::TextureMode;
 use matgraph::{Graph, Registry};
 use std::path::Path;
 use std::sync::Arc;
@@ -38,6 +40,17 @@ fn scene_of(graph: &Graph) -> Scene {
 }
 
 fn options(graph: &Graph, path: Option<&Path>, spp: u32, backend: Backend) -> RenderOptions {
+    options_in(graph, path, spp, backend, TextureMode::Exact)
+}
+
+/// [`options`] with the GPU rasteriser's texture mode.
+fn options_in(
+    graph: &Graph,
+    path: Option<&Path>,
+    spp: u32,
+    backend: Backend,
+    texture_mode: TextureMode,
+) -> RenderOptions {
     let textures = match path {
         Some(p) => matgraph::image_io::load_graph_textures(graph, p).unwrap(),
         None => Default::default(),
@@ -48,6 +61,7 @@ fn options(graph: &Graph, path: Option<&Path>, spp: u32, backend: Backend) -> Re
         samples: spp,
         backend,
         textures: Some(Arc::new(textures)),
+        texture_mode,
         ..RenderOptions::default()
     }
 }
@@ -85,15 +99,33 @@ fn parity(cpu: &HdrImage, gpu: &HdrImage, mask: &[bool]) -> (f64, f64, f64) {
 }
 
 fn assert_parity(name: &str, spp: u32, cpu: &HdrImage, gpu: &HdrImage, mask: &[bool]) {
+    assert_parity_within(name, spp, cpu, gpu, mask, (1.0, 0.999));
+}
+
+/// The hardware texture mode's bound against the CPU (RMSE in 1/255, fraction within 2/255
+/// outside edges), stated in docs/integration.md and docs/rendering.md: 8-bit and 16-bit
+/// float texels and the samplers' 8-bit filter weights flip alpha-tested sparkles (measured
+/// on lavapipe: water_sunshine RMSE 1.12/255 at 1 spp, 99.897 % within 2/255 at 4 spp; the
+/// smooth materials at most RMSE 0.11/255, every pixel within 2/255).
+const HARDWARE_BOUND: (f64, f64) = (2.0, 0.995);
+
+fn assert_parity_within(
+    name: &str,
+    spp: u32,
+    cpu: &HdrImage,
+    gpu: &HdrImage,
+    mask: &[bool],
+    (max_rmse, min_within): (f64, f64),
+) {
     let (rmse, within, edges) = parity(cpu, gpu, mask);
     println!(
         "{name:>16} {spp} spp: RMSE {rmse:.3}/255, {:.3} % within 2/255 outside edges, edges {:.2} %",
         within * 100.0,
         edges * 100.0
     );
-    assert!(rmse <= 1.0, "{name} at {spp} spp: RMSE {rmse:.3}/255");
+    assert!(rmse <= max_rmse, "{name} at {spp} spp: RMSE {rmse:.3}/255");
     assert!(
-        within >= 0.999,
+        within >= min_within,
         "{name} at {spp} spp: {within} within 2/255"
     );
     assert!(edges <= 0.01, "{name} at {spp} spp: edge mask {edges}");
@@ -128,6 +160,21 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
                 .entry(key)
                 .or_insert_with(|| edge_mask(&scene, &scene.material_mesh()));
             assert_parity(&graph.name, spp, &cpu, &gpu, mask);
+            // The default texture mode, within its stated bound.
+            let (hw, _) = render_timed(
+                &graph,
+                &scene,
+                &options_in(
+                    &graph,
+                    Some(&path),
+                    spp,
+                    Backend::Gpu,
+                    TextureMode::Hardware,
+                ),
+            )
+            .unwrap();
+            let name = format!("{} (hardware)", graph.name);
+            assert_parity_within(&name, spp, &cpu, &hw, mask, HARDWARE_BOUND);
         }
     }
 }

@@ -11,6 +11,10 @@
 //!
 //! `cargo test --test math_ops -- --nocapture` prints the largest error per node.
 
+mod common;
+
+use common::rng::Rng;
+
 use matgraph::{Graph, Plan, PlanOptions, Registry, SampleBatch, SocketType};
 use serde_json::json;
 use std::collections::BTreeMap;
@@ -32,16 +36,8 @@ const GENERICS: [SocketType; 4] = [
 // Harness
 // ------------------------------------------------------------------------------------------
 
-/// A seeded SplitMix64 generator.
-struct Rng(u64);
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
         (self.next() >> 11) as f64 / (1u64 << 53) as f64

@@ -13,6 +13,10 @@
 //!
 //! `cargo test --test physics_pointwise -- --nocapture` prints the largest error per node.
 
+mod common;
+
+use common::rng::Rng;
+
 use glam::Vec3;
 use matgraph::nodes::{optics, pbr, skin};
 use matgraph::{Graph, Plan, PlanOptions, Registry, SampleBatch};
@@ -31,16 +35,8 @@ const N: usize = 20_000;
 // Harness
 // ------------------------------------------------------------------------------------------
 
-/// A seeded SplitMix64 generator.
-struct Rng(u64);
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
     /// Uniform in [lo, hi], rounded to f32.
     fn f(&mut self, lo: f64, hi: f64) -> f32 {
         let u = (self.next() >> 11) as f64 / (1u64 << 53) as f64;

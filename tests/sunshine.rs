@@ -488,7 +488,7 @@ fn the_band_sits_where_the_mip_level_puts_it_and_moves_as_the_camera_rises() {
             let (Some(v), Some(l)) = (p, lod(y)) else {
                 continue;
             };
-            if l < 0.0 || l > 5.0 {
+            if !(0.0..=5.0).contains(&l) {
                 assert!(
                     *v < peak_value / 10.0,
                     "camera {height} m, row {y} (λ = {l:.2}): {v}"

@@ -7,7 +7,9 @@
 //! `MATGRAPH_REQUIRE_GPU` is set. Run with `-- --nocapture` to see the measured errors.
 
 mod common;
+
 use common::gpu_context as context;
+use common::rng::Rng;
 
 use glam::{Vec2, Vec4};
 use matgraph::gpu::{GpuContext, GpuPlan};
@@ -25,17 +27,8 @@ const REL: f64 = 1e-4;
 /// Random samples compared.
 const RANDOM_SAMPLES: usize = 20_000;
 
-/// A seeded SplitMix64 generator.
-struct Rng(u64);
-
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     /// Uniform in [lo, hi].
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         let u = (self.next() >> 40) as f64 / (1u64 << 24) as f64;

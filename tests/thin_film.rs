@@ -4,6 +4,10 @@
 //! f64 numerical integration of Belcour & Barla's Fourier series, CIEDE2000 against Sharma
 //! et al.'s test data, and the methods' colour error against the spectral reference.
 
+mod common;
+
+use common::rng::Rng;
+
 #[path = "thin_film/ciede2000.rs"]
 mod ciede2000;
 
@@ -14,17 +18,8 @@ use matgraph::nodes::thin_film::{
     SRGB_WEIGHTS, airy, thin_film,
 };
 
-/// A seeded SplitMix64 generator drawing f32-exact values.
-struct Rng(u64);
-
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     /// Uniform f32 in [lo, hi].
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         let u = (self.next() >> 40) as f32 / (1u64 << 24) as f32;
@@ -494,8 +489,8 @@ fn rgb3_is_the_film_at_three_wavelengths() {
             rng.range(1.0, 2.5),
         );
         let (r, _) = thin_film(cos, d, nf, 1.0, 1.0, RGB3);
-        for c in 0..3 {
-            let (want, _) = abeles(cos as f64, RGB3_NM[c] as f64, d as f64, nf as f64, 1.0, 1.0);
+        for (c, nm) in RGB3_NM.iter().enumerate() {
+            let (want, _) = abeles(cos as f64, *nm as f64, d as f64, nf as f64, 1.0, 1.0);
             assert!(
                 (v3(r)[c] - want).abs() < 2e-5,
                 "cos {cos} d {d} nf {nf}: {r} vs {want}"

@@ -3,23 +3,18 @@
 //! and the sky light against closed forms, the paper's presets, and the bundled graphs
 //! checking and rendering deterministically.
 
+mod common;
+
+use common::rng::Rng;
+
 use matgraph::node::NodeType;
 use matgraph::nodes::toon_water::{DEFAULT_WAVES, GRAVITY, Wave, gerstner, wave};
 use matgraph::render::{RenderOptions, graph_scene, render};
 use matgraph::{Registry, SocketType, Value};
 use std::path::Path;
 
-/// SplitMix64, for seeded f32-exact random inputs.
-struct Rng(u64);
-
+/// The draws these tests make from the shared seeded generator.
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
     /// A uniform f32 in [lo, hi).
     fn f32(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * ((self.next() >> 40) as f32 / (1u64 << 24) as f32)

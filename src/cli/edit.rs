@@ -18,6 +18,10 @@ pub struct Args {
     /// Show the generated-code panel (WGSL) in the screenshot, the code of this node highlighted.
     #[arg(long, value_name = "NODE")]
     pub code: Option<String>,
+    /// Arrange the file's nodes (layered by link depth, left to right, as View → Arrange)
+    /// and write it back in canonical form, without opening a window.
+    #[arg(long, conflicts_with = "screenshot")]
+    pub arrange: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -35,6 +39,25 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
 /// Opens the editor window, or writes the screenshot.
 pub fn run(args: &Args) -> CliResult {
     use matgraph::editor;
+    if args.arrange {
+        let file = args
+            .file
+            .as_ref()
+            .ok_or("matgraph edit --arrange: give the graph file")?;
+        let registry = matgraph::Registry::builtin();
+        let doc = editor::files::open(file)?;
+        let arranged = editor::layout::arranged(&doc, registry);
+        let graph = matgraph::Graph::from_document(&arranged, registry).map_err(|errors| {
+            matgraph::error::GraphErrors {
+                source: file.clone(),
+                errors,
+            }
+            .to_string()
+        })?;
+        editor::files::save(file, &graph.to_json())?;
+        println!("{}: arranged {} nodes", file.display(), doc.nodes.len());
+        return Ok(());
+    }
     let Some(out) = &args.screenshot else {
         return editor::run_window(args.file.as_deref()).map_err(|e| e.to_string());
     };

@@ -5,7 +5,7 @@
 use super::code::{TARGETS, extension, node_lines};
 use super::search_ui::{self, SearchState};
 use super::state::{Dialog, EditorState, Pending};
-use super::viewer::{Action, Viewer};
+use super::viewer::{Action, Swatch, Viewer};
 use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
@@ -58,6 +58,18 @@ impl EditorApp {
         self.revealed >= self.state.doc.doc().nodes.len() && self.frame_in == 0
     }
 
+    /// Arranges the nodes (View → Arrange) and frames them.
+    pub fn arrange(&mut self) {
+        self.state.arrange();
+        self.frame_all();
+    }
+
+    /// The canvas → screen transform of the last frame (accessibility rects of canvas
+    /// widgets are in canvas coordinates).
+    pub fn to_screen(&self) -> egui::emath::TSTransform {
+        self.to_screen
+    }
+
     /// Fits the view to every node (View → Frame all, Home), on the next frame.
     pub fn frame_all(&mut self) {
         self.frame_in = 1;
@@ -98,12 +110,23 @@ impl EditorApp {
         }
         let now = ctx.input(|i| i.time);
         self.state.tick(now);
+        if self.state.check_disk(now) {
+            // The reloaded file's nodes are shown one per frame again.
+            self.revealed = 0;
+        }
+        if self.state.path.is_some() {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(super::state::DISK_POLL));
+        }
         if self.state.unsaved_since.is_some() {
             ctx.request_repaint_after(std::time::Duration::from_millis(500));
         }
-        let graph = self.state.doc.graph().cloned();
-        let path = self.state.path.clone();
-        self.state.preview.poll(&ctx, graph.as_ref(), path.as_ref());
+        if self.state.preview.clock.advance(now) {
+            ctx.request_repaint();
+        }
+        let s = &mut self.state;
+        let registry = s.doc.registry();
+        s.preview
+            .poll(&ctx, s.doc.doc(), s.doc.graph(), registry, s.path.as_ref());
     }
 
     /// The window title: the graph's name, its file and a star when unsaved.
@@ -140,6 +163,7 @@ impl EditorApp {
             to_screen: None,
             shader_error: shader_error.and_then(|(n, m)| Some((n?, m))),
             set_transform: None,
+            swatches: self.node_swatches(),
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = Self::fit(self.nodes_rect, self.canvas_rect);
@@ -203,6 +227,21 @@ impl EditorApp {
             actions.push(Action::Focus(selected[0].clone()));
         }
         actions
+    }
+
+    /// The swatches of the nodes whose preview is on.
+    fn node_swatches(&self) -> std::collections::BTreeMap<String, Swatch> {
+        let p = &self.state.preview;
+        p.nodes_on()
+            .map(|id| {
+                let s = match (p.node_message(id), p.node_texture(id)) {
+                    (Some(m), _) => Swatch::Message(m.to_owned()),
+                    (None, Some(t)) => Swatch::Image(t.id()),
+                    (None, None) => Swatch::Pending,
+                };
+                (id.to_owned(), s)
+            })
+            .collect()
     }
 
     /// The shader generator's error (with its node, when known) while the graph validates.
@@ -281,6 +320,7 @@ impl EditorApp {
                 }
                 Action::Focus(id) => s.focus = Some(id),
                 Action::Remove(ids) => s.remove_nodes(&ids),
+                Action::TogglePreview(id) => s.preview.toggle_node(&id),
                 Action::Duplicate(ids) => {
                     let copies = s.duplicate(&ids);
                     if let Some(c) = copies.first() {
@@ -352,6 +392,24 @@ impl EditorApp {
                             path: String::new(),
                         });
                     }
+                    let recent = self
+                        .state
+                        .recent
+                        .as_ref()
+                        .map(|r| r.files.clone())
+                        .unwrap_or_default();
+                    ui.add_enabled_ui(!recent.is_empty(), |ui| {
+                        ui.menu_button("Open Recent", |ui| {
+                            for f in recent {
+                                if ui.button(f.display().to_string()).clicked() {
+                                    ui.close();
+                                    if let Some(p) = self.state.request(Pending::Open(f)) {
+                                        self.run_pending(p, ui.ctx());
+                                    }
+                                }
+                            }
+                        });
+                    });
                     if ui.button("Save  (Ctrl+S)").clicked() {
                         let _ = self.state.save();
                     }
@@ -392,6 +450,10 @@ impl EditorApp {
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
                         self.frame_all();
+                    }
+                    if ui.button("Arrange").clicked() {
+                        self.arrange();
+                        ui.close();
                     }
                     ui.checkbox(&mut self.state.code.open, "Generated code");
                     ui.checkbox(&mut self.state.preview.enabled, "Preview");
@@ -457,20 +519,16 @@ impl EditorApp {
             .resizable(true)
             .default_size(300.0)
             .show(ui, |ui| {
-                ui.strong("Preview (CPU)");
-                match (self.state.preview.texture(), &self.state.preview.message) {
-                    (_, Some(m)) => {
-                        ui.label(m);
-                    }
-                    (Some(t), None) => {
-                        ui.image((t.id(), egui::vec2(192.0, 192.0)));
-                    }
-                    (None, None) if self.state.preview.enabled => {
-                        ui.label("rendering…");
-                    }
-                    _ => {
-                        ui.weak("off");
-                    }
+                super::preview_ui::preview_panel(ui, &mut self.state);
+                let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+                if self
+                    .state
+                    .doc
+                    .graph()
+                    .is_some_and(|g| !g.parameters().is_empty())
+                {
+                    ui.separator();
+                    super::preview_ui::parameters_panel(ui, &mut self.state, hard);
                 }
                 ui.separator();
                 egui::ScrollArea::vertical().show(ui, |ui| self.inspector(ui));
@@ -658,6 +716,7 @@ impl EditorApp {
         };
         let mut keep = true;
         let mut run = None;
+        let mut reload = false;
         egui::Modal::new(egui::Id::new("matgraph-dialog")).show(ctx, |ui| match &mut dialog {
             Dialog::Recover { path, doc } => {
                 ui.heading("Recover unsaved changes?");
@@ -697,6 +756,22 @@ impl EditorApp {
                     }
                 });
             }
+            Dialog::Changed { path } => {
+                ui.heading("Changed on disk");
+                ui.label(format!(
+                    "{} changed on disk, and this graph has unsaved changes.",
+                    path.display()
+                ));
+                ui.horizontal(|ui| {
+                    if ui.button("Reload (drop my changes)").clicked() {
+                        reload = true;
+                        keep = false;
+                    }
+                    if ui.button("Keep mine").clicked() {
+                        keep = false;
+                    }
+                });
+            }
             Dialog::SaveAs { path } | Dialog::Open { path } => {
                 ui.label("File:");
                 ui.text_edit_singleline(path);
@@ -716,7 +791,10 @@ impl EditorApp {
             let _ = self.state.save_as(p);
             run = None;
         }
-        if keep {
+        if reload {
+            self.state.reload();
+            self.revealed = 0;
+        } else if keep {
             self.state.dialog = Some(dialog);
         } else if let Some(p) = run {
             match (&dialog, p) {

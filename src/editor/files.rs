@@ -49,3 +49,62 @@ pub fn pending_recovery(file: Option<&Path>, current: &str) -> Option<(PathBuf, 
 pub fn discard_recovery(file: Option<&Path>) {
     let _ = std::fs::remove_file(recovery_path(file));
 }
+
+/// How many files File → Open Recent lists.
+pub const RECENT_MAX: usize = 10;
+
+/// The file the recent-files list is kept in: `matgraph/recent.json` in the OS config
+/// folder (`$XDG_CONFIG_HOME`, else `~/.config`; `%APPDATA%` on Windows), else
+/// `matgraph-recent.json` in the temporary folder.
+pub fn recent_list_path() -> PathBuf {
+    let config = std::env::var_os("XDG_CONFIG_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("APPDATA").map(PathBuf::from))
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")));
+    match config {
+        Some(c) => c.join("matgraph").join("recent.json"),
+        None => std::env::temp_dir().join("matgraph-recent.json"),
+    }
+}
+
+/// The recently opened or saved graph files, newest first, kept in a JSON list.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recent {
+    /// Where the list is stored.
+    pub store: PathBuf,
+    /// The files, newest first, at most [`RECENT_MAX`].
+    pub files: Vec<PathBuf>,
+}
+
+impl Recent {
+    /// The list stored at `store` (empty when it is missing or unreadable).
+    pub fn load(store: &Path) -> Recent {
+        let files = crate::io::read_text(store)
+            .ok()
+            .and_then(|t| serde_json::from_str::<Vec<PathBuf>>(&t).ok())
+            .unwrap_or_default();
+        Recent {
+            store: store.to_owned(),
+            files,
+        }
+    }
+
+    /// Puts `file` first (absolute, once) and writes the list; the message names the store.
+    pub fn push(&mut self, file: &Path) -> Result<(), String> {
+        let file = std::path::absolute(file).unwrap_or_else(|_| file.to_owned());
+        self.files.retain(|f| f != &file);
+        self.files.insert(0, file);
+        self.files.truncate(RECENT_MAX);
+        if let Some(dir) = self.store.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        let text = serde_json::to_string_pretty(&self.files).map_err(|e| e.to_string())?;
+        save(&self.store, &(text + "\n"))
+    }
+}
+
+/// The modification time of `path`, if it can be read.
+pub fn modified(path: &Path) -> Option<std::time::SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}

@@ -4,15 +4,17 @@
 //!
 //! Modules: [`model`] (the document and its validation), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`] and [`viewer`] (the canvas), [`widgets`] (value editors),
-//! [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
-//! (CPU swatch), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
+//! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
+//! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
 pub mod code;
 pub mod files;
 pub mod headless;
+pub mod layout;
 pub mod model;
 pub mod preview;
+pub mod preview_ui;
 pub mod search;
 pub mod search_ui;
 pub mod state;
@@ -86,7 +88,13 @@ pub fn run_window(file: Option<&Path>) -> Result<(), EditorError> {
     if !has_display() {
         return Err(EditorError::NoDisplay);
     }
-    let app = EditorApp::new(state_for(file)?);
+    let mut state = state_for(file)?;
+    let mut recent = files::Recent::load(&files::recent_list_path());
+    if let Some(f) = file.filter(|f| f.exists()) {
+        let _ = recent.push(f);
+    }
+    state.recent = Some(recent);
+    let app = EditorApp::new(state);
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default().with_inner_size([1400.0, 900.0]),
         ..Default::default()

@@ -1,33 +1,224 @@
-//! The preview swatch: the graph rendered in its scene on the CPU ([`crate::render`]) at low
-//! resolution, off the UI thread, until the GPU preview lands. One render runs at a time; a
-//! change during it starts the next render when it finishes, with the newest document.
+//! The live preview: the graph rendered in its scene (ball, water, bubble) by
+//! [`crate::render`] on the GPU rasteriser (`Backend::Gpu`, the process-wide
+//! [`GpuContext`]), or by the CPU renderer when there is no adapter, off the UI thread. The
+//! pixels are uploaded as an egui texture.
+//!
+//! A render is keyed by what it shows ([`Request`]): the graph's *structure* (the document
+//! without node positions and without the values of exposed parameters), the parameter
+//! values, the orbit camera, the time and the size. The graph a slot renders (its
+//! *program*) is rebuilt only when the structure changes ([`Preview::compiles`] counts the
+//! rebuilds); a parameter change renders the same program with new [`crate::ParamValues`],
+//! which the GPU path writes into the parameter uniform of the pipeline it already has
+//! (cached by its shader source) and the CPU path passes to the executor.
+//!
+//! Besides the main swatch, any node can have a swatch of its own ([`Preview::toggle_node`],
+//! as in Blender): the graph cut at the node's first output ([`cut_at`]).
 
+use crate::document::{GraphDocument, OutputDocument};
+use crate::gpu::{Backend, GpuContext};
 use crate::graph::Graph;
-use crate::render::{RenderOptions, graph_scene, render};
-use crate::scene::Scene;
+use crate::node::Attribute;
+use crate::plan::{Plan, PlanOptions};
+use crate::registry::Registry;
+use crate::render::{RenderOptions, graph_scene, render_timed};
+use crate::scene::{Camera, Scene};
+use crate::value::Value;
+use glam::Vec3;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::PathBuf;
+use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
-/// Side of the swatch in pixels.
+/// Side of the main swatch in pixels.
 pub const SIZE: u32 = 128;
 
-/// A finished render: the revision it shows, and its sRGB pixels or why it failed.
-type Finished = (u64, Result<Vec<[u8; 3]>, String>);
+/// Side of a node's swatch in pixels.
+pub const NODE_SIZE: u32 = 64;
 
-/// The swatch's state.
+/// The graph output a node swatch shows: `color` (lit, summed over the scene's lights)
+/// when the cut graph reads `light` or `light_color`, else this name (shown unlit).
+pub const CUT_OUTPUT: &str = "preview";
+
+/// The orbit camera: yaw and pitch about the scene camera's target, and a distance factor,
+/// relative to the scene's own camera (the default shows it unchanged).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Orbit {
+    /// Rotation about the vertical axis through the target, degrees.
+    pub yaw_deg: f32,
+    /// Elevation added to the camera's, degrees.
+    pub pitch_deg: f32,
+    /// Distance to the target over the scene camera's.
+    pub zoom: f32,
+}
+
+impl Default for Orbit {
+    fn default() -> Self {
+        Orbit {
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            zoom: 1.0,
+        }
+    }
+}
+
+/// Elevation limit of the orbit, degrees (the camera stays off the poles).
+pub const MAX_ELEVATION_DEG: f32 = 85.0;
+
+/// Distance factor limits of the orbit.
+pub const ZOOM_RANGE: (f32, f32) = (0.25, 4.0);
+
+impl Orbit {
+    /// `base` moved on the sphere about its target: spherical coordinates (azimuth about
+    /// +y, elevation, radius) of `position − target`, the yaw and pitch added (elevation
+    /// within ±[`MAX_ELEVATION_DEG`]), the radius scaled by `zoom`. The default orbit
+    /// returns `base` unchanged.
+    pub fn camera(&self, base: &Camera) -> Camera {
+        if *self == Orbit::default() {
+            return *base;
+        }
+        let target = Vec3::from(base.target);
+        let offset = Vec3::from(base.position) - target;
+        let r = offset.length();
+        if r <= 0.0 || !r.is_finite() {
+            return *base;
+        }
+        let azimuth = offset.x.atan2(offset.z) + self.yaw_deg.to_radians();
+        let limit = MAX_ELEVATION_DEG.to_radians();
+        let elevation = ((offset.y / r).clamp(-1.0, 1.0).asin() + self.pitch_deg.to_radians())
+            .clamp(-limit, limit);
+        let d = r * self.zoom;
+        let dir = Vec3::new(
+            elevation.cos() * azimuth.sin(),
+            elevation.sin(),
+            elevation.cos() * azimuth.cos(),
+        );
+        Camera {
+            position: (target + d * dir).to_array(),
+            ..*base
+        }
+    }
+
+    /// Applies a pointer drag of `dx, dy` points (half a degree per point; dragging right
+    /// turns the scene right, dragging down looks from higher up).
+    pub fn drag(&mut self, dx: f32, dy: f32) {
+        self.yaw_deg = (self.yaw_deg - 0.5 * dx) % 360.0;
+        self.pitch_deg = (self.pitch_deg + 0.5 * dy).clamp(-180.0, 180.0);
+    }
+
+    /// Applies a scroll of `dy` points (up zooms in: the distance × e^(−dy/200)), within
+    /// [`ZOOM_RANGE`].
+    pub fn scroll(&mut self, dy: f32) {
+        self.zoom = (self.zoom * (-dy / 200.0).exp()).clamp(ZOOM_RANGE.0, ZOOM_RANGE.1);
+    }
+}
+
+/// What one render shows; a slot re-renders when its wanted request differs from the one
+/// shown.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request {
+    /// The structure key ([`structure_key`]).
+    pub structure: String,
+    /// Exposed parameter values.
+    pub params: Vec<(String, Value)>,
+    /// The orbit camera.
+    pub orbit: Orbit,
+    /// Scene time, seconds.
+    pub time: f32,
+    /// Side in pixels.
+    pub size: u32,
+}
+
+/// A slot: `None` is the main swatch, `Some(id)` node `id`'s.
+type Slot = Option<String>;
+
+/// One render for the worker.
+struct Job {
+    slot: Slot,
+    request: Request,
+    graph: Arc<Graph>,
+    file: Option<PathBuf>,
+    cpu_only: bool,
+    queued: Instant,
+}
+
+/// A finished render.
+struct Done {
+    slot: Slot,
+    request: Request,
+    result: Result<Rendered, String>,
+    latency: Duration,
+}
+
+/// The pixels of a finished render and where they were drawn.
+struct Rendered {
+    rgba: Vec<u8>,
+    size: u32,
+    backend: String,
+}
+
+/// The state of one swatch.
+#[derive(Default)]
+struct SlotState {
+    /// Structure key and the graph built for it.
+    program: Option<(String, Arc<Graph>)>,
+    /// The request being rendered.
+    running: Option<Request>,
+    /// The request shown (rendered, or failed with `message`).
+    shown: Option<Request>,
+    texture: Option<egui::TextureHandle>,
+    /// The RGBA8 pixels of the texture.
+    rgba: Vec<u8>,
+    message: Option<String>,
+    backend: String,
+    latency: Option<Duration>,
+}
+
+/// The preview's time: a slider, and play/pause.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Clock {
+    /// Scene time, seconds.
+    pub time: f32,
+    /// Whether time advances with the wall clock.
+    pub playing: bool,
+    last: Option<f64>,
+}
+
+/// The end of the time slider, seconds (playing wraps to 0 there).
+pub const TIME_SPAN: f32 = 20.0;
+
+impl Clock {
+    /// Advances the time to egui time `now` (seconds) while playing; whether it moved.
+    pub fn advance(&mut self, now: f64) -> bool {
+        let last = self.last.replace(now);
+        if !self.playing {
+            return false;
+        }
+        let dt = last.map_or(0.0, |l| (now - l).max(0.0)) as f32;
+        self.time = (self.time + dt) % TIME_SPAN;
+        dt > 0.0
+    }
+}
+
+/// The swatches' state and the render worker.
 pub struct Preview {
     /// Whether previews are rendered at all (off in tests that do not look at them).
     pub enabled: bool,
-    /// Incremented by every document change.
-    revision: u64,
-    /// The revision of the render in flight, if any.
-    running: Option<u64>,
-    /// The revision shown.
-    shown: Option<u64>,
-    done: Arc<Mutex<Option<Finished>>>,
-    texture: Option<egui::TextureHandle>,
-    /// The last render's error, if it failed.
-    pub message: Option<String>,
+    /// Render on the CPU even where a GPU adapter exists.
+    pub cpu_only: bool,
+    /// The orbit camera of the main swatch.
+    pub orbit: Orbit,
+    /// The time of the main swatch and the node swatches.
+    pub clock: Clock,
+    /// Nodes whose swatch is on.
+    nodes: BTreeSet<String>,
+    slots: BTreeMap<Slot, SlotState>,
+    /// Programs built so far (structure changes), all slots.
+    compiles: usize,
+    /// Renders finished so far, all slots.
+    renders: usize,
+    jobs: Option<mpsc::Sender<Job>>,
+    done: Arc<Mutex<Vec<Done>>>,
 }
 
 impl Preview {
@@ -35,79 +226,227 @@ impl Preview {
     pub fn new() -> Preview {
         Preview {
             enabled: true,
-            revision: 1,
-            running: None,
-            shown: None,
-            done: Arc::new(Mutex::new(None)),
-            texture: None,
-            message: None,
+            cpu_only: false,
+            orbit: Orbit::default(),
+            clock: Clock::default(),
+            nodes: BTreeSet::new(),
+            slots: BTreeMap::new(),
+            compiles: 0,
+            renders: 0,
+            jobs: None,
+            done: Arc::new(Mutex::new(Vec::new())),
         }
     }
 
-    /// Marks the swatch out of date.
-    pub fn invalidate(&mut self) {
-        self.revision += 1;
-    }
-
-    /// Whether the swatch shows the current document (nothing is rendering or due).
+    /// Whether every swatch shows what it should (nothing is rendering or due).
     pub fn settled(&self) -> bool {
-        !self.enabled || (self.running.is_none() && self.shown == Some(self.revision))
+        !self.enabled
+            || self
+                .slots
+                .values()
+                .all(|s| s.running.is_none() && s.shown.is_some())
+                && self.slots.contains_key(&None)
+                && self
+                    .nodes
+                    .iter()
+                    .all(|n| self.slots.contains_key(&Some(n.clone())))
     }
 
-    /// Collects a finished render and starts the next one when due.
-    pub fn poll(&mut self, ctx: &egui::Context, graph: Option<&Graph>, file: Option<&PathBuf>) {
+    /// Programs built so far: one per structural change of the graph, per swatch. A
+    /// parameter, camera or time change renders the program already built.
+    pub fn compiles(&self) -> usize {
+        self.compiles
+    }
+
+    /// Renders finished so far.
+    pub fn renders(&self) -> usize {
+        self.renders
+    }
+
+    /// Turns node `id`'s swatch on or off.
+    pub fn toggle_node(&mut self, id: &str) {
+        if !self.nodes.remove(id) {
+            self.nodes.insert(id.to_owned());
+        }
+    }
+
+    /// Whether node `id`'s swatch is on.
+    pub fn node_on(&self, id: &str) -> bool {
+        self.nodes.contains(id)
+    }
+
+    /// The nodes whose swatch is on.
+    pub fn nodes_on(&self) -> impl Iterator<Item = &str> {
+        self.nodes.iter().map(String::as_str)
+    }
+
+    /// The main swatch's texture, once a render finished.
+    pub fn texture(&self) -> Option<&egui::TextureHandle> {
+        self.slots.get(&None)?.texture.as_ref()
+    }
+
+    /// The main swatch's RGBA8 pixels ([`SIZE`]² rows from the top), once rendered.
+    pub fn pixels(&self) -> Option<&[u8]> {
+        let s = self.slots.get(&None)?;
+        (!s.rgba.is_empty()).then_some(s.rgba.as_slice())
+    }
+
+    /// Node `id`'s swatch texture, once a render finished.
+    pub fn node_texture(&self, id: &str) -> Option<&egui::TextureHandle> {
+        self.slots.get(&Some(id.to_owned()))?.texture.as_ref()
+    }
+
+    /// Why the main swatch could not be rendered, if it could not.
+    pub fn message(&self) -> Option<&str> {
+        self.slots.get(&None)?.message.as_deref()
+    }
+
+    /// Why node `id`'s swatch could not be rendered, if it could not.
+    pub fn node_message(&self, id: &str) -> Option<&str> {
+        self.slots.get(&Some(id.to_owned()))?.message.as_deref()
+    }
+
+    /// Where the main swatch was drawn ("GPU: adapter" or "CPU: why"), once rendered.
+    pub fn backend(&self) -> &str {
+        self.slots.get(&None).map_or("", |s| s.backend.as_str())
+    }
+
+    /// Time from the request to the pixels of the main swatch's last render.
+    pub fn latency(&self) -> Option<Duration> {
+        self.slots.get(&None)?.latency
+    }
+
+    /// Collects finished renders, and queues the renders due for `doc` (validated as
+    /// `graph`, `None` when it has errors), its file `file` (for its images).
+    pub fn poll(
+        &mut self,
+        ctx: &egui::Context,
+        doc: &GraphDocument,
+        graph: Option<&Graph>,
+        registry: &'static Registry,
+        file: Option<&PathBuf>,
+    ) {
         if !self.enabled {
             return;
         }
-        let finished = self.done.lock().map(|mut d| d.take()).unwrap_or(None);
-        if let Some((rev, result)) = finished {
-            self.running = None;
-            self.shown = Some(rev);
-            match result {
-                Ok(pixels) => {
-                    let rgba: Vec<u8> = pixels
-                        .iter()
-                        .flat_map(|p| [p[0], p[1], p[2], 255])
-                        .collect();
-                    let image = egui::ColorImage::from_rgba_unmultiplied(
-                        [SIZE as usize, SIZE as usize],
-                        &rgba,
-                    );
-                    self.texture = Some(ctx.load_texture(
-                        "matgraph-preview",
-                        image,
-                        egui::TextureOptions::LINEAR,
-                    ));
-                    self.message = None;
+        self.collect(ctx);
+        let structure = structure_key(doc);
+        let params: Vec<(String, Value)> = graph
+            .map(|g| {
+                g.parameters()
+                    .iter()
+                    .map(|p| (p.name.clone(), p.default))
+                    .collect()
+            })
+            .unwrap_or_default();
+        self.slots
+            .retain(|k, _| k.as_ref().is_none_or(|id| self.nodes.contains(id)));
+        let mut wanted: Vec<(Slot, Request)> = vec![(
+            None,
+            Request {
+                structure: structure.clone(),
+                params: params.clone(),
+                orbit: self.orbit,
+                time: self.clock.time,
+                size: SIZE,
+            },
+        )];
+        for id in &self.nodes {
+            wanted.push((
+                Some(id.clone()),
+                Request {
+                    structure: structure.clone(),
+                    params: params.clone(),
+                    orbit: Orbit::default(),
+                    time: self.clock.time,
+                    size: NODE_SIZE,
+                },
+            ));
+        }
+        for (slot, request) in wanted {
+            let state = self.slots.entry(slot.clone()).or_default();
+            if state.running.is_some() || state.shown.as_ref() == Some(&request) {
+                continue;
+            }
+            let Some(graph) = graph else {
+                state.shown = Some(request);
+                state.message = Some("the graph has errors".into());
+                continue;
+            };
+            if state.program.as_ref().map(|p| &p.0) != Some(&structure) {
+                let built = match &slot {
+                    None => Ok(graph.clone()),
+                    Some(id) => cut_at(doc, id, registry),
+                };
+                self.compiles += 1;
+                match built {
+                    Ok(g) => state.program = Some((structure.clone(), Arc::new(g))),
+                    Err(e) => {
+                        state.program = None;
+                        state.shown = Some(request);
+                        state.message = Some(e);
+                        continue;
+                    }
                 }
-                Err(e) => self.message = Some(e),
+            }
+            let Some((_, program)) = &state.program else {
+                continue;
+            };
+            let job = Job {
+                slot,
+                request: request.clone(),
+                graph: program.clone(),
+                file: file.cloned(),
+                cpu_only: self.cpu_only,
+                queued: Instant::now(),
+            };
+            state.running = Some(request);
+            let tx = self
+                .jobs
+                .get_or_insert_with(|| spawn_worker(ctx, self.done.clone()));
+            if let Err(mpsc::SendError(job)) = tx.send(job) {
+                // The worker died (a panic in a render): say so on the swatch.
+                let state = self.slots.entry(job.slot).or_default();
+                state.running = None;
+                state.shown = Some(job.request);
+                state.message = Some("the preview worker stopped".into());
+                self.jobs = None;
             }
         }
-        if self.running.is_some() || self.shown == Some(self.revision) {
-            return;
-        }
-        let Some(graph) = graph.cloned() else {
-            self.shown = Some(self.revision);
-            self.message = Some("the graph has errors".into());
-            return;
-        };
-        let rev = self.revision;
-        self.running = Some(rev);
-        let done = self.done.clone();
-        let ctx = ctx.clone();
-        let file = file.cloned();
-        std::thread::spawn(move || {
-            let result = render_swatch(&graph, file.as_ref());
-            if let Ok(mut d) = done.lock() {
-                *d = Some((rev, result));
-            }
-            ctx.request_repaint();
-        });
     }
 
-    /// The swatch texture, once one render finished.
-    pub fn texture(&self) -> Option<&egui::TextureHandle> {
-        self.texture.as_ref()
+    fn collect(&mut self, ctx: &egui::Context) {
+        let finished = std::mem::take(&mut *self.done.lock().unwrap_or_else(|p| p.into_inner()));
+        for d in finished {
+            self.renders += 1;
+            let Some(state) = self.slots.get_mut(&d.slot) else {
+                continue;
+            };
+            state.running = None;
+            state.latency = Some(d.latency);
+            state.shown = Some(d.request);
+            match d.result {
+                Ok(r) => {
+                    let n = r.size as usize;
+                    let image = egui::ColorImage::from_rgba_unmultiplied([n, n], &r.rgba);
+                    match &mut state.texture {
+                        Some(t) => t.set(image, egui::TextureOptions::LINEAR),
+                        None => {
+                            let name = match &d.slot {
+                                None => "matgraph-preview".to_owned(),
+                                Some(id) => format!("matgraph-preview-{id}"),
+                            };
+                            state.texture =
+                                Some(ctx.load_texture(name, image, egui::TextureOptions::LINEAR));
+                        }
+                    }
+                    state.message = None;
+                    state.backend = r.backend;
+                    state.rgba = r.rgba;
+                }
+                Err(e) => state.message = Some(e),
+            }
+        }
     }
 }
 
@@ -117,13 +456,105 @@ impl Default for Preview {
     }
 }
 
-/// Renders `graph` in its scene (the ball when it names none) at [`SIZE`]², 1 sample.
-pub fn render_swatch(graph: &Graph, file: Option<&PathBuf>) -> Result<Vec<[u8; 3]>, String> {
-    let scene = graph_scene(graph)
+/// Starts the render worker: one thread rendering the jobs in order, so that the swatches
+/// share the GPU context one render at a time.
+fn spawn_worker(ctx: &egui::Context, done: Arc<Mutex<Vec<Done>>>) -> mpsc::Sender<Job> {
+    let (tx, rx) = mpsc::channel::<Job>();
+    let ctx = ctx.clone();
+    std::thread::Builder::new()
+        .name("matgraph-preview".into())
+        .spawn(move || {
+            for job in rx {
+                let result = render_job(&job);
+                let d = Done {
+                    slot: job.slot,
+                    request: job.request,
+                    result,
+                    latency: job.queued.elapsed(),
+                };
+                done.lock().unwrap_or_else(|p| p.into_inner()).push(d);
+                ctx.request_repaint();
+            }
+        })
+        .expect("spawning the preview thread");
+    tx
+}
+
+fn render_job(job: &Job) -> Result<Rendered, String> {
+    let (backend, note) = if job.cpu_only {
+        (Backend::Cpu, "CPU".to_owned())
+    } else {
+        match GpuContext::shared() {
+            Ok(ctx) => (Backend::Gpu, format!("GPU: {}", ctx.adapter_info().name)),
+            Err(e) => (Backend::Cpu, format!("CPU ({e})")),
+        }
+    };
+    let r = &job.request;
+    let (pixels, fallback) = render_swatch(
+        &job.graph,
+        job.file.as_ref(),
+        &SwatchOptions {
+            size: r.size,
+            backend,
+            orbit: r.orbit,
+            time: r.time,
+            params: r.params.clone(),
+        },
+    )?;
+    let rgba = pixels
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    Ok(Rendered {
+        rgba,
+        size: r.size,
+        backend: match fallback {
+            Some(why) => format!("{note}; {why}"),
+            None => note,
+        },
+    })
+}
+
+/// How [`render_swatch`] renders.
+#[derive(Clone, Debug)]
+pub struct SwatchOptions {
+    /// Side in pixels.
+    pub size: u32,
+    /// Where the material is evaluated (`Gpu`: the GPU rasteriser).
+    pub backend: Backend,
+    /// The orbit camera.
+    pub orbit: Orbit,
+    /// Scene time, seconds.
+    pub time: f32,
+    /// Parameter values replacing the graph's.
+    pub params: Vec<(String, Value)>,
+}
+
+impl Default for SwatchOptions {
+    fn default() -> Self {
+        SwatchOptions {
+            size: SIZE,
+            backend: Backend::Cpu,
+            orbit: Orbit::default(),
+            time: 0.0,
+            params: Vec::new(),
+        }
+    }
+}
+
+/// Renders `graph` in its scene (the ball when it names none), 1 sample per pixel, to sRGB
+/// pixels; also why a GPU render fell back to the hybrid path, if it did.
+pub fn render_swatch(
+    graph: &Graph,
+    file: Option<&PathBuf>,
+    o: &SwatchOptions,
+) -> Result<(Vec<[u8; 3]>, Option<String>), String> {
+    let mut scene = graph_scene(graph)
         .ok()
         .flatten()
         .or_else(|| Scene::preset("ball"))
         .ok_or("no scene")?;
+    scene.camera = o.orbit.camera(&scene.camera);
     let textures = match file {
         Some(f) => Some(Arc::new(
             crate::image_io::load_graph_textures_with(
@@ -136,12 +567,79 @@ pub fn render_swatch(graph: &Graph, file: Option<&PathBuf>) -> Result<Vec<[u8; 3
         None => None,
     };
     let options = RenderOptions {
-        width: SIZE,
-        height: SIZE,
+        width: o.size,
+        height: o.size,
         samples: 1,
+        time: Some(o.time),
+        backend: o.backend,
+        parameters: o.params.clone(),
         textures,
         ..Default::default()
     };
-    let hdr = render(graph, &scene, &options).map_err(|e| e.to_string())?;
-    Ok(hdr.to_srgb8(1.0).pixels)
+    let (hdr, t) = render_timed(graph, &scene, &options).map_err(|e| e.to_string())?;
+    Ok((hdr.to_srgb8(1.0).pixels, t.fallback))
+}
+
+/// The structure of `doc`: its canonical JSON without node positions and without the
+/// `value` of the `parameter` nodes the graph exposes (those reach the shader as uniforms).
+/// Two documents with the same key compile to the same shaders.
+pub fn structure_key(doc: &GraphDocument) -> String {
+    let exposed: BTreeSet<&str> = doc.parameters.iter().map(|p| p.node.as_str()).collect();
+    let mut d = doc.clone();
+    for n in &mut d.nodes {
+        n.position = None;
+        if n.node_type == "parameter" && exposed.contains(n.id.as_str()) {
+            n.inputs.remove("value");
+        }
+    }
+    d.to_json_pretty()
+}
+
+/// The graph of `doc` cut at node `id`: one output reading the node's first output, named
+/// `color` (lit) when it depends on `light` or `light_color`, else [`CUT_OUTPUT`] (unlit).
+pub fn cut_at(doc: &GraphDocument, id: &str, registry: &Registry) -> Result<Graph, String> {
+    let node = doc
+        .nodes
+        .iter()
+        .find(|n| n.id == id)
+        .ok_or_else(|| format!("no node '{id}'"))?;
+    let t = registry
+        .get(&node.node_type)
+        .ok_or_else(|| format!("node '{id}': unknown type '{}'", node.node_type))?;
+    let output = t
+        .outputs()
+        .first()
+        .ok_or_else(|| format!("node '{id}' has no output"))?
+        .name;
+    let mut cut = doc.clone();
+    cut.outputs = vec![OutputDocument {
+        name: CUT_OUTPUT.into(),
+        from: format!("{id}.{output}"),
+    }];
+    let build = |d: &GraphDocument| {
+        Graph::from_document(d, registry).map_err(|e| {
+            e.iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        })
+    };
+    let graph = build(&cut)?;
+    let plan = Plan::compile(
+        &graph,
+        &PlanOptions {
+            outputs: vec![CUT_OUTPUT.into()],
+            bake_parameters: false,
+        },
+    )
+    .map_err(|e| format!("node '{id}': {e}"))?;
+    let lit = plan
+        .attributes()
+        .iter()
+        .any(|a| matches!(a, Attribute::Light | Attribute::LightColor));
+    if !lit {
+        return Ok(graph);
+    }
+    cut.outputs[0].name = crate::render::outputs::COLOR.into();
+    build(&cut)
 }

@@ -39,6 +39,12 @@ pub enum Dialog {
         /// The path being typed.
         path: String,
     },
+    /// The file changed on disk while the document has unsaved changes: reload it
+    /// (dropping them) or keep the document.
+    Changed {
+        /// The file.
+        path: PathBuf,
+    },
 }
 
 /// An action that discards the document, held until the user answers [`Dialog::Discard`].
@@ -80,7 +86,16 @@ pub struct EditorState {
     pub unsaved_since: Option<f64>,
     /// Whether the app may close now (the user answered the discard prompt).
     pub allow_close: bool,
+    /// The recent-files list, when the editor keeps one (the window does; tests give theirs).
+    pub recent: Option<files::Recent>,
+    /// The file's modification time when it was last opened, saved or checked.
+    pub disk_time: Option<std::time::SystemTime>,
+    /// Time (egui seconds) the file was last checked for changes on disk.
+    pub checked_at: f64,
 }
+
+/// Seconds between checks of the file for changes on disk.
+pub const DISK_POLL: f64 = 1.0;
 
 impl EditorState {
     /// An editor on `doc`, saved at `path` (if any) as `saved`.
@@ -102,15 +117,98 @@ impl EditorState {
             preview: super::preview::Preview::new(),
             unsaved_since: None,
             allow_close: false,
+            recent: None,
+            disk_time: None,
+            checked_at: f64::NEG_INFINITY,
         };
         state.offer_recovery();
         state
     }
 
     /// An editor on the graph file `path`.
+    /// Nodes without a position, or overlapping, are arranged ([`super::layout`]); the
+    /// arranged layout counts as the file's (the document is not dirty) until saved.
     pub fn open(path: &Path, registry: &'static Registry) -> Result<Self, String> {
         let doc = files::open(path)?;
-        Ok(EditorState::new(doc, Some(path.to_owned()), registry))
+        let arrange = super::layout::needs_arranging(&doc, registry);
+        let doc = if arrange {
+            super::layout::arranged(&doc, registry)
+        } else {
+            doc
+        };
+        let mut s = EditorState::new(doc, Some(path.to_owned()), registry);
+        s.disk_time = files::modified(path);
+        if arrange {
+            s.status = Some(format!(
+                "{}: nodes without positions or overlapping were arranged (saving keeps the layout)",
+                path.display()
+            ));
+        }
+        Ok(s)
+    }
+
+    /// Arranges every node ([`super::layout::arrange`]) as one undoable edit, with room
+    /// for the preview swatches that are on.
+    pub fn arrange(&mut self) {
+        let registry = self.doc.registry();
+        let on: Vec<String> = self.preview.nodes_on().map(str::to_owned).collect();
+        let extra = move |id: &str| {
+            if on.iter().any(|o| o == id) {
+                super::viewer::NODE_SWATCH_POINTS + 8.0
+            } else {
+                0.0
+            }
+        };
+        let _ = self.edit(None, true, |d| {
+            let arranged = super::layout::arranged_with(d.doc(), registry, &extra);
+            d.replace(arranged);
+            Ok(())
+        });
+    }
+
+    /// Adds `path` to the recent files (when the editor keeps the list).
+    fn remember(&mut self, path: &Path) {
+        if let Some(r) = &mut self.recent
+            && let Err(e) = r.push(path)
+        {
+            self.status = Some(format!("recent files: {e}"));
+        }
+    }
+
+    /// Checks the file for a change on disk (every [`DISK_POLL`] seconds of egui time
+    /// `now`): reloads it when the document has no unsaved changes, else asks
+    /// ([`Dialog::Changed`]). Whether it reloaded.
+    pub fn check_disk(&mut self, now: f64) -> bool {
+        if now - self.checked_at < DISK_POLL || self.dialog.is_some() {
+            return false;
+        }
+        self.checked_at = now;
+        let Some(path) = self.path.clone() else {
+            return false;
+        };
+        let time = files::modified(&path);
+        if time.is_none() || time == self.disk_time {
+            return false;
+        }
+        if self.dirty() {
+            self.disk_time = time;
+            self.dialog = Some(Dialog::Changed { path });
+            return false;
+        }
+        self.reload()
+    }
+
+    /// Reloads the file from disk, dropping the document's changes. Whether it did.
+    pub fn reload(&mut self) -> bool {
+        let Some(path) = self.path.clone() else {
+            return false;
+        };
+        let ok = self.load(&path).is_ok();
+        if ok {
+            self.dialog = None;
+            self.status = Some(format!("reloaded {} (changed on disk)", path.display()));
+        }
+        ok
     }
 
     /// An empty, untitled graph.
@@ -270,7 +368,9 @@ impl EditorState {
                 files::discard_recovery(Some(path));
                 self.saved = text;
                 self.unsaved_since = None;
+                self.disk_time = files::modified(path);
                 self.status = Some(format!("saved {}", path.display()));
+                self.remember(path);
             }
             Err(e) => self.status = Some(e.clone()),
         }
@@ -323,9 +423,11 @@ impl EditorState {
         match EditorState::open(path, registry) {
             Ok(s) => {
                 let preview = std::mem::take(&mut self.preview);
+                let recent = self.recent.take();
                 *self = s;
                 self.preview = preview;
-                self.preview.invalidate();
+                self.recent = recent;
+                self.remember(path);
                 Ok(())
             }
             Err(e) => {
@@ -339,7 +441,6 @@ impl EditorState {
         // Negative: set to the frame's time by the next tick.
         self.unsaved_since = Some(-1.0);
         self.code.invalidate();
-        self.preview.invalidate();
     }
 
     fn offer_recovery(&mut self) {

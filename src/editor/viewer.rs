@@ -54,7 +54,23 @@ pub enum Action {
     Remove(Vec<String>),
     /// Duplicate these nodes.
     Duplicate(Vec<String>),
+    /// Turn this node's preview swatch on or off.
+    TogglePreview(String),
 }
+
+/// What a node's preview swatch shows under its pins.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Swatch {
+    /// The rendered swatch.
+    Image(egui::TextureId),
+    /// Why it could not be rendered.
+    Message(String),
+    /// Not rendered yet.
+    Pending,
+}
+
+/// Side of a node's swatch on the canvas, points (before the canvas zoom).
+pub const NODE_SWATCH_POINTS: f32 = 96.0;
 
 /// The viewer of one frame.
 pub struct Viewer<'a> {
@@ -70,6 +86,8 @@ pub struct Viewer<'a> {
     pub shader_error: Option<(String, String)>,
     /// A transform to impose this frame (frame all), canvas → screen.
     pub set_transform: Option<egui::emath::TSTransform>,
+    /// The swatches of the nodes whose preview is on, by node id.
+    pub swatches: std::collections::BTreeMap<String, Swatch>,
 }
 
 impl Viewer<'_> {
@@ -131,7 +149,46 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
                 ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
                     .on_hover_text(errors.join("\n"));
             }
+            let on = self.swatches.contains_key(&id);
+            let toggle = ui
+                .selectable_label(on, egui::RichText::new("👁").color(Color32::WHITE))
+                .on_hover_text("preview this node's output");
+            if toggle.clicked() {
+                self.actions.push(Action::TogglePreview(id.clone()));
+            }
         });
+    }
+
+    fn has_footer(&mut self, node: &NodeView) -> bool {
+        self.swatches.contains_key(&node.id)
+    }
+
+    fn show_footer(
+        &mut self,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let id = self.id(snarl, node).to_owned();
+        let side = egui::vec2(NODE_SWATCH_POINTS, NODE_SWATCH_POINTS);
+        match self.swatches.get(&id) {
+            Some(Swatch::Image(t)) => {
+                ui.image((*t, side));
+            }
+            Some(Swatch::Message(m)) => {
+                ui.add(
+                    egui::Label::new(
+                        egui::RichText::new(m).color(Color32::from_rgb(255, 120, 110)),
+                    )
+                    .wrap(),
+                );
+            }
+            Some(Swatch::Pending) | None => {
+                ui.allocate_ui(side, |ui| ui.weak("rendering…"));
+            }
+        }
     }
 
     fn header_frame(
@@ -365,6 +422,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         }
         if ui.button("Delete").clicked() {
             self.actions.push(Action::Remove(vec![id.clone()]));
+            ui.close();
+        }
+        if ui.button("Toggle preview").clicked() {
+            self.actions.push(Action::TogglePreview(id.clone()));
             ui.close();
         }
         if ui.button("Show docs").clicked() {

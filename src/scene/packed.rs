@@ -82,6 +82,21 @@ pub(crate) struct Viewport {
 }
 
 impl Viewport {
+    /// The affine map `(sx, tx, sy, ty)` taking a `width × height` frame's clip x and y to
+    /// this tile's, `x' = sx·x + tx·w`, `y' = sy·y + ty·w` (1, 0, 1, 0 for the whole frame).
+    pub(crate) fn tile_clip(&self, width: u32, height: u32) -> [f32; 4] {
+        let (fw, fh) = (width as f64, height as f64);
+        let (tw, th) = (self.size[0] as f64, self.size[1] as f64);
+        let ox = self.origin[0] as f64 + self.jitter[0] as f64;
+        let oy = self.origin[1] as f64 + self.jitter[1] as f64;
+        [
+            (fw / tw) as f32,
+            ((fw - tw - 2.0 * ox) / tw) as f32,
+            (fh / th) as f32,
+            ((th - fh + 2.0 * oy) / th) as f32,
+        ]
+    }
+
     /// The whole `width × height` frame at the pixel centres.
     pub(crate) fn whole(width: u32, height: u32) -> Viewport {
         Viewport {
@@ -281,16 +296,9 @@ impl Scene {
             SceneKind::Ball(_) | SceneKind::Bubble(_) => w.extend([0.0; 24]),
         }
         // The tile: frame clip x, y to the tile's (scale 1, offset 0 for the whole frame).
-        let (fw, fh) = (width as f64, height as f64);
-        let (tw, th) = (view.size[0] as f64, view.size[1] as f64);
+        w.extend(view.tile_clip(width, height));
         let ox = view.origin[0] as f64 + view.jitter[0] as f64;
         let oy = view.origin[1] as f64 + view.jitter[1] as f64;
-        w.extend([
-            (fw / tw) as f32,
-            ((fw - tw - 2.0 * ox) / tw) as f32,
-            (fh / th) as f32,
-            ((th - fh + 2.0 * oy) / th) as f32,
-        ]);
         w.extend([
             ox as f32,
             oy as f32,

@@ -6,6 +6,7 @@ use matgraph::gpu::GpuContext;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+pub mod rng;
 pub mod tint;
 
 /// Every bundled graph (`graphs/*.json`), sorted; fails if there is none.
