@@ -237,6 +237,6 @@ fn main() {
         files.retain(|f| f.ends_with("pbr_gold.json"));
     }
     for f in &files {
-        graph_edits(f, if full { 5 } else { 1 });
+        graph_edits(f, if full { 3 } else { 1 });
     }
 }

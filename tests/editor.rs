@@ -884,3 +884,36 @@ fn edit_arrange_rewrites_the_file_arranged_and_canonical() {
     let g = matgraph::Graph::from_json(&text, Registry::builtin()).unwrap();
     assert_eq!(g.to_json(), text, "canonical");
 }
+
+#[test]
+fn the_cpu_fallback_renders_says_so_and_takes_parameters_without_recompiling() {
+    let file = scratch("cpu_preview").join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let mut state = EditorState::open(&file, Registry::builtin()).unwrap();
+    // What a machine without an adapter gets.
+    state.preview.cpu_only = true;
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    let (compiles, before) = {
+        let p = &h.state().state.preview;
+        assert!(p.message().is_none(), "{:?}", p.message());
+        assert_eq!(p.backend(), "CPU");
+        (p.compiles(), p.pixels().unwrap().to_vec())
+    };
+    h.get_by_label("CPU");
+    matgraph::editor::preview_ui::set_parameter(
+        &mut h.state_mut().state,
+        "roughness",
+        "roughness",
+        serde_json::json!(0.9),
+    );
+    settle(&mut h);
+    let p = &h.state().state.preview;
+    assert_eq!(p.compiles(), compiles);
+    let changed = before
+        .iter()
+        .zip(p.pixels().unwrap())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed > 1000, "{changed}");
+}
