@@ -87,8 +87,12 @@ pub struct Setup {
     pub fov_y: f32,
     /// The lights.
     pub lights: Vec<Light>,
-    /// Linear RGB behind the material (alpha blends over it).
-    pub background: [f32; 3],
+    /// Linear premultiplied RGBA the target is cleared to, behind the material (alpha blends
+    /// over it). A clear alpha of 0 leaves the material's coverage in the picture's alpha.
+    pub background: [f32; 4],
+    /// Cull back faces (a closed mesh, or a surface seen from its front only): a transparent
+    /// material then shows its nearest surface alone, as the CPU renderer does.
+    pub cull_back_faces: bool,
     /// Time in seconds.
     pub time: f32,
     /// Parameters to set, by name.
@@ -112,7 +116,8 @@ impl Default for Setup {
                     radiance: [2.0, 2.4, 3.0],
                 },
             ],
-            background: [0.05, 0.06, 0.08],
+            background: [0.05, 0.06, 0.08, 1.0],
+            cull_back_faces: false,
             time: 0.0,
             parameters: Vec::new(),
         }
@@ -225,7 +230,10 @@ pub fn render(
             compilation_options: Default::default(),
             buffers: &[Some(Material::vertex_buffer_layout())],
         },
-        primitive: wgpu::PrimitiveState::default(),
+        primitive: wgpu::PrimitiveState {
+            cull_mode: setup.cull_back_faces.then_some(wgpu::Face::Back),
+            ..Default::default()
+        },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: DEPTH,
             depth_write_enabled: Some(true),
@@ -330,7 +338,7 @@ pub fn render(
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     {
-        let [r, g, b] = setup.background;
+        let [r, g, b, a] = setup.background;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("material"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -342,7 +350,7 @@ pub fn render(
                         r: r as f64,
                         g: g as f64,
                         b: b as f64,
-                        a: 1.0,
+                        a: a as f64,
                     }),
                     store: wgpu::StoreOp::Store,
                 },

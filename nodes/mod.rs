@@ -2,6 +2,7 @@
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
 pub mod bubble;
+pub mod ibl;
 pub mod image;
 pub mod input;
 pub mod math;
@@ -14,6 +15,7 @@ pub mod sunshine;
 pub mod texture;
 pub mod thin_film;
 pub mod toon_water;
+pub mod transmission;
 
 use crate::node::NodeType;
 
@@ -28,6 +30,8 @@ pub fn all() -> Vec<NodeType> {
     v.extend(thin_film::all());
     v.extend(skin::all());
     v.extend(pbr::all());
+    v.extend(transmission::all());
+    v.extend(ibl::all());
     v.extend(bubble::all());
     v.extend(texture::all());
     v.extend(image::all());

@@ -367,13 +367,25 @@ impl Plan {
                     TILE,
                     n,
                 ),
-                (None, KernelRef::Texture(slot), Some(set)) => sample_tile(
+                (None, KernelRef::Texture(slot, None), Some(set)) => sample_tile(
                     set,
                     tex[*slot],
                     &ins[..step.inputs.len()],
                     &mut outs[..step.outputs.len()],
                     n,
                 ),
+                (None, KernelRef::Texture(slot, Some(k)), Some(set)) => {
+                    let t = tex[*slot];
+                    let sample = |uv: Vec2, lod: f32, wrap: Wrap, filter: Filter| {
+                        set.sample(t, uv, lod, wrap, filter)
+                    };
+                    k(
+                        &sample,
+                        &ins[..step.inputs.len()],
+                        &mut outs[..step.outputs.len()],
+                        n,
+                    )
+                }
                 _ => {}
             }
             for (&r, buf) in step.outputs.iter().zip(scratch.outs.drain(..)) {

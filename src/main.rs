@@ -32,6 +32,9 @@ enum Command {
     Schema(cli::schema::Args),
     /// Rewrite graph files in canonical form (sorted inputs, normalised values).
     Fmt(cli::fmt::Args),
+    /// Measure every material family's variants (cost, error against the reference) and
+    /// write docs/report/: a table, data and a speed-against-error plot per family.
+    Report(cli::report::Args),
     /// Open the node editor on a graph file (or render it headless with --screenshot).
     #[cfg(feature = "editor")]
     Edit(cli::edit::Args),
@@ -42,6 +45,7 @@ fn main() -> ExitCode {
     // Before any thread starts (see `cli::env::quiet_mesa`); dropped at the end of main.
     let _runtime = match &cli.command {
         Command::Render(args) if args.gpu => Some(cli::env::quiet_mesa()),
+        Command::Report(args) if !args.no_timing && !args.no_gpu => Some(cli::env::quiet_mesa()),
         #[cfg(feature = "editor")]
         Command::Edit(_) => Some(cli::env::quiet_mesa()),
         _ => None,
@@ -54,6 +58,7 @@ fn main() -> ExitCode {
         Command::Render(args) => cli::render::run(&args),
         Command::Schema(args) => cli::schema::run(&args),
         Command::Fmt(args) => cli::fmt::run(&args),
+        Command::Report(args) => cli::report::run(&args),
         #[cfg(feature = "editor")]
         Command::Edit(args) => cli::edit::run(&args),
     };

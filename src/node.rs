@@ -432,6 +432,18 @@ pub enum Evaluation {
     Texture,
 }
 
+/// The sampler a [`TextureKernel`] reads its texture through: `(uv, lod, wrap, filter)` to
+/// RGBA, as [`crate::texture::Texture::sample`].
+pub type TextureSampler<'a> =
+    dyn Fn(glam::Vec2, f32, crate::texture::Wrap, crate::texture::Filter) -> glam::Vec4 + 'a;
+
+/// The CPU kernel of a texture node whose ports are not `image_texture`'s: for `n` samples
+/// of a tile it reads the node's texture through `sample` and writes its outputs from its
+/// inputs (component `c` of a port at `c · TILE + i`, as in [`TileKernel::run`]). The node's
+/// WGSL does the same through `mg_sample_texture(tex, ...)`.
+pub type TextureKernel =
+    fn(sample: &TextureSampler, ins: &[&[f32]], outs: &mut [&mut [f32]], n: usize);
+
 /// One concrete implementation of a node type, for one resolved generic type.
 pub struct Variant {
     /// The generic type this variant implements (`None` for non-generic nodes).
@@ -472,6 +484,7 @@ pub struct NodeType {
     wgsl: Option<&'static str>,
     wgsl_variants: Vec<(SocketType, &'static str)>,
     wgsl_helpers: Vec<&'static str>,
+    texture_kernel: Option<TextureKernel>,
 }
 
 impl NodeType {
@@ -490,6 +503,7 @@ impl NodeType {
             wgsl: None,
             wgsl_variants: Vec::new(),
             wgsl_helpers: Vec::new(),
+            texture_kernel: None,
         }
     }
     /// Sets the longer doc: the source (paper, equation) and conventions.
@@ -532,6 +546,18 @@ impl NodeType {
     pub fn texture(mut self) -> NodeType {
         self.evaluation = Evaluation::Texture;
         self
+    }
+    /// Marks the node as sampling the image named by its `texture` field through its own
+    /// CPU kernel (see [`TextureKernel`]); [`NodeType::compute`] still declares the ports.
+    pub fn texture_kernel(mut self, k: TextureKernel) -> NodeType {
+        self.evaluation = Evaluation::Texture;
+        self.texture_kernel = Some(k);
+        self
+    }
+    /// The CPU kernel of a texture node with ports of its own; `None` for `image_texture`'s
+    /// sampler (inputs uv, lod, wrap, filter; outputs colour and alpha).
+    pub fn texture_kernel_fn(&self) -> Option<TextureKernel> {
+        self.texture_kernel
     }
     /// Marks the node's outputs as caller-supplied attributes, one per output.
     pub fn attributes(mut self, attrs: &'static [Attribute]) -> NodeType {

@@ -118,9 +118,9 @@ pub(crate) enum KernelRef {
     Node(Arc<NodeType>, usize),
     /// An implicit conversion on a link.
     Convert(usize),
-    /// Sampling texture `k` of [`Plan::textures`] (inputs uv, lod, wrap, filter; outputs
-    /// color, alpha).
-    Texture(usize),
+    /// Sampling texture `k` of [`Plan::textures`]: with `None` the image sampler (inputs uv,
+    /// lod, wrap, filter; outputs color, alpha), else the node type's own texture kernel.
+    Texture(usize, Option<crate::node::TextureKernel>),
 }
 
 impl KernelRef {
@@ -129,7 +129,7 @@ impl KernelRef {
         match self {
             KernelRef::Node(t, v) => t.variants().get(*v).map(|v| v.kernel.as_ref()),
             KernelRef::Convert(i) => Some(CONVERSIONS[*i].as_ref()),
-            KernelRef::Texture(_) => None,
+            KernelRef::Texture(..) => None,
         }
     }
 }
@@ -819,7 +819,7 @@ impl<'g> Compiler<'g> {
                     self.textures.len() - 1
                 }
             };
-            KernelRef::Texture(slot)
+            KernelRef::Texture(slot, t.texture_kernel_fn())
         } else {
             let Some(variant) = variant else { return };
             KernelRef::Node(t.clone(), variant)

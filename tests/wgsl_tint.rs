@@ -33,11 +33,19 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
     let dir = tempfile::tempdir().unwrap();
     let mut files = Vec::new();
     for path in bundled_graphs() {
-        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        let full = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        // And specialised for its own scene (`matgraph wgsl --specialise`, docs/specialise.md).
+        let scene = matgraph::render::graph_scene(&full)
+            .unwrap()
+            .unwrap_or_else(|| matgraph::scene::Scene::preset("ball").unwrap());
+        let specialised = matgraph::specialise::for_scene(&full, &scene, Some(scene.time), true)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .graph;
         // Parameters as uniforms, and baked into literals (`matgraph wgsl --bake`).
-        for (entry, bake) in [Entry::Compute, Entry::Fragment]
+        for (graph, spec, entry, bake) in [Entry::Compute, Entry::Fragment]
             .into_iter()
             .flat_map(|e| [(e, false), (e, true)])
+            .flat_map(|(e, b)| [(&full, "", e, b), (&specialised, ".specialised", e, b)])
         {
             let options = WgslOptions {
                 entry,
@@ -50,7 +58,7 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
                 .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
             // Named `graph.entry[.baked].wgsl`: every message names the graph and the entry.
             let baked = if bake { ".baked" } else { "" };
-            let name = format!("{}.{}{baked}.wgsl", graph.name, entry.function());
+            let name = format!("{}{spec}.{}{baked}.wgsl", graph.name, entry.function());
             let file = dir.path().join(name);
             std::fs::write(&file, &m.source).unwrap();
             files.push(file);

@@ -28,6 +28,10 @@ pub struct Args {
     /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
     #[arg(long = "variant", value_name = "NAME=CHOICE")]
     pub variants: Vec<String>,
+    /// For each variant set, pick the cheapest choice whose node-space max abs error against
+    /// the set's default is within E (measured on the spot; said on stderr).
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
     /// Outputs to print (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -150,10 +154,11 @@ pub fn run(args: &Args) -> CliResult {
             .iter()
             .map(|s| super::split_variant(s))
             .collect::<Result<Vec<_>, _>>()?;
-        (
-            Graph::with_variants(&doc, registry(), &selection).map_err(wrap)?,
-            path.to_owned(),
-        )
+        let graph = Graph::with_variants(&doc, registry(), &selection).map_err(wrap)?;
+        let policy = super::path_policy(args.allow_outside_paths);
+        let graph =
+            super::report::apply_max_error(graph, path, &args.variants, args.max_error, policy)?;
+        (graph, path.to_owned())
     };
     let options = PlanOptions {
         outputs: outputs.to_vec(),

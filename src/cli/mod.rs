@@ -8,6 +8,7 @@ pub mod eval;
 pub mod fmt;
 pub mod nodes;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod schema;
 pub mod wgsl;

@@ -53,6 +53,10 @@ pub struct Args {
     /// Rasterise on the CPU and shade the G-buffer on the GPU (the hybrid path).
     #[arg(long, conflicts_with = "cpu")]
     pub gpu_compute: bool,
+    /// How --gpu binds the material's textures: texture_2d + samplers with mips (hardware, the
+    /// GPU's own filtering) or storage buffers filtered as on the CPU, bit for bit (exact).
+    #[arg(long, default_value = "hardware", value_parser = ["hardware", "exact"])]
+    pub textures: String,
     /// Evaluate the material on the CPU (the default).
     #[arg(long)]
     pub cpu: bool,
@@ -68,6 +72,10 @@ pub struct Args {
     /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
     #[arg(long = "variant", value_name = "NAME=CHOICE")]
     pub variants: Vec<String>,
+    /// For each variant set, pick the cheapest choice whose node-space max abs error against
+    /// the set's default is within E (measured on the spot; said on stderr).
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
     /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
     /// an animated PNG (APNG) of all of them.
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
@@ -83,6 +91,12 @@ pub struct Args {
     /// Read textures, scene files and environment images outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Compile each graph against its scene first and print the rewrites
+    /// (docs/specialise.md): `exact` folds what the scene fixes; `approx` also applies the
+    /// threshold rewrites (a thick film's incoherent limit).
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "exact",
+          value_parser = ["exact", "approx"])]
+    pub specialise: Option<String>,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -243,6 +257,13 @@ pub fn run(args: &Args) -> CliResult {
         progress.set_message(file.display().to_string());
         let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
             let graph = load_graph_with(file, &args.variants)?;
+            let graph = super::report::apply_max_error(
+                graph,
+                file,
+                &args.variants,
+                args.max_error,
+                policy,
+            )?;
             let textures = graph_textures(&graph, file, policy)?;
             let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
             let (mut scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
@@ -251,6 +272,17 @@ pub fn run(args: &Args) -> CliResult {
             if let Some(t) = args.time {
                 scene.time = t;
             }
+            let graph = match args.specialise.as_deref() {
+                None => graph,
+                Some(mode) => {
+                    // Animated frames keep time live; a still fixes it.
+                    let time = frames.is_none().then(|| args.time.unwrap_or(scene.time));
+                    let s = matgraph::specialise::for_scene(&graph, &scene, time, mode == "approx")
+                        .map_err(|e| format!("{}: {e}", file.display()))?;
+                    progress.suspend(|| eprint!("{}", s.listing()));
+                    s.graph
+                }
+            };
             let mut options = RenderOptions {
                 width: args.size.0,
                 height: args.size.1,
@@ -262,6 +294,8 @@ pub fn run(args: &Args) -> CliResult {
                 environment,
                 memory_budget: MEMORY_BUDGET - reserve,
                 band_rows: None,
+                texture_mode: matgraph::wgsl::TextureMode::from_name(&args.textures)
+                    .unwrap_or_default(),
             };
             // One still at --time, or frame k at t0 + k/fps.
             let times: Vec<Option<f32>> = match &frames {

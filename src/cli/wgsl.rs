@@ -28,6 +28,10 @@ pub struct Args {
     /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
     #[arg(long = "variant", value_name = "NAME=CHOICE")]
     pub variants: Vec<String>,
+    /// For each variant set, pick the cheapest choice whose node-space max abs error against
+    /// the set's default is within E (measured on the spot; said on stderr).
+    #[arg(long, value_name = "E")]
+    pub max_error: Option<f64>,
     /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
     pub outputs: Vec<String>,
@@ -38,6 +42,28 @@ pub struct Args {
     /// bindings, vertex layout, parameter block offsets, lights, textures.
     #[arg(long, value_name = "FILE.json")]
     pub contract: Option<PathBuf>,
+    /// Compile against the graph's own scene at its time (docs/specialise.md) and print the
+    /// rewrites on standard error: `exact` folds what the scene fixes; `approx` also applies
+    /// the threshold rewrites.
+    #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "exact",
+          value_parser = ["exact", "approx"])]
+    pub specialise: Option<String>,
+}
+
+/// `graph` (loaded from `file`), specialised for its own scene when `mode` is set.
+pub fn specialised(
+    graph: matgraph::Graph,
+    file: &std::path::Path,
+    mode: Option<&str>,
+) -> Result<matgraph::Graph, String> {
+    let Some(mode) = mode else {
+        return Ok(graph);
+    };
+    let (scene, _) = super::scene::resolve(&graph, file, None, super::path_policy(false))?;
+    let s = matgraph::specialise::for_scene(&graph, &scene, Some(scene.time), mode == "approx")
+        .map_err(|e| format!("{}: {e}", file.display()))?;
+    eprint!("{}", s.listing());
+    Ok(s.graph)
 }
 
 /// Compiles the graph and prints or writes the shader (and the contract).
@@ -67,6 +93,14 @@ pub fn run(args: &Args) -> CliResult {
             ..MaterialOptions::default()
         };
         let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
+        let graph = specialised(graph, file, args.specialise.as_deref())?;
         let textures =
             matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
         let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
@@ -86,6 +120,14 @@ pub fn run(args: &Args) -> CliResult {
             ));
         }
         let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            file,
+            &args.variants,
+            args.max_error,
+            super::path_policy(false),
+        )?;
+        let graph = specialised(graph, file, args.specialise.as_deref())?;
         let options = WgslOptions {
             plan: PlanOptions {
                 outputs: args.outputs.clone(),

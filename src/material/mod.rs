@@ -59,6 +59,14 @@ pub struct MaterialOptions {
     /// Whether the app's device has `wgpu::Features::FLOAT32_FILTERABLE`: OpenEXR textures
     /// are then `rgba32float`, else `rgba16float`.
     pub float32_filterable: bool,
+    /// Per-sample shading: the varyings are `@interpolate(perspective, sample)`, so under
+    /// MSAA `mg_fragment` runs once per covered sample at its position (supersampled
+    /// shading, at the cost of one invocation per sample). Off: once per pixel.
+    pub sample_shading: bool,
+    /// The vertex buffer holds displaced positions and their normals already (displaced by
+    /// the app, e.g. once per frame for several passes, with `mg_material(g).displacement`
+    /// of [`Material::library_wgsl`]): `mg_vertex` then transforms them without displacing.
+    pub displaced_vertices: bool,
 }
 
 impl Default for MaterialOptions {
@@ -66,6 +74,8 @@ impl Default for MaterialOptions {
         MaterialOptions {
             textures: TextureMode::Hardware,
             float32_filterable: false,
+            sample_shading: false,
+            displaced_vertices: false,
         }
     }
 }
@@ -182,7 +192,7 @@ impl Material {
             outputs: wanted,
             bake_parameters: false,
         };
-        let render = crate::wgsl::generate(
+        let mut render = crate::wgsl::generate(
             graph,
             &WgslOptions {
                 plan: plan_options.clone(),
@@ -190,6 +200,19 @@ impl Material {
             },
         )
         .map_err(shader_err)?;
+        if options.sample_shading || options.displaced_vertices {
+            let source = crate::wgsl::render::variant(
+                &render.source,
+                options.sample_shading,
+                options.displaced_vertices,
+            );
+            let (module, info) = validate(&name, &source)?;
+            render.source = source;
+            render.module = module;
+            render.info = info;
+            // Byte ranges after the edit no longer name nodes exactly; the node text is unchanged.
+            render.spans.clear();
+        }
         let library = crate::wgsl::generate(
             graph,
             &WgslOptions {
@@ -246,25 +269,7 @@ impl Material {
     /// bindings of groups 1–3); validated by naga.
     pub fn wgsl_with_hooks(&self, hooks: &str) -> Result<String, MaterialError> {
         let source = self.render.source.replace(DEFAULT_HOOKS_WGSL, hooks);
-        let module = naga::front::wgsl::parse_str(&source).map_err(|e| MaterialError::Shader {
-            graph: self.graph.clone(),
-            source: Box::new(ShaderError::Naga {
-                node: None,
-                message: e.emit_to_string(&source),
-            }),
-        })?;
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
-        )
-        .validate(&module)
-        .map_err(|e| MaterialError::Shader {
-            graph: self.graph.clone(),
-            source: Box::new(ShaderError::Naga {
-                node: None,
-                message: e.emit_to_string(&source),
-            }),
-        })?;
+        validate(&self.graph, &source)?;
         Ok(source)
     }
 
@@ -314,6 +319,12 @@ impl Material {
     /// A parameter block with the graph's values, ready to be [`ParamBlock::set`].
     pub fn params(&self) -> ParamBlock {
         self.params.clone()
+    }
+
+    /// A parameter block at the library module's layout (it computes every output, so its
+    /// members may differ from [`Material::params`]'s), with the graph's values.
+    pub fn library_params(&self) -> ParamBlock {
+        ParamBlock::new(self.library.uniforms.clone(), self.params.values().clone())
     }
 
     /// Whether the module binds a parameter block (binding 0).
@@ -411,6 +422,29 @@ impl Material {
     }
 }
 
+/// `source` parsed and validated by naga; errors name the graph.
+fn validate(
+    graph: &str,
+    source: &str,
+) -> Result<(naga::Module, naga::valid::ModuleInfo), MaterialError> {
+    let err = |message: String| MaterialError::Shader {
+        graph: graph.to_owned(),
+        source: Box::new(ShaderError::Naga {
+            node: None,
+            message,
+        }),
+    };
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| err(e.emit_to_string(source)))?;
+    // Per-sample interpolation is core WebGPU (naga's MULTISAMPLED_SHADING).
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::MULTISAMPLED_SHADING,
+    )
+    .validate(&module)
+    .map_err(|e| err(e.emit_to_string(source)))?;
+    Ok((module, info))
+}
+
 /// The bind group of `module`'s group 0 from its buffers (parameters, frame, lights) and
 /// textures.
 fn bind_group(
@@ -451,4 +485,44 @@ fn bind_group(
         layout,
         entries: &entries,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const WAVE: &str = r#"{ "version": 1, "name": "wave", "nodes": [
+      { "id": "geo", "type": "geometry" },
+      { "id": "h", "type": "dot", "inputs": { "a": { "link": "geo.position" }, "b": [0.15, 0.1, 0.05] } },
+      { "id": "d", "type": "mul", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "h.result" } } } ],
+      "outputs": [{ "name": "emission", "from": "geo.normal" }, { "name": "displacement", "from": "d.result" }] }"#;
+
+    /// The renderer options change the module as documented, and it stays valid.
+    #[test]
+    fn sample_shading_and_displaced_vertices_edit_the_render_module() {
+        let graph = Graph::from_json(WAVE, crate::Registry::builtin()).unwrap();
+        let plain = Material::new(&graph, &MaterialOptions::default()).unwrap();
+        assert!(plain.wgsl().contains("let q = mg_displaced(p, n, v.uv);"));
+        assert!(!plain.wgsl().contains("@interpolate(perspective, sample)"));
+        let m = Material::new(
+            &graph,
+            &MaterialOptions {
+                sample_shading: true,
+                displaced_vertices: true,
+                ..MaterialOptions::default()
+            },
+        )
+        .unwrap();
+        let src = m.wgsl();
+        assert_eq!(src.matches("@interpolate(perspective, sample)").count(), 3);
+        // mg_vertex no longer displaces (mg_displaced stays defined, uncalled).
+        let vertex = &src[src.find("fn mg_vertex(").unwrap()..];
+        let vertex = &vertex[..vertex.find("\n}\n").unwrap()];
+        assert!(!vertex.contains("mg_displaced("), "{vertex}");
+        assert!(vertex.contains("o.position = p;"));
+        // The same bindings, outputs and parameter block as the default module.
+        assert_eq!(m.render_module().bindings, plain.render_module().bindings);
+        assert_eq!(m.params().bytes(), plain.params().bytes());
+        assert!(m.wgsl_with_hooks(DEFAULT_HOOKS_WGSL).is_ok());
+    }
 }

@@ -77,6 +77,13 @@ impl ParamBlock {
             .map_err(MaterialError::Parameter)
     }
 
+    /// Replaces every parameter value by `values`'s (e.g. the values a CPU plan of the same
+    /// graph executes with, so both evaluate alike); members `values` lacks keep their
+    /// defaults. Unchecked: `values` comes from a plan, which checked it.
+    pub fn set_values(&mut self, values: &ParamValues) {
+        self.values = values.clone();
+    }
+
     /// Sets the time in seconds (the `time` member, when the graph reads time).
     pub fn set_time(&mut self, seconds: f32) {
         self.time = seconds;

@@ -3,7 +3,7 @@
 //! environment, a sample count without a standard MSAA pattern on the device, a frame over
 //! the device's limits) the caller falls back to the hybrid path and says why.
 
-use super::{HdrImage, RenderError, RenderOptions, RenderTimings, Roles, SCENE_TEXTURE_MAX};
+use super::{HdrImage, RenderError, RenderOptions, RenderTimings, SCENE_TEXTURE_MAX};
 use crate::gpu::GpuContext;
 use crate::gpu::raster::{self, MaterialInput};
 use crate::graph::Graph;
@@ -43,18 +43,16 @@ fn textures(
         .filter_map(|n| n.texture.as_ref()?.scene_name())
         .collect();
     let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
-    if wanted.contains(&"environment") {
+    if wanted.iter().any(|w| super::is_environment_texture(w)) {
+        // The map is drawn on the GPU; its image-based-lighting tables are made from it on
+        // the CPU and uploaded (super::insert_environment_textures).
         let (w, h) = (
             super::ENVIRONMENT_MAP_WIDTH,
             super::ENVIRONMENT_MAP_WIDTH / 2,
         );
         let data = raster::render_environment(ctx, scene, w, h)?;
         let image = Image::new(w, h, data).map_err(texture_error)?;
-        set.insert(
-            key("environment"),
-            Texture::new(image, true).map_err(texture_error)?,
-        )
-        .map_err(texture_error)?;
+        super::insert_environment_textures(&mut set, &wanted, image).map_err(texture_error)?;
     }
     let (tw, th) = super::scene_texture_size(options.width, options.height);
     debug_assert!(tw.max(th) <= SCENE_TEXTURE_MAX);
@@ -80,13 +78,11 @@ fn textures(
 }
 
 /// Renders on the GPU rasteriser; `t` gets the stages' times.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn render(
     ctx: &GpuContext,
     graph: &Graph,
     scene: &Scene,
     options: &RenderOptions,
-    roles: &Roles,
     params: &ParamValues,
     time: f32,
     t: &mut RenderTimings,
@@ -97,14 +93,7 @@ pub(super) fn render(
     let mesh: Mesh = scene.material_mesh();
     let input = MaterialInput {
         graph,
-        color: roles.color.clone(),
-        emission: roles.emission.clone(),
-        alpha: roles
-            .alpha
-            .as_ref()
-            .and_then(|n| graph.outputs().iter().find(|o| &o.name == n))
-            .map(|o| (o.name.clone(), o.ty)),
-        displacement: roles.displacement.clone(),
+        texture_mode: options.texture_mode,
         params,
         time,
         textures: &set,

@@ -114,6 +114,9 @@ pub struct RenderOptions {
     pub memory_budget: u64,
     /// Rows per band, overriding [`plan_memory`]'s choice (tests force tiny bands).
     pub band_rows: Option<u32>,
+    /// How the GPU rasteriser (`Backend::Gpu`) binds the material's textures: hardware
+    /// samplers (the default) or exact storage buffers (the CPU's filtering, bit for bit).
+    pub texture_mode: crate::wgsl::TextureMode,
 }
 
 impl Default for RenderOptions {
@@ -129,6 +132,7 @@ impl Default for RenderOptions {
             environment: None,
             memory_budget: MEMORY_BUDGET,
             band_rows: None,
+            texture_mode: crate::wgsl::TextureMode::Hardware,
         }
     }
 }
@@ -406,12 +410,10 @@ fn textures(
     if wanted.is_empty() {
         return Ok(set);
     }
-    if wanted.contains(&"environment") {
-        let key = format!("{}environment", crate::document::TextureSource::SCENE);
-        let texture =
-            Texture::new(environment_map(scene, environment), true).map_err(texture_error)?;
-        set.insert(key, texture).map_err(texture_error)?;
-        if wanted.iter().all(|w| *w == "environment") {
+    if wanted.iter().any(|w| is_environment_texture(w)) {
+        let env = environment_map(scene, environment).map_err(texture_error)?;
+        insert_environment_textures(&mut set, &wanted, env).map_err(texture_error)?;
+        if wanted.iter().all(|w| is_environment_texture(w)) {
             return Ok(set);
         }
     }
@@ -437,6 +439,48 @@ fn textures(
             .map_err(texture_error)?;
     }
     Ok(set)
+}
+
+/// The scene textures made from the environment map: the map itself and its
+/// image-based-lighting tables ([`crate::scene::ibl`]).
+const ENVIRONMENT_TEXTURES: [&str; 4] = [
+    "environment",
+    "environment_ggx",
+    "brdf_lut",
+    "environment_sh",
+];
+
+/// Whether scene texture `name` is made from the environment map.
+fn is_environment_texture(name: &str) -> bool {
+    ENVIRONMENT_TEXTURES.contains(&name)
+}
+
+/// Adds to `set` the environment textures in `wanted` made from the equirectangular map
+/// `env` ([`ENVIRONMENT_TEXTURES`]): `scene:environment` (box mips), and the prefiltered
+/// GGX levels, BRDF table and irradiance coefficients of [`crate::scene::ibl`], computed on
+/// the CPU (the GPU render uploads them too).
+pub(super) fn insert_environment_textures(
+    set: &mut TextureSet,
+    wanted: &[&str],
+    env: Image,
+) -> Result<(), crate::texture::TextureError> {
+    use crate::scene::ibl;
+    let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
+    let source = Texture::new(env, true)?;
+    if wanted.contains(&"environment_ggx") {
+        set.insert(key("environment_ggx"), ibl::environment_ggx(&source)?)?;
+    }
+    if wanted.contains(&"brdf_lut") {
+        set.insert(key("brdf_lut"), ibl::brdf_lut().clone())?;
+    }
+    if wanted.contains(&"environment_sh") {
+        let sh = ibl::sh_irradiance(&source, ibl::SH_LEVEL);
+        set.insert(key("environment_sh"), ibl::sh_texture(&sh)?)?;
+    }
+    if wanted.contains(&"environment") {
+        set.insert(key("environment"), source)?;
+    }
+    Ok(())
 }
 
 /// Whether `graph` samples any scene texture (`scene:…`).
@@ -498,21 +542,14 @@ pub fn graph_scene(graph: &Graph) -> Result<Option<Scene>, crate::scene::SceneEr
 /// Width of the `scene:environment` map (its height is half).
 pub const ENVIRONMENT_MAP_WIDTH: u32 = 512;
 
-/// The scene's environment (sky and sun, or its image) as an equirectangular map, texel
-/// centres mapped to directions by the inverse of `scene::equirect_uv`.
-fn environment_map(scene: &Scene, image: Option<&crate::scene::EnvLookup>) -> Image {
+/// The scene's surroundings as an equirectangular map ([`Scene::environment_map`]: the
+/// room seen from the ball's centre, the sky or image elsewhere).
+fn environment_map(
+    scene: &Scene,
+    image: Option<&crate::scene::EnvLookup>,
+) -> Result<Image, crate::texture::TextureError> {
     let (w, h) = (ENVIRONMENT_MAP_WIDTH, ENVIRONMENT_MAP_WIDTH / 2);
-    Image::from_fn(w, h, |x, y| {
-        let phi = ((x as f32 + 0.5) / w as f32 - 0.5) * std::f32::consts::TAU;
-        let theta = (y as f32 + 0.5) / h as f32 * std::f32::consts::PI;
-        let d = Vec3::new(
-            theta.sin() * phi.sin(),
-            theta.cos(),
-            -theta.sin() * phi.cos(),
-        );
-        let c = scene.environment_radiance(d, image);
-        [c.x, c.y, c.z, 1.0]
-    })
+    Image::new(w, h, scene.environment_map(w, h, image))
 }
 
 /// Renders `graph` in `scene`.
@@ -572,7 +609,7 @@ pub fn render_timed(
         let ctx = crate::gpu::GpuContext::shared()?;
         match gpu::unsupported(ctx, scene, options) {
             None => {
-                let image = gpu::render(ctx, graph, scene, options, &roles, &params, time, &mut t)?;
+                let image = gpu::render(ctx, graph, scene, options, &params, time, &mut t)?;
                 return Ok((image, t));
             }
             Some(why) => {

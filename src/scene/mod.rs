@@ -65,8 +65,10 @@ mod bubble;
 mod camera;
 mod columns;
 mod environment;
+mod envmap;
 mod error;
 mod gbuffer;
+pub mod ibl;
 mod image;
 mod json;
 mod kind;
@@ -86,6 +88,7 @@ pub use camera::{Camera, CameraFrame, DEFAULT_NEAR};
 pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
 };
+pub use envmap::equirect_direction;
 pub use error::SceneError;
 pub use gbuffer::{GBuffer, GBufferFrame, cpu_raster_frames};
 pub use image::SceneImage;

@@ -76,6 +76,67 @@ fn mg_surface_depth(position: vec3<f32>) -> f32 {
 // mg-hooks: end
 ";
 
+/// `MgVertexOut`, the varyings of `mg_vertex` → `mg_fragment`: interpolated at the pixel
+/// (or where the rasteriser chooses within its covered samples).
+pub const VERTEX_OUT_WGSL: &str = "\
+struct MgVertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+}
+
+";
+
+/// `MgVertexOut` with per-sample interpolation (`@interpolate(perspective, sample)`): under
+/// MSAA the fragment entry runs once per covered sample, at the sample's position.
+pub const VERTEX_OUT_SAMPLE_WGSL: &str = "\
+struct MgVertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(perspective, sample) position: vec3<f32>,
+    @location(1) @interpolate(perspective, sample) normal: vec3<f32>,
+    @location(2) @interpolate(perspective, sample) uv: vec2<f32>,
+}
+
+";
+
+/// The end of `mg_vertex` for a graph with `displacement`: the displaced position and the
+/// rebuilt normal (see the module doc).
+pub const DISPLACE_VERTEX_WGSL: &str = "    let q = mg_displaced(p, n, v.uv);
+    // Tangent frame of n (Duff et al. 2017), right-handed: t × b = n.
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let c = n.x * n.y * a;
+    let t = vec3<f32>(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+    let b = vec3<f32>(c, s + n.y * n.y * a, -n.y);
+    let h = MG_NORMAL_STEP * max(1.0, max(abs(p.x), max(abs(p.y), abs(p.z))));
+    let dt = mg_displaced(p + h * t, n, v.uv) - mg_displaced(p - h * t, n, v.uv);
+    let db = mg_displaced(p + h * b, n, v.uv) - mg_displaced(p - h * b, n, v.uv);
+    let m = cross(dt, db);
+    let ok = dot(m, m) > 0.0 && dot(m, m) < 3.0e38;
+    o.position = q;
+    o.normal = select(n, normalize(m), ok);
+";
+
+/// The end of `mg_vertex` without displacement (or for vertices displaced already): the
+/// transformed position and normal.
+pub const PASS_VERTEX_WGSL: &str = "    o.position = p;\n    o.normal = n;\n";
+
+/// The render module `source` (as generated) with per-sample varyings when `sample_shading`
+/// ([`VERTEX_OUT_SAMPLE_WGSL`]) and, when `displaced_vertices`, `mg_vertex` passing the
+/// vertex buffer's positions and normals through ([`PASS_VERTEX_WGSL`]: the mesh was
+/// displaced already, by the app or by `mg_material(g).displacement` of the library module).
+pub fn variant(source: &str, sample_shading: bool, displaced_vertices: bool) -> String {
+    let mut s = source.to_owned();
+    if sample_shading {
+        s = s.replacen(VERTEX_OUT_WGSL, VERTEX_OUT_SAMPLE_WGSL, 1);
+    }
+    if displaced_vertices {
+        s = s.replacen(DISPLACE_VERTEX_WGSL, PASS_VERTEX_WGSL, 1);
+    }
+    s
+}
+
 /// Which plan outputs play which role (indices into the module's outputs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Roles {
@@ -131,8 +192,9 @@ pub(super) fn emit_entries(
     bindings.push((LIGHTS_BINDING, Binding::Lights));
     out.push_str(
         "struct MgVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n}\n\n\
-         struct MgVertexOut {\n    @builtin(position) clip: vec4<f32>,\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n}\n\n",
+",
     );
+    out.push_str(VERTEX_OUT_WGSL);
     // f32::MAX as its shortest f64 decimal (3.4028235e38 reads above f32's range in WGSL).
     let _ = writeln!(
         out,
@@ -179,24 +241,9 @@ pub(super) fn emit_entries(
          \x20   var o: MgVertexOut;\n",
     );
     if roles.displacement.is_some() {
-        out.push_str(
-            "    let q = mg_displaced(p, n, v.uv);\n\
-             \x20   // Tangent frame of n (Duff et al. 2017), right-handed: t × b = n.\n\
-             \x20   let s = select(-1.0, 1.0, n.z >= 0.0);\n\
-             \x20   let a = -1.0 / (s + n.z);\n\
-             \x20   let c = n.x * n.y * a;\n\
-             \x20   let t = vec3<f32>(1.0 + s * n.x * n.x * a, s * c, -s * n.x);\n\
-             \x20   let b = vec3<f32>(c, s + n.y * n.y * a, -n.y);\n\
-             \x20   let h = MG_NORMAL_STEP * max(1.0, max(abs(p.x), max(abs(p.y), abs(p.z))));\n\
-             \x20   let dt = mg_displaced(p + h * t, n, v.uv) - mg_displaced(p - h * t, n, v.uv);\n\
-             \x20   let db = mg_displaced(p + h * b, n, v.uv) - mg_displaced(p - h * b, n, v.uv);\n\
-             \x20   let m = cross(dt, db);\n\
-             \x20   let ok = dot(m, m) > 0.0 && dot(m, m) < 3.0e38;\n\
-             \x20   o.position = q;\n\
-             \x20   o.normal = select(n, normalize(m), ok);\n",
-        );
+        out.push_str(DISPLACE_VERTEX_WGSL);
     } else {
-        out.push_str("    o.position = p;\n    o.normal = n;\n");
+        out.push_str(PASS_VERTEX_WGSL);
     }
     out.push_str(
         "    o.uv = v.uv;\n    o.clip = mg_frame.view_proj * vec4<f32>(o.position, 1.0);\n    return o;\n}\n\n",

@@ -1,46 +1,114 @@
-//! The material surface's shaders: the graph's generated module (its `mg_material`
-//! function, parameters and textures in bind group 0) with the rasteriser's entry points
-//! appended — the displacement compute pass, and the vertex and fragment stages with the
-//! light loop.
+//! The material surface as an app of the documented contract ([`crate::material::Material`],
+//! docs/integration.md): the render module's `mg_vertex` and `mg_fragment` with the scene's
+//! hooks (shadows from the scene's casters, the water depth), its group 0 (parameters,
+//! `MgFrame`, lights, textures in either mode), and the library module's `mg_material`
+//! called from a compute pass that displaces the vertices once per frame (the CPU's order:
+//! displacement at the vertices, then the welded normals of `normals.wgsl`).
 
+use super::{COLOR, DEPTH};
+use crate::gpu::device::DeviceState;
+use crate::material::{Frame, Light, Material};
 use crate::node::Attribute;
-use crate::types::SocketType;
-use crate::wgsl::ShaderModule;
+use crate::scene::{CameraFrame, Scene};
+use glam::{Mat4, Vec4};
 
-/// The `MgOutputs` members of a generated module, in output order.
-pub(super) fn output_fields(shader: &ShaderModule) -> Vec<String> {
-    let src = &shader.source;
-    let Some(start) = src.find("struct MgOutputs {") else {
-        return Vec::new();
+/// The scene's definitions of the contract's hooks, with `scene.wgsl` (group 1) that they
+/// read: a light is visible where none of the scene's own casters stands between
+/// (columns.rs light_at), and the `depth` attribute is the water depth.
+pub(super) fn hooks() -> String {
+    format!(
+        "{}\n\
+         fn mg_light_visibility(index: u32, position: vec3<f32>, to_light: vec3<f32>, distance: f32) -> f32 {{\n\
+         \x20   let count = mgr_frame.counts.z;\n\
+         \x20   if (count == 0u || mgr_lit(count, 0xffffffffu, position, vec3<f32>(0.0), to_light, distance)) {{\n\
+         \x20       return 1.0;\n\
+         \x20   }}\n\
+         \x20   return 0.0;\n\
+         }}\n\n\
+         fn mg_surface_depth(position: vec3<f32>) -> f32 {{\n\
+         \x20   return mgr_water_depth(position);\n\
+         }}\n",
+        include_str!("scene.wgsl")
+    )
+}
+
+/// World → clip of the camera as the scene passes project (`mgr_clip_position`): x and y
+/// over `tan(fov/2)` (times the aspect for x), z the constant `near`, w the view depth, so
+/// that the depth `near / w` grows towards the eye and `z ≤ w` clips at the near plane.
+pub(super) fn view_proj(cam: &CameraFrame) -> Mat4 {
+    let (sx, sy) = (1.0 / (cam.tan_half_y * cam.aspect), 1.0 / cam.tan_half_y);
+    let (r, u, f, o) = (cam.right, cam.up, cam.forward, cam.origin);
+    // Rows of the matrix, as columns of its transpose.
+    Mat4::from_cols(
+        Vec4::new(r.x * sx, r.y * sx, r.z * sx, -r.dot(o) * sx),
+        Vec4::new(u.x * sy, u.y * sy, u.z * sy, -u.dot(o) * sy),
+        Vec4::new(0.0, 0.0, 0.0, cam.near),
+        Vec4::new(f.x, f.y, f.z, -f.dot(o)),
+    )
+    .transpose()
+}
+
+/// The contract's per-draw uniform and lights of `scene` at `w × h`.
+pub(super) fn frame_and_lights(scene: &Scene, w: u32, h: u32) -> (Vec<u8>, Vec<u8>) {
+    let cam = scene.camera.frame(w, h);
+    let lights: Vec<Light> = scene.lights.iter().map(Light::from_scene).collect();
+    let frame = Frame {
+        view_proj: view_proj(&cam),
+        model: Mat4::IDENTITY,
+        camera_position: cam.origin,
+        viewport: [w as f32, h as f32],
     };
-    src[start..]
-        .lines()
-        .skip(1)
-        .take_while(|l| l.trim() != "}")
-        .filter_map(|l| l.trim().split(':').next().map(str::to_owned))
-        .collect()
+    (
+        frame.bytes(lights.len() as u32),
+        crate::material::lights_bytes(&lights),
+    )
 }
 
-/// WGSL of an output member as RGB (a float, int or bool as grey), as `render::rgb` reads it.
-fn rgb(e: &str, ty: SocketType) -> String {
-    match ty {
-        SocketType::Vec3 | SocketType::Color => e.to_owned(),
-        SocketType::Float => format!("vec3<f32>({e})"),
-        SocketType::Int => format!("vec3<f32>(f32({e}))"),
-        SocketType::Bool => format!("vec3<f32>(select(0.0, 1.0, {e}))"),
-        SocketType::Vec2 => format!("vec3<f32>({e}.x)"),
-        SocketType::Vec4 => format!("{e}.xyz"),
-    }
-}
-
-/// WGSL of an output member as a float.
-fn float(e: &str, ty: SocketType) -> String {
-    match ty {
-        SocketType::Float => e.to_owned(),
-        SocketType::Int => format!("f32({e})"),
-        SocketType::Bool => format!("select(0.0, 1.0, {e})"),
-        _ => format!("{e}.x"),
-    }
+/// The material's render pipeline: `mg_vertex` over the contract's vertex buffer and
+/// `mg_fragment` into the material target, the depth test on `near / w` (greater is nearer)
+/// against the scene's depth, no blending (the resolve composites).
+pub(super) fn pipeline(
+    s: &DeviceState,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    samples: u32,
+) -> wgpu::RenderPipeline {
+    s.device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("mgr material"),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("mg_vertex"),
+                compilation_options: Default::default(),
+                buffers: &[Some(Material::vertex_buffer_layout())],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState {
+                count: samples,
+                mask: !0,
+                alpha_to_coverage_enabled: false,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("mg_fragment"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: COLOR,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
 }
 
 /// A WGSL literal of an attribute's default value.
@@ -57,153 +125,12 @@ fn default_literal(a: Attribute) -> String {
     }
 }
 
-/// The graph's roles in the fragment module: (member, type) of color, emission, alpha.
-pub(super) struct FragmentRoles {
-    pub color: Option<(String, SocketType)>,
-    pub emission: Option<(String, SocketType)>,
-    pub alpha: Option<(String, SocketType)>,
-}
-
-/// The material's vertex and fragment stages, appended to its generated module: group 1 is
-/// the scene (`scene.wgsl`), group 2 the mesh (displaced positions, rebuilt normals, uvs).
-pub(super) fn fragment_source(shader: &ShaderModule, roles: &FragmentRoles) -> String {
-    let mut s = format!("enable primitive_index;\n{}\n", shader.source);
-    s.push_str(include_str!("scene.wgsl"));
-    s.push_str(
-        r#"
-@group(2) @binding(0) var<storage, read> mgr_mesh_positions: array<vec4<f32>>;
-@group(2) @binding(1) var<storage, read> mgr_mesh_normals: array<vec4<f32>>;
-@group(2) @binding(2) var<storage, read> mgr_mesh_uvs: array<vec2<f32>>;
-@group(2) @binding(3) var<storage, read> mgr_mesh_indices: array<u32>;
-
-@vertex
-fn mgr_material_vs(@builtin(vertex_index) k: u32) -> @builtin(position) vec4<f32> {
-    return mgr_clip_position(mgr_mesh_positions[k].xyz);
-}
-
-// The G-buffer sample (gbuffer.rs material_batch: raster.rs interpolate at the CPU's
-// barycentrics), the light loop and the composite's radiance and alpha (render/mod.rs
-// shade_band): radiance in rgb, alpha in a. Per sample (sample_index is read).
-@fragment
-fn mgr_material_fs(
-    @builtin(position) xy: vec4<f32>,
-    @builtin(sample_index) sample: u32,
-    @builtin(primitive_index) prim: u32,
-) -> @location(0) vec4<f32> {
-    let i0 = mgr_mesh_indices[3u * prim];
-    let i1 = mgr_mesh_indices[3u * prim + 1u];
-    let i2 = mgr_mesh_indices[3u * prim + 2u];
-    let p0 = mgr_mesh_positions[i0].xyz;
-    let p1 = mgr_mesh_positions[i1].xyz;
-    let p2 = mgr_mesh_positions[i2].xyz;
-    let bc = mgr_barycentrics(p0, p1, p2, xy.xy);
-    let b0 = 1.0 - bc.x - bc.y;
-    let p = p0 * b0 + p1 * bc.x + p2 * bc.y;
-    let n0 = mgr_mesh_normals[i0].xyz;
-    var n = n0 * b0 + mgr_mesh_normals[i1].xyz * bc.x + mgr_mesh_normals[i2].xyz * bc.y;
-    let len2 = dot(n, n);
-    if (len2 > 0.0) {
-        n = n * inverseSqrt(len2);
-    } else {
-        n = n0;
-    }
-    let uv0 = mgr_mesh_uvs[i0];
-    let uv = uv0 * b0 + mgr_mesh_uvs[i1] * bc.x + mgr_mesh_uvs[i2] * bc.y;
-    let screen_uv = vec2<f32>(xy.x / mgr_frame.width, xy.y / mgr_frame.height) + vec2<f32>(f32(sample) * 0.0);
-    var view = mgr_frame.origin - p;
-    let vl2 = dot(view, view);
-    if (vl2 > 0.0) {
-        view = view * inverseSqrt(vl2);
-    } else {
-        view = n;
-    }
-    let lights = mgr_frame.counts.x;
-    var light = vec3<f32>(0.0, 1.0, 0.0);
-    var light_color = vec3<f32>(0.0);
-    if (lights > 0u) {
-        let first = mgr_light_at(0u, p);
-        light = first.l;
-        light_color = first.radiance;
-    }
-"#,
-    );
-    let has = |a: Attribute| shader.attributes.contains(&a);
-    if has(Attribute::UvDx) || has(Attribute::UvDy) {
-        s.push_str(
-            "    let uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, mgr_mesh_uvs[i1], mgr_mesh_uvs[i2], vec2<u32>(xy.xy));\n",
-        );
-    }
-    let call = if shader.attributes.is_empty() {
-        "mg_material()"
-    } else {
-        "mg_material(geom)"
-    };
-    if !shader.attributes.is_empty() {
-        s.push_str("    var geom: MgGeometry;\n");
-    }
-    for a in &shader.attributes {
-        let e = match a {
-            Attribute::Position => "p".to_owned(),
-            Attribute::Normal => "n".to_owned(),
-            Attribute::View => "view".to_owned(),
-            Attribute::Uv => "uv".to_owned(),
-            Attribute::ScreenUv => "screen_uv".to_owned(),
-            Attribute::Depth => "mgr_water_depth(p)".to_owned(),
-            Attribute::Light => "light".to_owned(),
-            Attribute::LightColor => "light_color".to_owned(),
-            Attribute::UvDx => "uv_d.xy".to_owned(),
-            Attribute::UvDy => "uv_d.zw".to_owned(),
-            a => default_literal(*a),
-        };
-        s.push_str(&format!("    geom.{} = {e};\n", a.name()));
-    }
-    s.push_str("    var c = vec3<f32>(0.0);\n    var o: MgOutputs;\n");
-    let unlit = roles.emission.is_some() || roles.alpha.is_some();
-    if let Some((f, ty)) = &roles.color {
-        s.push_str("    for (var i = 0u; i < lights; i++) {\n");
-        s.push_str("        let inc = mgr_light_at(i, p);\n");
-        if has(Attribute::Light) {
-            s.push_str("        geom.light = inc.l;\n");
-        }
-        if has(Attribute::LightColor) {
-            s.push_str("        geom.light_color = inc.radiance;\n");
-        }
-        s.push_str(&format!("        o = {call};\n"));
-        s.push_str(&format!(
-            "        c += {};\n    }}\n",
-            rgb(&format!("o.{f}"), *ty)
-        ));
-        if unlit {
-            // The unlit outputs see the last light's columns, as on the CPU.
-            s.push_str(&format!(
-                "    if (lights == 0u) {{\n        o = {call};\n    }}\n"
-            ));
-        }
-    } else if unlit {
-        s.push_str(&format!("    o = {call};\n"));
-    }
-    if let Some((f, ty)) = &roles.emission {
-        s.push_str(&format!("    c += {};\n", rgb(&format!("o.{f}"), *ty)));
-    }
-    s.push_str("    var alpha = 1.0;\n");
-    if let Some((f, ty)) = &roles.alpha {
-        s.push_str(&format!(
-            "    let a = {};\n    alpha = select(0.0, clamp(a, 0.0, 1.0), mgr_finite(a));\n",
-            float(&format!("o.{f}"), *ty)
-        ));
-    }
-    s.push_str(
-        "    if (!(mgr_finite(c.x) && mgr_finite(c.y) && mgr_finite(c.z))) {\n        c = vec3<f32>(0.0);\n    }\n",
-    );
-    s.push_str("    return vec4<f32>(c, alpha);\n}\n");
-    s
-}
-
-/// The displacement pass, appended to the module generated for the `displacement` output:
-/// every vertex moved by the graph's offset at its position, normal and uv (the other
-/// attributes at their defaults), as `render::render_timed` stage 1 does on the CPU.
-pub(super) fn displacement_source(shader: &ShaderModule, member: &str) -> String {
-    let mut s = shader.source.clone();
+/// The displacement pass, appended to the library module (`mg_material` over every output,
+/// group 0): every vertex moved by the graph's `displacement` (member `field`) at its
+/// position, normal and uv (the other attributes at their defaults), as
+/// `render::render_timed` stage 1 does on the CPU.
+pub(super) fn displacement_source(library: &str, attributes: &[Attribute], field: &str) -> String {
+    let mut s = library.to_owned();
     s.push_str(
         r#"
 // Per vertex: (position, u) and (normal, v).
@@ -222,13 +149,13 @@ fn mgr_displace(@builtin(global_invocation_id) id: vec3<u32>) {
     let b = mgr_vertices[2u * i + 1u];
 "#,
     );
-    let call = if shader.attributes.is_empty() {
+    let call = if attributes.is_empty() {
         "mg_material()"
     } else {
         s.push_str("    var geom: MgGeometry;\n");
         "mg_material(geom)"
     };
-    for a in &shader.attributes {
+    for a in attributes {
         let e = match a {
             Attribute::Position => "a.xyz".to_owned(),
             Attribute::Normal => "b.xyz".to_owned(),
@@ -238,7 +165,83 @@ fn mgr_displace(@builtin(global_invocation_id) id: vec3<u32>) {
         s.push_str(&format!("    geom.{} = {e};\n", a.name()));
     }
     s.push_str(&format!(
-        "    let o = {call};\n    mgr_displaced[i] = vec4<f32>(a.xyz + o.{member}, 1.0);\n}}\n"
+        "    let o = {call};\n    mgr_displaced[i] = vec4<f32>(a.xyz + o.{field}, 1.0);\n}}\n"
     ));
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Camera;
+    use glam::Vec3;
+
+    /// SplitMix64 (Steele, Lea & Flood 2014): seeded draws in [lo, hi).
+    struct Rng(u64);
+    impl Rng {
+        fn uniform(&mut self, lo: f32, hi: f32) -> f32 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^= z >> 31;
+            lo + (hi - lo) * ((z >> 40) as f32 / (1u64 << 24) as f32)
+        }
+    }
+
+    /// The matrix projects as the CPU's `CameraFrame::project` (f64) does, to pixels, and its
+    /// depth `z / w` is `near / view depth`: preset cameras and seeded ones, at seeded points
+    /// in front of the camera and at round ones.
+    #[test]
+    fn view_proj_projects_as_the_cpu_camera() {
+        let mut rng = Rng(0x5eed_0010);
+        let mut cameras: Vec<Camera> = ["ball", "water"]
+            .iter()
+            .map(|p| crate::scene::Scene::preset(p).unwrap().camera)
+            .collect();
+        for _ in 0..8 {
+            cameras.push(Camera {
+                position: [0; 3].map(|_| rng.uniform(-4.0, 4.0)),
+                target: [0; 3].map(|_| rng.uniform(-1.0, 1.0)),
+                fov_y_deg: rng.uniform(20.0, 90.0),
+                near: rng.uniform(0.01, 0.2),
+            });
+        }
+        for cam in cameras {
+            let (w, h) = (640, 360);
+            let f = cam.frame(w, h);
+            let m = view_proj(&f);
+            let mut points: Vec<Vec3> = vec![Vec3::ZERO, Vec3::new(0.5, 0.25, -0.5)];
+            for _ in 0..64 {
+                points.push(Vec3::new(
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-2.0, 2.0),
+                    rng.uniform(-2.0, 2.0),
+                ));
+            }
+            for p in points {
+                let depth = (p - f.origin).dot(f.forward);
+                let Some((px, py)) = f.project(p) else {
+                    continue;
+                };
+                let c = m * p.extend(1.0);
+                let (x, y) = (
+                    (0.5 + 0.5 * (c.x / c.w) as f64) * w as f64,
+                    (0.5 - 0.5 * (c.y / c.w) as f64) * h as f64,
+                );
+                // Pixels: the matrix rounds in f32 (|p|, |origin| up to 7 m).
+                let tol = 1e-4 * (1.0 + px.abs().max(py.abs()));
+                assert!(
+                    (x - px).abs() < tol && (y - py).abs() < tol,
+                    "{cam:?} {p}: ({x}, {y}) against ({px}, {py})"
+                );
+                let want = cam.near as f64 / depth as f64;
+                assert!(
+                    ((c.z / c.w) as f64 - want).abs() <= 1e-5 * want,
+                    "{cam:?} {p}: depth {} against {want}",
+                    c.z / c.w
+                );
+            }
+        }
+    }
 }

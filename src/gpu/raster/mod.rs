@@ -4,10 +4,12 @@
 //! - **Scene** (`scene.wgsl`, `objects.wgsl`): the sky and the built-in surfaces (backdrop,
 //!   seabed, skirts, objects) with Lambert shading, hard shadows from the analytic casters
 //!   and the ambient cube, each WGSL function a port of the CPU function it names.
-//! - **Material** ([`material`]): the graph's generated module with a displacement compute
-//!   pass (`displacement` evaluated per vertex), a normal pass (`normals.wgsl`, the CPU's
-//!   area-weighted welded normals), a vertex stage and a fragment stage with the light loop
-//!   (lights in a storage buffer).
+//! - **Material** ([`material`]): drawn as an app of the contract
+//!   ([`crate::material::Material`], docs/integration.md): its `mg_vertex` and `mg_fragment`
+//!   (the light loop, lights in a storage buffer) with the scene's hooks, its group 0 in
+//!   either texture mode; the vertices displaced first by a compute pass calling the library
+//!   module's `mg_material` and a normal pass (`normals.wgsl`, the CPU's area-weighted
+//!   welded normals).
 //! - **Samples**: `--samples` 1, 2, 4 or 8 as MSAA with per-sample shading, on the standard
 //!   patterns that [`crate::scene::sample_offsets`] also uses; the depth test is on `near / w`
 //!   (greater is nearer), the CPU z-buffer's `1/w` up to scale.
@@ -23,11 +25,11 @@ mod material;
 use super::context::GpuContext;
 use super::device::{DeviceState, dispatch_shape, gpu_err};
 use crate::graph::Graph;
-use crate::plan::{EvalError, ParamValues, PlanOptions};
+use crate::material::{Material, MaterialError, MaterialOptions, VERTEX_STRIDE};
+use crate::plan::{EvalError, ParamValues};
 use crate::scene::{Mesh, PackedScene, Scene, ScenePass};
 use crate::texture::TextureSet;
-use crate::types::SocketType;
-use crate::wgsl::{self, Binding, Entry, WgslOptions};
+use crate::wgsl::TextureMode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
@@ -50,19 +52,13 @@ pub struct RasterTimings {
     pub readback: Duration,
 }
 
-/// The material surface of a frame: the graph, its outputs by role, its parameters and
+/// The material surface of a frame: the graph, how it binds textures, its parameters and
 /// textures, and its mesh (undisplaced).
 pub(crate) struct MaterialInput<'a> {
     /// The graph.
     pub graph: &'a Graph,
-    /// The `color` output (evaluated per light, summed).
-    pub color: Option<(String, SocketType)>,
-    /// The `emission` output (or the unlit preview output).
-    pub emission: Option<(String, SocketType)>,
-    /// The `alpha` output.
-    pub alpha: Option<(String, SocketType)>,
-    /// The `displacement` output.
-    pub displacement: Option<String>,
+    /// How the material binds its textures.
+    pub texture_mode: TextureMode,
     /// Parameter values.
     pub params: &'a ParamValues,
     /// Scene time, seconds.
@@ -209,6 +205,26 @@ fn bind(
         .enumerate()
         .map(|(i, r)| wgpu::BindGroupEntry {
             binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    s.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &entries,
+    })
+}
+
+/// A bind group of `layout` with each resource at its own binding number.
+fn bind_entries(
+    s: &DeviceState,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[(u32, wgpu::BindingResource)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .iter()
+        .map(|(binding, r)| wgpu::BindGroupEntry {
+            binding: *binding,
             resource: r.clone(),
         })
         .collect();
@@ -379,7 +395,7 @@ impl ScenePipelines {
             "mgr objects",
             &[
                 (0, vf, Kind::Storage),
-                (1, f, Kind::Storage),
+                (1, vf, Kind::Storage),
                 (2, f, Kind::Storage),
                 (3, f, Kind::Storage),
                 (4, vf, Kind::Storage),
@@ -397,7 +413,12 @@ impl ScenePipelines {
             "mgr objects",
             &m,
             "mgr_object_vs",
-            "mgr_object_fs",
+            // Varyings at 1 sample per pixel, the CPU's barycentrics rebuilt under MSAA.
+            if spp == 1 {
+                "mgr_object_fs"
+            } else {
+                "mgr_object_sample_fs"
+            },
             &pl,
             spp,
             true,
@@ -731,10 +752,22 @@ pub(crate) fn render_environment(
         let c = wgpu::ShaderStages::COMPUTE;
         let pipes = cached(s, "environment", || {
             let scene_layout = scene_layout(s);
-            let l = layout(s, "mgr environment", &[(0, c, Kind::StorageRw)]);
+            let l = layout(
+                s,
+                "mgr environment",
+                &[
+                    (0, c, Kind::Storage),
+                    (1, c, Kind::Storage),
+                    (2, c, Kind::Storage),
+                    (3, c, Kind::Storage),
+                    (5, c, Kind::StorageRw),
+                    (6, c, Kind::Uniform),
+                ],
+            );
             let source = format!(
-                "{}\n{}",
+                "enable primitive_index;\n{}\n{}\n{}",
                 include_str!("scene.wgsl"),
+                include_str!("objects.wgsl"),
                 include_str!("envmap.wgsl")
             );
             let m = module(s, "mgr environment", &source);
@@ -759,13 +792,50 @@ pub(crate) fn render_environment(
                 casters.as_entire_binding(),
             ],
         );
+        // MgrEnvView: the rays' origin and the triangles they meet (none: the sky alone).
+        let (origin, triangles) = match scene.environment_origin() {
+            Some(o) => (o, packed.indices.len() as u32 / 3),
+            None => (glam::Vec3::ZERO, 0),
+        };
+        let view: [u32; 4] = [
+            origin.x.to_bits(),
+            origin.y.to_bits(),
+            origin.z.to_bits(),
+            triangles,
+        ];
+        let view = uniform(s, "mgr environment view", bytemuck::cast_slice(&view));
+        let positions = storage(
+            s,
+            "mgr positions",
+            bytemuck::cast_slice(&packed.positions),
+            16,
+        );
+        let normals = storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16);
+        let table = storage(
+            s,
+            "mgr object table",
+            bytemuck::cast_slice(&packed.objects),
+            80,
+        );
+        let index = index_buffer(s, &packed.indices);
         let bytes = w as u64 * h as u64 * 16;
         let out = s.buffer(
             "mgr environment",
             bytes,
             wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         );
-        let g0 = bind(s, l, &[out.as_entire_binding()]);
+        let g0 = bind_entries(
+            s,
+            l,
+            &[
+                (0, positions.as_entire_binding()),
+                (1, normals.as_entire_binding()),
+                (2, table.as_entire_binding()),
+                (3, index.as_entire_binding()),
+                (5, out.as_entire_binding()),
+                (6, view.as_entire_binding()),
+            ],
+        );
         let mut enc = s.device.create_command_encoder(&Default::default());
         {
             let mut cp = enc.begin_compute_pass(&Default::default());
@@ -785,128 +855,178 @@ pub(crate) fn render_environment(
     })
 }
 
-fn shader_error(e: wgsl::ShaderError) -> EvalError {
+/// A [`MaterialError`] as the renderer's error (a missing texture keeps its name).
+fn material_err(e: MaterialError) -> EvalError {
     match e {
-        wgsl::ShaderError::Plan(e) => e,
-        e => EvalError::Gpu(format!("WGSL generation: {e}")),
+        MaterialError::MissingTexture(name) => EvalError::MissingTexture { name },
+        MaterialError::Parameter(e) => e,
+        MaterialError::NoOutputs(_) => EvalError::NoOutputs,
+        e => EvalError::Gpu(e.to_string()),
     }
 }
 
-/// The generated module of `outputs` of `graph` (fragment entry: no compute bindings).
-fn generated(graph: &Graph, outputs: Vec<String>) -> Result<wgsl::ShaderModule, EvalError> {
-    wgsl::generate(
-        graph,
-        &WgslOptions {
-            plan: PlanOptions {
-                outputs,
-                bake_parameters: false,
-            },
-            entry: Entry::Fragment,
-        },
-    )
-    .map_err(shader_error)
-}
-
-/// The layout of the material's group 0, as the generated module declares it.
-fn material_layout(
-    s: &DeviceState,
-    shader: &wgsl::ShaderModule,
-    visibility: wgpu::ShaderStages,
-) -> wgpu::BindGroupLayout {
-    let entries: Vec<(u32, wgpu::ShaderStages, Kind)> = shader
-        .bindings
-        .iter()
-        .map(|(b, k)| {
-            let kind = match k {
-                Binding::Params | Binding::Dispatch => Kind::Uniform,
-                _ => Kind::Storage,
-            };
-            (*b, visibility, kind)
+/// The contract's interleaved vertex buffer of `mesh` (position, normal, uv), undisplaced.
+fn vertex_bytes(mesh: &Mesh) -> Vec<[f32; 8]> {
+    (0..mesh.positions.len())
+        .map(|i| {
+            let (p, n, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
+            [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
         })
-        .collect();
-    layout(s, "mgr material", &entries)
+        .collect()
 }
 
-/// The material's group 0 on layout `l`: its parameters and its packed textures.
-fn material_group(
-    s: &DeviceState,
-    shader: &wgsl::ShaderModule,
-    l: &wgpu::BindGroupLayout,
-    params: &ParamValues,
-    time: f32,
-    textures: &TextureSet,
-) -> Result<wgpu::BindGroup, EvalError> {
-    let pack = if shader.textures.is_empty() {
-        None
-    } else {
-        Some(
-            textures
-                .pack_selection(&shader.textures)
-                .map_err(|e| match e {
-                    crate::texture::TextureError::Missing(name) => {
-                        EvalError::MissingTexture { name }
-                    }
-                    e => gpu_err("packing textures", e),
-                })?,
-        )
-    };
-    let mut buffers = Vec::new();
-    for (b, k) in &shader.bindings {
-        let buf = match k {
-            Binding::Params => uniform(s, "MgParams", &shader.uniforms.pack(params, time)),
-            Binding::TextureTexels => storage(
-                s,
-                "mg_texels",
-                pack.as_ref().map_or(&[][..], |p| p.texel_bytes()),
-                16,
-            ),
-            Binding::TextureLevels => storage(
-                s,
-                "mg_levels",
-                pack.as_ref().map_or(&[][..], |p| p.level_bytes()),
-                16,
-            ),
-            Binding::TextureTable => storage(
-                s,
-                "mg_textures",
-                pack.as_ref().map_or(&[][..], |p| p.texture_bytes()),
-                16,
-            ),
-            other => {
-                return Err(EvalError::Gpu(format!(
-                    "unexpected binding {b} ({other:?}) in a fragment module"
-                )));
-            }
-        };
-        buffers.push((*b, buf));
-    }
-    let entries: Vec<wgpu::BindGroupEntry> = buffers
-        .iter()
-        .map(|(b, buf)| wgpu::BindGroupEntry {
-            binding: *b,
-            resource: buf.as_entire_binding(),
-        })
-        .collect();
-    Ok(s.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("mgr material"),
-        layout: l,
-        entries: &entries,
-    }))
-}
-
-/// The field name of output `name` in a generated module.
-fn member(shader: &wgsl::ShaderModule, name: &str) -> Result<String, EvalError> {
-    let fields = material::output_fields(shader);
-    shader
+/// The displacement and normal passes: the library module's `displacement` at every
+/// vertex, then the welded normals, into a new vertex buffer of the contract's layout.
+fn displace(
+    ctx: &GpuContext,
+    enc: &mut wgpu::CommandEncoder,
+    material: &Material,
+    m: &MaterialInput,
+    index: &wgpu::Buffer,
+) -> Result<wgpu::Buffer, EvalError> {
+    let s = &*ctx.state;
+    let mesh = m.mesh;
+    let n = mesh.positions.len() as u32;
+    let library = material.library_module();
+    let name = material
+        .roles()
+        .displacement
+        .map(|k| material.render_module().outputs[k].name.clone())
+        .unwrap_or_default();
+    let field = library
         .outputs
         .iter()
-        .position(|o| o.name == name)
-        .and_then(|k| fields.get(k).cloned())
-        .ok_or_else(|| EvalError::Gpu(format!("output '{name}' missing from the generated module")))
+        .find(|o| o.name == name)
+        .map(|o| o.field.clone())
+        .ok_or_else(|| {
+            EvalError::Gpu(format!("output '{name}' missing from the library module"))
+        })?;
+    let src = material::displacement_source(material.library_wgsl(), &library.attributes, &field);
+    let c = wgpu::ShaderStages::COMPUTE;
+    let pipes = cached(s, &format!("displace/{src}"), || {
+        let mut entries = material.library_bind_group_layout_entries();
+        for e in &mut entries {
+            e.visibility = c;
+        }
+        let dl = s
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("mgr displacement"),
+                entries: &entries,
+            });
+        let vl = layout(
+            s,
+            "mgr displace io",
+            &[
+                (0, c, Kind::Storage),
+                (1, c, Kind::StorageRw),
+                (2, c, Kind::Uniform),
+            ],
+        );
+        let dm = module(s, "mgr displacement", &src);
+        let dp = compute_pipeline(
+            s,
+            "mgr displacement",
+            &dm,
+            "mgr_displace",
+            &pipeline_layout(s, &[&dl, &vl]),
+        );
+        let nl = layout(
+            s,
+            "mgr normals",
+            &[
+                (0, c, Kind::Storage),
+                (1, c, Kind::Storage),
+                (2, c, Kind::Storage),
+                (3, c, Kind::Storage),
+                (4, c, Kind::Storage),
+                (5, c, Kind::Storage),
+                (6, c, Kind::StorageRw),
+                (7, c, Kind::Uniform),
+            ],
+        );
+        let nm = module(s, "mgr normals", include_str!("normals.wgsl"));
+        let np = compute_pipeline(
+            s,
+            "mgr normals",
+            &nm,
+            "mgr_smooth_normals",
+            &pipeline_layout(s, &[&nl]),
+        );
+        (dl, vl, dp, nl, np)
+    });
+    let (dl, vl, dp, nl, np) = (&pipes.0, &pipes.1, &pipes.2, &pipes.3, &pipes.4);
+    let mut params = material.library_params();
+    params.set_values(m.params);
+    params.set_time(m.time);
+    let params_buf = uniform(s, "mgr displacement params", &params.bytes());
+    let textures = material
+        .upload_library_textures(&s.device, &s.queue, m.textures)
+        .map_err(material_err)?;
+    let dg = material.library_bind_group(&s.device, dl, &params_buf, &textures);
+    let vertices: Vec<[f32; 4]> = (0..n as usize)
+        .flat_map(|i| {
+            let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
+            [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
+        })
+        .collect();
+    let vin = storage(s, "mgr vertices", bytemuck::cast_slice(&vertices), 16);
+    let displaced = s.buffer(
+        "mgr displaced",
+        n.max(1) as u64 * 16,
+        wgpu::BufferUsages::STORAGE,
+    );
+    let max_x = ctx.limits().max_compute_workgroups_per_dimension;
+    let (gx, gy, row) = dispatch_shape(n, max_x);
+    let count = uniform(s, "mgr count", bytemuck::cast_slice(&[n, row, 0, 0]));
+    let vg = bind(
+        s,
+        vl,
+        &[
+            vin.as_entire_binding(),
+            displaced.as_entire_binding(),
+            count.as_entire_binding(),
+        ],
+    );
+    let (groups, starts, tris) = mesh.normal_adjacency();
+    let g_buf = storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16);
+    let s_buf = storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16);
+    let t_buf = storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16);
+    let out = s.buffer(
+        "mgr displaced vertices",
+        n.max(1) as u64 * VERTEX_STRIDE,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+    );
+    let ng = bind(
+        s,
+        nl,
+        &[
+            displaced.as_entire_binding(),
+            vin.as_entire_binding(),
+            index.as_entire_binding(),
+            g_buf.as_entire_binding(),
+            s_buf.as_entire_binding(),
+            t_buf.as_entire_binding(),
+            out.as_entire_binding(),
+            count.as_entire_binding(),
+        ],
+    );
+    if n > 0 {
+        let mut cp = enc.begin_compute_pass(&Default::default());
+        cp.set_pipeline(dp);
+        cp.set_bind_group(0, &dg, &[]);
+        cp.set_bind_group(1, &vg, &[]);
+        cp.dispatch_workgroups(gx, gy, 1);
+        cp.set_pipeline(np);
+        cp.set_bind_group(0, &ng, &[]);
+        cp.dispatch_workgroups(gx, gy, 1);
+    }
+    Ok(out)
 }
 
-/// Renders the frame of `scene` with `material` at `w × h` and `spp` samples per pixel,
-/// all on the GPU. Returns linear RGB per pixel, rows from the top.
+/// Renders the frame of `scene` with `m` at `w × h` and `spp` samples per pixel, all on the
+/// GPU, the material drawn through the app contract ([`Material`]). Returns linear RGB per
+/// pixel, rows from the top.
 pub(crate) fn render_frame(
     ctx: &GpuContext,
     scene: &Scene,
@@ -916,80 +1036,68 @@ pub(crate) fn render_frame(
     let s = &*ctx.state;
     let mut t = RasterTimings::default();
     s.scoped("rendering on the GPU", || {
-        // Modules and pipelines.
+        // The material, its module with the scene's hooks, and the pipelines.
         let start = Instant::now();
-        let mut names: Vec<String> = Vec::new();
-        for (n, _) in [&m.color, &m.emission, &m.alpha].into_iter().flatten() {
-            if !names.contains(n) {
-                names.push(n.clone());
-            }
-        }
-        let shader = generated(m.graph, names)?;
-        let role = |r: &Option<(String, SocketType)>| -> Result<_, EvalError> {
-            r.as_ref()
-                .map(|(n, ty)| member(&shader, n).map(|f| (f, *ty)))
-                .transpose()
+        let options = MaterialOptions {
+            textures: m.texture_mode,
+            float32_filterable: ctx.features().contains(wgpu::Features::FLOAT32_FILTERABLE),
+            // The CPU shades every sample.
+            sample_shading: spp > 1,
+            // Displaced by `displace`, in the CPU's order (normals from the displaced mesh).
+            displaced_vertices: true,
         };
-        let roles = material::FragmentRoles {
-            color: role(&m.color)?,
-            emission: role(&m.emission)?,
-            alpha: role(&m.alpha)?,
+        // Generated and validated once per graph and options on the device: later frames
+        // (an animation) only write their parameters and time.
+        let made = cached(
+            s,
+            &format!("material/{options:?}/{}", m.graph.to_json()),
+            || -> Result<(Material, String), MaterialError> {
+                let material = Material::new(m.graph, &options)?;
+                let source = material.wgsl_with_hooks(&material::hooks())?;
+                Ok((material, source))
+            },
+        );
+        let (material, source) = match &*made {
+            Ok((material, source)) => (material, source),
+            Err(e) => return Err(material_err(e.clone())),
         };
-        let fs_source = material::fragment_source(&shader, &roles);
         let gpu = SceneGpu::new(s, scene, spp);
-        let pipes = cached(s, &format!("material/{spp}/{fs_source}"), || {
-            let mat_layout = material_layout(s, &shader, wgpu::ShaderStages::FRAGMENT);
-            let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-            let mesh_layout = layout(
-                s,
-                "mgr mesh",
-                &[
-                    (0, vf, Kind::Storage),
-                    (1, vf, Kind::Storage),
-                    (2, vf, Kind::Storage),
-                    (3, vf, Kind::Storage),
-                ],
-            );
-            let fm = module(s, "mgr material", &fs_source);
-            let pl = pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout, &mesh_layout]);
-            let surface = render_pipeline(
-                s,
-                "mgr material",
-                &fm,
-                "mgr_material_vs",
-                "mgr_material_fs",
-                &pl,
-                spp,
-                true,
-            );
-            (mat_layout, mesh_layout, surface)
+        let pipes = cached(s, &format!("material pipeline/{spp}/{source}"), || {
+            let mat_layout = s
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("mgr material"),
+                    entries: &material.bind_group_layout_entries(),
+                });
+            let fm = module(s, "mgr material", source);
+            let pl = pipeline_layout(s, &[&mat_layout, &gpu.pipes.scene_layout]);
+            let surface = material::pipeline(s, &fm, &pl, spp);
+            (mat_layout, surface)
         });
-        let (mat_layout, mesh_layout, surface) = (&pipes.0, &pipes.1, &pipes.2);
-        let mat_group = material_group(s, &shader, mat_layout, m.params, m.time, m.textures)?;
+        let (mat_layout, surface) = (&pipes.0, &pipes.1);
         t.compile = start.elapsed();
 
-        // Buffers.
+        // Buffers: group 0 of the contract, the scene's group 1, the mesh.
         let start = Instant::now();
-        let mesh = m.mesh;
-        let n = mesh.positions.len() as u32;
-        let base_positions: Vec<[f32; 4]> = mesh
-            .positions
-            .iter()
-            .map(|p| p.extend(1.0).to_array())
-            .collect();
-        let base_normals: Vec<[f32; 4]> = mesh
-            .normals
-            .iter()
-            .map(|p| p.extend(0.0).to_array())
-            .collect();
-        let uvs: Vec<[f32; 2]> = mesh.uvs.iter().map(|u| u.to_array()).collect();
-        let uv_buf = storage(s, "mgr uvs", bytemuck::cast_slice(&uvs), 16);
-        let normals_buf = storage(
-            s,
-            "mgr base normals",
-            bytemuck::cast_slice(&base_normals),
-            16,
+        let mut params = material.params();
+        params.set_values(m.params);
+        params.set_time(m.time);
+        let params_buf = uniform(s, "mgr params", &params.bytes());
+        let (frame_bytes, lights_bytes) = material::frame_and_lights(scene, w, h);
+        let frame_buf = uniform(s, "mgr material frame", &frame_bytes);
+        let lights_buf = storage(s, "mgr material lights", &lights_bytes, 32);
+        let textures = material
+            .upload_textures(&s.device, &s.queue, m.textures)
+            .map_err(material_err)?;
+        let mat_group = material.bind_group(
+            &s.device,
+            mat_layout,
+            &params_buf,
+            &frame_buf,
+            &lights_buf,
+            &textures,
         );
+        let mesh = m.mesh;
         let idx: Vec<u32> = mesh.indices.iter().flatten().copied().collect();
         let tri_count = idx.len() as u32;
         let index = index_buffer(s, &idx);
@@ -1003,132 +1111,16 @@ pub(crate) fn render_frame(
         let mut enc = s.device.create_command_encoder(&Default::default());
 
         // 1. Displacement and normals, on the GPU.
-        let (positions_buf, final_normals) = match &m.displacement {
-            None => (
-                storage(
-                    s,
-                    "mgr positions",
-                    bytemuck::cast_slice(&base_positions),
-                    16,
-                ),
-                normals_buf,
-            ),
-            Some(name) => {
-                let dshader = generated(m.graph, vec![name.clone()])?;
-                let field = member(&dshader, name)?;
-                let src = material::displacement_source(&dshader, &field);
-                let dm = module(s, "mgr displacement", &src);
-                let c = wgpu::ShaderStages::COMPUTE;
-                let dl = material_layout(s, &dshader, c);
-                let dg = material_group(s, &dshader, &dl, m.params, m.time, m.textures)?;
-                let vl = layout(
-                    s,
-                    "mgr displace io",
-                    &[
-                        (0, c, Kind::Storage),
-                        (1, c, Kind::StorageRw),
-                        (2, c, Kind::Uniform),
-                    ],
-                );
-                let dp = compute_pipeline(
-                    s,
-                    "mgr displacement",
-                    &dm,
-                    "mgr_displace",
-                    &pipeline_layout(s, &[&dl, &vl]),
-                );
-                let vertices: Vec<[f32; 4]> = (0..n as usize)
-                    .flat_map(|i| {
-                        let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
-                        [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
-                    })
-                    .collect();
-                let vin = storage(s, "mgr vertices", bytemuck::cast_slice(&vertices), 16);
-                let displaced = s.buffer(
-                    "mgr displaced",
-                    n.max(1) as u64 * 16,
-                    wgpu::BufferUsages::STORAGE,
-                );
-                let max_x = ctx.limits().max_compute_workgroups_per_dimension;
-                let (gx, gy, row) = dispatch_shape(n, max_x);
-                let count = uniform(s, "mgr count", bytemuck::cast_slice(&[n, row, 0, 0]));
-                let vg = bind(
-                    s,
-                    &vl,
-                    &[
-                        vin.as_entire_binding(),
-                        displaced.as_entire_binding(),
-                        count.as_entire_binding(),
-                    ],
-                );
-                let (groups, starts, tris) = mesh.normal_adjacency();
-                let nl = layout(
-                    s,
-                    "mgr normals",
-                    &[
-                        (0, c, Kind::Storage),
-                        (1, c, Kind::Storage),
-                        (2, c, Kind::Storage),
-                        (3, c, Kind::Storage),
-                        (4, c, Kind::Storage),
-                        (5, c, Kind::Storage),
-                        (6, c, Kind::StorageRw),
-                        (7, c, Kind::Uniform),
-                    ],
-                );
-                let nm = module(s, "mgr normals", include_str!("normals.wgsl"));
-                let np = compute_pipeline(
-                    s,
-                    "mgr normals",
-                    &nm,
-                    "mgr_smooth_normals",
-                    &pipeline_layout(s, &[&nl]),
-                );
-                let g_buf = storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16);
-                let s_buf = storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16);
-                let t_buf = storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16);
-                let out_normals = s.buffer(
-                    "mgr normals",
-                    n.max(1) as u64 * 16,
-                    wgpu::BufferUsages::STORAGE,
-                );
-                let ng = bind(
-                    s,
-                    &nl,
-                    &[
-                        displaced.as_entire_binding(),
-                        normals_buf.as_entire_binding(),
-                        index.as_entire_binding(),
-                        g_buf.as_entire_binding(),
-                        s_buf.as_entire_binding(),
-                        t_buf.as_entire_binding(),
-                        out_normals.as_entire_binding(),
-                        count.as_entire_binding(),
-                    ],
-                );
-                if n > 0 {
-                    let mut cp = enc.begin_compute_pass(&Default::default());
-                    cp.set_pipeline(&dp);
-                    cp.set_bind_group(0, &dg, &[]);
-                    cp.set_bind_group(1, &vg, &[]);
-                    cp.dispatch_workgroups(gx, gy, 1);
-                    cp.set_pipeline(&np);
-                    cp.set_bind_group(0, &ng, &[]);
-                    cp.dispatch_workgroups(gx, gy, 1);
-                }
-                (displaced, out_normals)
-            }
+        let vertices = match material.roles().displacement {
+            None => s
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("mgr material vertices"),
+                    contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
+                    usage: wgpu::BufferUsages::VERTEX,
+                }),
+            Some(_) => displace(ctx, &mut enc, material, m, &index)?,
         };
-        let mesh_group = bind(
-            s,
-            mesh_layout,
-            &[
-                positions_buf.as_entire_binding(),
-                final_normals.as_entire_binding(),
-                uv_buf.as_entire_binding(),
-                index.as_entire_binding(),
-            ],
-        );
         t.upload = start.elapsed();
 
         // 2. The scene, 3. the material surface over its depth, 4. the resolve.
@@ -1161,7 +1153,7 @@ pub(crate) fn render_frame(
             rp.set_pipeline(surface);
             rp.set_bind_group(0, &mat_group, &[]);
             rp.set_bind_group(1, &frame, &[]);
-            rp.set_bind_group(2, &mesh_group, &[]);
+            rp.set_vertex_buffer(0, vertices.slice(..));
             rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
             if tri_count > 0 {
                 rp.draw_indexed(0..tri_count, 0, 0..1);

@@ -13,7 +13,7 @@ struct MgrObject {
 }
 
 // Vertex k: position (xyz, 1); normal (xyz, unused); the triangles (three vertex indices
-// each).
+// each; kind.z of an object is its first).
 @group(0) @binding(0) var<storage, read> mgr_positions: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read> mgr_normals: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read> mgr_objects: array<MgrObject>;
@@ -22,24 +22,29 @@ struct MgrObject {
 // apparent positions (snell.rs apparent_mesh); shading keeps mgr_positions.
 @group(0) @binding(4) var<storage, read> mgr_drawn: array<vec4<f32>>;
 
-// No interpolated attributes: the fragment stage rebuilds the CPU's barycentrics itself
-// (mgr_barycentrics). Hardware perspective interpolation at 4 samples on lavapipe does not
-// land on the sample positions (measured: checker edges moved), and screen-linear a/w
-// varyings go wrong where the near plane clips a triangle.
+// The surface's varyings, interpolated perspective-correct at each sample: where
+// the surface is (mgr_positions, shaded) and where it is drawn (mgr_drawn, for the clip
+// plane), the normal, and the first vertex's normal for normalize_or.
 struct MgrSurface {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) object: u32,
+    @location(1) @interpolate(perspective, sample) p: vec3<f32>,
+    @location(2) @interpolate(perspective, sample) n: vec3<f32>,
+    @location(3) @interpolate(perspective, sample) drawn: vec3<f32>,
+    @location(4) @interpolate(flat) n0: vec3<f32>,
 }
 
 // One instance per object: instance_index is the object.
 @vertex
 fn mgr_object_vs(@builtin(vertex_index) k: u32, @builtin(instance_index) object: u32) -> MgrSurface {
-    var q = mgr_drawn[k].xyz;
+    let d = mgr_drawn[k].xyz;
+    var q = d;
     // DrawItem mirror_y: the geometry drawn mirrored about y = 0, shaded where it is.
     if (mgr_frame.mirror != 0.0) {
         q.y = -q.y;
     }
-    return MgrSurface(mgr_clip_position(q), object);
+    let n = mgr_normals[k].xyz;
+    return MgrSurface(mgr_clip_position(q), object, mgr_positions[k].xyz, n, d, n);
 }
 
 // Albedo::at.
@@ -71,10 +76,34 @@ fn mgr_surface(o: MgrObject, p: vec3<f32>, n0: vec3<f32>, eye: vec3<f32>) -> vec
     return albedo * e;
 }
 
-// A sample of a built-in surface: position_normal at the CPU's barycentrics, then
-// Shading::surface. Per sample (sample_index is read), at the sample's position.
+// A built-in surface at 1 sample per pixel: position_normal at the pixel centre (the
+// hardware's perspective-correct interpolation of the varyings), then Shading::surface.
 @fragment
-fn mgr_object_fs(
+fn mgr_object_fs(s: MgrSurface) -> @location(0) vec4<f32> {
+    let f = mgr_frame;
+    let o = mgr_objects[s.object];
+    // Clipping the drawn triangle to a world plane (raster.rs DrawItem clip), per sample.
+    if (f.counts.w != 0u && dot(f.clip.xyz, s.drawn) + f.clip.w < 0.0) {
+        discard;
+    }
+    // normalize_or(n0).
+    var n = s.n;
+    let len2 = dot(n, n);
+    if (len2 > 0.0) {
+        n = n * inverseSqrt(len2);
+    } else {
+        n = s.n0;
+    }
+    return vec4<f32>(mgr_surface(o, s.p, n, f.eye), 1.0);
+}
+
+// The same under MSAA: position_normal at the CPU's barycentrics, rebuilt from the sample's
+// position by mgr_barycentrics, then Shading::surface. Lavapipe's per-sample interpolation
+// at 4 samples does not land on the sample positions (measured: checker edges move, RMSE
+// 1.6/255 against the CPU on tests/gpu_render.rs's wobble), so the varyings serve 1 sample
+// per pixel only (at the pixel centre: RMSE 0.002/255).
+@fragment
+fn mgr_object_sample_fs(
     s: MgrSurface,
     @builtin(sample_index) sample: u32,
     @builtin(primitive_index) prim: u32,

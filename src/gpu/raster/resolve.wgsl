@@ -1,6 +1,7 @@
 // Composite and resolve (src/render/mod.rs shade_band, stage 4): per sample
-// `alpha · radiance + (1 − alpha) · background` where the material is nearest (alpha ≥ 0
-// there; the material target is cleared to alpha −1), the background elsewhere; the samples
+// `alpha · radiance + (1 − alpha) · background` where the material is nearest (the material
+// target holds mg_fragment's premultiplied `(alpha · radiance, alpha)`, alpha ≥ 0 there; it
+// is cleared to alpha −1), the background elsewhere; the samples
 // of a pixel summed in the CPU's sample order and divided by their count.
 
 @group(0) @binding(0) var mgr_scene: MGR_TEXTURE;
@@ -23,7 +24,7 @@ fn mgr_resolve_main(@builtin(global_invocation_id) id: vec3<u32>) {
         let m = textureLoad(mgr_material, xy, hw);
         var c = bg;
         if (m.w >= 0.0) {
-            c = m.xyz * m.w + bg * (1.0 - m.w);
+            c = m.xyz + bg * (1.0 - m.w);
         }
         sum += c;
     }
