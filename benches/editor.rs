@@ -215,13 +215,25 @@ fn graph_edits(file: &Path, reps: usize) {
 }
 
 fn main() {
-    // `cargo bench` passes --bench; `cargo test` runs the quick check.
-    let full = std::env::args().any(|a| a == "--bench");
-    if full {
-        frame_time(300, 60);
-        frame_time(40, 60);
-    } else {
-        frame_time(30, 3);
+    // `cargo bench` passes --bench; `cargo test` runs the quick check. `--nodes N` and
+    // `--graphs a,b` (file stems) narrow a run.
+    let args: Vec<String> = std::env::args().collect();
+    let full = args.iter().any(|a| a == "--bench");
+    let value = |flag: &str| {
+        args.iter()
+            .position(|a| a == flag)
+            .and_then(|k| args.get(k + 1).cloned())
+    };
+    let nodes: Option<usize> = value("--nodes").and_then(|v| v.parse().ok());
+    let only: Option<Vec<String>> =
+        value("--graphs").map(|v| v.split(',').map(str::to_owned).collect());
+    match (nodes, full) {
+        (Some(n), _) => frame_time(n, 20),
+        (None, true) => {
+            frame_time(300, 60);
+            frame_time(40, 60);
+        }
+        (None, false) => frame_time(30, 3),
     }
     println!(
         "| graph | preview on | open → first preview | parameter change → preview (median) | structural edit → preview (median) |"
@@ -233,10 +245,15 @@ fn main() {
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
         .collect();
     files.sort();
-    if !full {
-        files.retain(|f| f.ends_with("pbr_gold.json"));
+    match &only {
+        Some(names) => files.retain(|f| {
+            f.file_stem()
+                .is_some_and(|s| names.iter().any(|n| s.to_string_lossy() == n.as_str()))
+        }),
+        None if !full => files.retain(|f| f.ends_with("pbr_gold.json")),
+        None => {}
     }
     for f in &files {
-        graph_edits(f, if full { 5 } else { 1 });
+        graph_edits(f, if full || only.is_some() { 3 } else { 1 });
     }
 }

@@ -593,9 +593,9 @@ fn a_parameter_change_re_renders_without_recompiling() {
     let mut h = preview_harness(state);
     settle(&mut h);
     // The parameters panel lists the graph's exposed parameter (the canvas has the node
-    // and brdf's input of the same name).
+    // and the roughness inputs of brdf, env_spec and env_brdf).
     h.get_by_label("Parameters");
-    assert_eq!(h.get_all_by_label("roughness").count(), 3);
+    assert_eq!(h.get_all_by_label("roughness").count(), 5);
     let (compiles, renders, before) = {
         let p = &h.state().state.preview;
         assert!(p.message().is_none(), "{:?}", p.message());
@@ -657,13 +657,13 @@ fn a_parameter_change_re_renders_without_recompiling() {
 fn a_node_preview_is_toggled_on_the_node_and_shows_the_graph_cut_there() {
     use matgraph::editor::preview::{CUT_OUTPUT, cut_at};
     let state = EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
-    // The cut graphs: the brdf reads the light, so its swatch is lit (`color`); the
-    // environment lookup does not (unlit).
+    // The cut graphs: the brdf reads the light, so its swatch is lit (`color`); N·V
+    // does not (unlit).
     let doc = state.doc.doc().clone();
     let lit = cut_at(&doc, "brdf", Registry::builtin()).unwrap();
     assert_eq!(lit.outputs().len(), 1);
     assert_eq!(lit.outputs()[0].name, "color");
-    let unlit = cut_at(&doc, "env", Registry::builtin()).unwrap();
+    let unlit = cut_at(&doc, "n_dot_v", Registry::builtin()).unwrap();
     assert_eq!(unlit.outputs()[0].name, CUT_OUTPUT);
     assert!(cut_at(&doc, "nope", Registry::builtin()).is_err());
 
@@ -672,7 +672,7 @@ fn a_node_preview_is_toggled_on_the_node_and_shows_the_graph_cut_there() {
     assert_eq!(h.state().state.preview.nodes_on().count(), 0);
     // Each node header has a toggle; click the one of the first node (geo, file order).
     let rects: Vec<egui::Rect> = h.get_all_by_label("👁").map(|n| n.rect()).collect();
-    assert_eq!(rects.len(), 12, "one toggle per node");
+    assert_eq!(rects.len(), 13, "one toggle per node");
     // Accessibility rects of canvas widgets are in canvas coordinates.
     let pos = h.state().to_screen() * rects[0].center();
     click_at(&mut h, pos);
@@ -799,15 +799,16 @@ fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
     use matgraph::editor::layout::{ROW_GAP, depths, needs_arranging, node_height};
     let registry = Registry::builtin();
     let file = matgraph::editor::files::open(Path::new("graphs/pbr_gold.json")).unwrap();
-    // The bundled file has overlapping nodes (brdf and radiance, 160 apart).
+    // The bundled file has overlapping nodes (its columns are 200 apart; brdf is ~260 wide).
     assert!(needs_arranging(&file, registry));
     let s = EditorState::open(Path::new("graphs/pbr_gold.json"), registry).unwrap();
     let doc = s.doc.doc();
     assert!(!needs_arranging(doc, registry), "arranged on open");
     assert!(!s.dirty(), "the layout alone does not make the graph dirty");
     assert!(s.status.as_deref().unwrap().contains("arranged"));
-    // Longest-path depths of pbr_gold, by hand: geo, roughness 0; incident, n_dot_v,
-    // env_lod, brdf 1; mirror, env_fresnel, radiance 2; env_uv 3; env 4; reflection 5.
+    // Longest-path depths of pbr_gold, by hand from its links: geo, roughness 0; brdf,
+    // incident, n_dot_v, env_diff 1; radiance, mirror, env_brdf 2; env_spec,
+    // spec_multiple 3; spec_single 4; reflection 5.
     let want = [
         ("geo", 0),
         ("roughness", 0),
@@ -815,11 +816,12 @@ fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
         ("radiance", 2),
         ("incident", 1),
         ("mirror", 2),
-        ("env_uv", 3),
-        ("env_lod", 1),
-        ("env", 4),
         ("n_dot_v", 1),
-        ("env_fresnel", 2),
+        ("env_spec", 3),
+        ("env_brdf", 2),
+        ("env_diff", 1),
+        ("spec_single", 4),
+        ("spec_multiple", 3),
         ("reflection", 5),
     ];
     let depth = depths(doc);
@@ -883,4 +885,39 @@ fn edit_arrange_rewrites_the_file_arranged_and_canonical() {
     ));
     let g = matgraph::Graph::from_json(&text, Registry::builtin()).unwrap();
     assert_eq!(g.to_json(), text, "canonical");
+}
+
+#[test]
+fn the_cpu_fallback_renders_says_so_and_takes_parameters_without_recompiling() {
+    let file = scratch("cpu_preview").join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let mut state = EditorState::open(&file, Registry::builtin()).unwrap();
+    // What a machine without an adapter gets.
+    state.preview.cpu_only = true;
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    let (compiles, before) = {
+        let p = &h.state().state.preview;
+        assert!(p.message().is_none(), "{:?}", p.message());
+        assert_eq!(p.backend(), "CPU");
+        (p.compiles(), p.pixels().unwrap().to_vec())
+    };
+    // The panel drawn after the render arrived names the backend.
+    h.run();
+    h.get_by_label("CPU");
+    matgraph::editor::preview_ui::set_parameter(
+        &mut h.state_mut().state,
+        "roughness",
+        "roughness",
+        serde_json::json!(0.9),
+    );
+    settle(&mut h);
+    let p = &h.state().state.preview;
+    assert_eq!(p.compiles(), compiles);
+    let changed = before
+        .iter()
+        .zip(p.pixels().unwrap())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(changed > 1000, "{changed}");
 }

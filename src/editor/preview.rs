@@ -486,7 +486,8 @@ fn render_job(job: &Job) -> Result<Rendered, String> {
     } else {
         match GpuContext::shared() {
             Ok(ctx) => (Backend::Gpu, format!("GPU: {}", ctx.adapter_info().name)),
-            Err(e) => (Backend::Cpu, format!("CPU ({e})")),
+            // Shown as "CPU — no GPU adapter", the error on hover.
+            Err(e) => (Backend::Cpu, format!("CPU — no GPU adapter ({e})")),
         }
     };
     let r = &job.request;
