@@ -358,14 +358,18 @@ fn frames_over_the_tile_limit_are_drawn_in_tiles() {
             });
             assert_eq!(t.fallback, None);
             assert_parity(&format!("{} (tiles)", graph.name), spp, &cpu, &tiled, &mask);
-            // Tiles change nothing but rounding at triangle edges.
+            // Tiles change nothing but rounding at triangle edges: a sample on the line where
+            // the displaced ball meets the floor may flip between the two (the material's clip
+            // position goes through the contract's view_proj, the floor's through the scene's
+            // own arithmetic). One such pixel at 256² is 0.63/255 of RMSE on its own, so the
+            // whole-vs-tiled bound is the parity bound, as against the CPU above.
             let (rmse, within, _) = parity(&whole, &tiled, &mask);
             println!(
                 "{} {spp} spp: tiled vs whole RMSE {rmse:.4}/255, {within}",
                 graph.name
             );
             assert!(
-                rmse <= 0.25 && within >= 0.9999,
+                rmse <= 1.0 && within >= 0.9999,
                 "{}: {rmse} {within}",
                 graph.name
             );
