@@ -69,10 +69,14 @@ fn main() -> Result<(), Box<dyn Error>> {
             UniformSource::Parameter(name) => format!("parameter '{name}'"),
             UniformSource::Fixed => "fixed (unexposed parameter node)".to_owned(),
             UniformSource::Time => "the batch's time".to_owned(),
+            UniformSource::Table(rows) => format!("a node's constant table of {} rows", rows.len()),
         };
         println!(
             "// offset {:>3}: {} ({}) <- {from}, default {}",
-            f.offset, f.field, f.ty, f.default
+            f.offset,
+            f.field,
+            f.wgsl_type(),
+            f.default
         );
     }
     Ok(())

@@ -469,6 +469,21 @@ pub struct HardCase {
     pub values: Vec<(&'static str, Value)>,
 }
 
+/// A constant table that a node's WGSL reads as the `MgParams` member `field`
+/// (`array<vec4<f32>, N>`), written by the host with the parameters.
+///
+/// A module-scope `const` array indexed at run time is the obvious spelling, but naga's
+/// SPIR-V backend stores the whole array into a temporary at every access, and lavapipe's
+/// LLVM then spends minutes compiling a 471-entry one (measured: 263 s for one pipeline,
+/// against 1 ms for the same loop over a uniform array; docs/benchmarks.md).
+#[derive(Debug, PartialEq)]
+pub struct WgslTable {
+    /// The `MgParams` member name the WGSL spells (`mg_params.<field>[k]`).
+    pub field: &'static str,
+    /// The rows, one `vec4<f32>` each.
+    pub rows: &'static [[f32; 4]],
+}
+
 /// A node type: declaration, docs, hard cases and compute.
 #[derive(Debug)]
 pub struct NodeType {
@@ -484,6 +499,7 @@ pub struct NodeType {
     wgsl: Option<&'static str>,
     wgsl_variants: Vec<(SocketType, &'static str)>,
     wgsl_helpers: Vec<&'static str>,
+    wgsl_tables: Vec<&'static WgslTable>,
     texture_kernel: Option<TextureKernel>,
 }
 
@@ -503,6 +519,7 @@ impl NodeType {
             wgsl: None,
             wgsl_variants: Vec::new(),
             wgsl_helpers: Vec::new(),
+            wgsl_tables: Vec::new(),
             texture_kernel: None,
         }
     }
@@ -593,6 +610,11 @@ impl NodeType {
         self.wgsl_helpers.extend_from_slice(helpers);
         self
     }
+    /// Declares constant tables the node's WGSL reads from `MgParams` (see [`WgslTable`]).
+    pub fn wgsl_uses_tables(mut self, tables: &[&'static WgslTable]) -> NodeType {
+        self.wgsl_tables.extend_from_slice(tables);
+        self
+    }
 
     /// Stable snake_case type name.
     pub fn name(&self) -> &'static str {
@@ -650,6 +672,10 @@ impl NodeType {
     /// WGSL helper functions the template calls.
     pub fn wgsl_helpers(&self) -> &[&'static str] {
         &self.wgsl_helpers
+    }
+    /// Constant tables the WGSL reads from `MgParams`.
+    pub fn wgsl_tables(&self) -> &[&'static WgslTable] {
+        &self.wgsl_tables
     }
     /// Index of the input called `name`.
     pub fn input_index(&self, name: &str) -> Option<usize> {

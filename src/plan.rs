@@ -345,7 +345,7 @@ impl Plan {
 }
 
 /// Parameter values for one evaluation, in the plan's parameter order.
-#[derive(Clone)]
+#[derive(Clone, Default)]
 pub struct ParamValues {
     names: Vec<String>,
     values: Vec<Value>,

@@ -207,3 +207,91 @@ fn naga_errors_name_the_node() {
         other => panic!("expected a naga error, got {other:?}"),
     }
 }
+
+/// A node's constant table is a member of `MgParams` under its fixed name (a parameter that
+/// wants the name gets a suffix), packed at naga's offset: thin_film's CIE weights, checked
+/// against closed forms (the fourth lane is 1/λ at λ = 360 + k nm; each colour channel of a
+/// flat spectrum sums to 1).
+#[test]
+fn constant_tables_are_uniform_members_packed_at_naga_offsets() {
+    let text = r#"{
+      "version": 1, "name": "tables",
+      "nodes": [
+        { "id": "mg_tf_w", "type": "parameter", "inputs": { "value": 400.0 } },
+        { "id": "film", "type": "thin_film",
+          "inputs": { "thickness_nm": { "link": "mg_tf_w.value" }, "method": "spectral" } }
+      ],
+      "outputs": [ { "name": "c", "from": "film.reflectance" } ],
+      "parameters": [ { "name": "mg_tf_w", "node": "mg_tf_w" } ]
+    }"#;
+    let graph = Graph::from_json(text, Registry::builtin()).unwrap();
+    let m = generate(&graph, &WgslOptions::default()).unwrap();
+    let fields: Vec<(String, u32, String)> = m
+        .uniforms
+        .fields
+        .iter()
+        .map(|f| (f.field.clone(), f.offset, f.wgsl_type()))
+        .collect();
+    assert_eq!(
+        fields,
+        vec![
+            ("mg_tf_w_2".into(), 0, "f32".into()),
+            ("mg_tf_w".into(), 16, "array<vec4<f32>, 471>".into()),
+        ]
+    );
+    assert_eq!(m.uniforms.size, 16 + 471 * 16);
+    assert!(m.source.contains("mg_params.mg_tf_w[k]"));
+    assert!(
+        !m.source.contains("array<vec4<f32>, 471>("),
+        "no table in the text"
+    );
+    let params = matgraph::Plan::compile(&graph, &PlanOptions::default())
+        .unwrap()
+        .default_parameters();
+    let bytes = m.uniforms.pack(&params, 0.0);
+    let f = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().unwrap());
+    assert_eq!(f(0), 400.0);
+    let mut sums = [0.0f64; 3];
+    for k in 0..471 {
+        let at = 16 + 16 * k;
+        assert_eq!(f(at + 12), (1.0 / (360.0 + k as f64)) as f32, "row {k}");
+        for (c, s) in sums.iter_mut().enumerate() {
+            *s += f(at + 4 * c) as f64;
+        }
+    }
+    for s in sums {
+        assert!((s - 1.0).abs() < 1e-5, "channel sum {s}");
+    }
+}
+
+/// No node's WGSL declares a large array constant: naga's SPIR-V backend stores a `const`
+/// array into a temporary at every run-time index, and lavapipe took 263 s to compile one
+/// loop over a 471-entry one (thin_film's former table; tables are `WgslTable`s now).
+#[test]
+fn node_wgsl_declares_no_large_array_constants() {
+    let mut large = Vec::new();
+    for t in Registry::builtin().types() {
+        let templates = types_of(t).into_iter().filter_map(|g| t.wgsl_for(g));
+        for text in t.wgsl_helpers().iter().copied().chain(templates) {
+            for (at, _) in text.match_indices("array<") {
+                // The text up to the `>` that closes this `array<`.
+                let mut depth = 0;
+                let inner = text[at..]
+                    .char_indices()
+                    .find_map(|(k, c)| {
+                        depth += (c == '<') as i32 - (c == '>') as i32;
+                        (c == '>' && depth == 0).then(|| &text[at..at + k])
+                    })
+                    .unwrap_or(&text[at..]);
+                let count = inner
+                    .rsplit(',')
+                    .next()
+                    .and_then(|n| n.trim().parse::<u32>().ok());
+                if count.is_some_and(|n| n > 16) {
+                    large.push(format!("{}: {inner}>", t.name()));
+                }
+            }
+        }
+    }
+    assert!(large.is_empty(), "large WGSL arrays: {large:?}");
+}

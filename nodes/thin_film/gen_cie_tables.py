@@ -161,14 +161,9 @@ def main():
     out.append("/// 1 / [`RGB3_NM`] in 1/nm.")
     out.append("pub const RGB3_INV_NM: [f32; 3] = [" + ", ".join(f32_rust(1.0 / v) for v in rgb3) + "];")
     out.append("")
-    out.append("/// WGSL of [`SRGB_WEIGHTS`] and [`RGB3_INV_NM`] as the module constants `MG_TF_W` and")
-    out.append("/// `MG_TF_RGB3_INV` (exact hex f32 literals).")
-    out.append('pub const SRGB_WEIGHTS_WGSL: &str = "')
-    out.append(f"const MG_TF_W = array<vec4<f32>, {N}>(")
-    for k in range(N):
-        vals = [weights[c][k] for c in range(3)] + [1.0 / (LO + k)]
-        out.append("    vec4<f32>(" + ", ".join(wgsl_hex(v) for v in vals) + "),")
-    out.append(");")
+    out.append("/// WGSL of [`RGB3_INV_NM`] as the module constant `MG_TF_RGB3_INV` (exact hex f32 literals).")
+    out.append("/// [`SRGB_WEIGHTS`] reaches the GPU as a uniform table, not as WGSL text.")
+    out.append('pub const RGB3_WGSL: &str = "')
     out.append("const MG_TF_RGB3_INV = vec3<f32>(" + ", ".join(wgsl_hex(1.0 / v) for v in rgb3) + ");")
     out.append('";')
     out.append("")

@@ -19,7 +19,7 @@ mod cie_tables;
 
 pub use cie_tables::{CMF_1931_2DEG, D65, LAMBDA_MIN_NM, LEN, RGB3_INV_NM, RGB3_NM, SRGB_WEIGHTS};
 
-use crate::node::{Category, In, NodeType, Out};
+use crate::node::{Category, In, NodeType, Out, WgslTable};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
 use crate::value::Value;
 use glam::Vec3;
@@ -613,7 +613,7 @@ fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, subst
     var r = vec3<f32>(0.0);
     var t = vec3<f32>(0.0);
     for (var k = 0u; k < 471u; k++) {
-        let w = MG_TF_W[k];
+        let w = mg_params.mg_tf_w[k];
         let rt = mg_tf_at(f, w.w);
         r += w.xyz * rt.x;
         t += w.xyz * rt.y;
@@ -621,6 +621,13 @@ fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, subst
     return $out(r, t);
 }
 "#;
+
+/// [`SRGB_WEIGHTS`] as the `MgParams` table `mg_tf_w` that the spectral method's WGSL loop
+/// reads (a uniform array: as a WGSL `const` it took lavapipe minutes to compile).
+pub static SRGB_WEIGHTS_TABLE: WgslTable = WgslTable {
+    field: "mg_tf_w",
+    rows: &SRGB_WEIGHTS,
+};
 
 /// The thin-film node type.
 pub fn all() -> Vec<NodeType> {
@@ -653,7 +660,8 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("reflectance").doc("Reflected colour for white (D65) light, linear sRGB."))
             .output(Out::color("transmittance").doc("Transmitted colour for white (D65) light, linear sRGB."))
             .wgsl(THIN_FILM_WGSL)
-            .wgsl_uses(&[COS2_T_WGSL, cie_tables::SRGB_WEIGHTS_WGSL, FILM_WGSL, BELCOUR_BARLA_WGSL])
+            .wgsl_uses(&[COS2_T_WGSL, cie_tables::RGB3_WGSL, FILM_WGSL, BELCOUR_BARLA_WGSL])
+            .wgsl_uses_tables(&[&SRGB_WEIGHTS_TABLE])
             .hard_case("black film (d = 0)", &[("thickness_nm", f(0.0))])
             .hard_case("thickest film", &[("thickness_nm", f(THICKNESS_MAX_NM))])
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])

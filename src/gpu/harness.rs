@@ -13,6 +13,7 @@ pub struct GpuHarness {
     pipeline: wgpu::ComputePipeline,
     input_width: usize,
     output_width: usize,
+    params: Vec<u8>,
     max_groups_x: u32,
 }
 
@@ -21,11 +22,14 @@ impl GpuHarness {
     pub fn new(ctx: &GpuContext, harness: &HarnessModule) -> Result<GpuHarness, EvalError> {
         use wgpu::BufferBindingType as T;
         let state = ctx.state.clone();
-        let entries = [
+        let mut entries = vec![
             (0, T::Storage { read_only: true }),
             (1, T::Storage { read_only: false }),
             (2, T::Uniform),
         ];
+        if !harness.params.is_empty() {
+            entries.push((3, T::Uniform));
+        }
         let (layout, pipeline) = state.scoped("compiling a node harness", || {
             let layout = state.layout("matgraph harness", &entries);
             let pipeline = state.pipeline("matgraph harness", &harness.source, &layout);
@@ -38,6 +42,7 @@ impl GpuHarness {
             pipeline,
             input_width: harness.input_width,
             output_width: harness.output_width,
+            params: harness.params.clone(),
             max_groups_x,
         })
     }
@@ -83,23 +88,39 @@ impl GpuHarness {
             d[..4].copy_from_slice(&(count as u32).to_le_bytes());
             d[4..].copy_from_slice(&row.to_le_bytes());
             s.queue.write_buffer(&dispatch, 0, &d);
+            let params = (!self.params.is_empty()).then(|| {
+                let b = s.buffer(
+                    "MgParams",
+                    self.params.len() as u64,
+                    U::UNIFORM | U::COPY_DST,
+                );
+                s.queue.write_buffer(&b, 0, &self.params);
+                b
+            });
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: input.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: output.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: dispatch.as_entire_binding(),
+                },
+            ];
+            if let Some(p) = &params {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: p.as_entire_binding(),
+                });
+            }
             let bind_group = s.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("matgraph harness"),
                 layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: input.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: output.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: dispatch.as_entire_binding(),
-                    },
-                ],
+                entries: &entries,
             });
             s.dispatch_and_read(
                 &self.pipeline,

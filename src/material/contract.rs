@@ -179,12 +179,13 @@ pub struct BlockMember {
     pub wgsl_type: String,
     /// Byte offset.
     pub offset: u32,
-    /// `parameter` (set by name), `fixed` (the file's value), `time`, or `frame`/`light`.
+    /// `parameter` (set by name), `fixed` (the file's value), `time`, `table` (a node's
+    /// constant table, its rows in `default`), or `frame`/`light`.
     pub source: String,
     /// The parameter name, for `parameter` members.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub parameter: Option<String>,
-    /// The value written when the app sets none (parameter blocks).
+    /// The value written when the app sets none (parameter blocks); a table's rows.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub default: Option<serde_json::Value>,
 }
@@ -272,6 +273,16 @@ fn member(name: &str, wgsl_type: &str, offset: u32, source: &str) -> BlockMember
     }
 }
 
+/// A constant table's rows as JSON arrays of four shortest-round-trip numbers.
+fn table_json(rows: &[[f32; 4]]) -> serde_json::Value {
+    let row = |r: &[f32; 4]| r.iter().map(|&x| crate::value::json_f32(x)).collect();
+    serde_json::Value::Array(
+        rows.iter()
+            .map(|r| serde_json::Value::Array(row(r)))
+            .collect(),
+    )
+}
+
 pub(super) fn build(m: &Material) -> Contract {
     let render = &m.render;
     let roles = m.roles;
@@ -350,23 +361,24 @@ pub(super) fn build(m: &Material) -> Contract {
             .fields
             .iter()
             .map(|f| {
-                let ty = match f.ty {
-                    crate::types::SocketType::Bool => "u32",
-                    t => wgsl_type(t),
-                };
                 let (source, parameter) = match &f.source {
                     UniformSource::Parameter(p) => ("parameter", Some(p.clone())),
                     UniformSource::Fixed => ("fixed", None),
                     UniformSource::Time => ("time", None),
+                    UniformSource::Table(_) => ("table", None),
+                };
+                let default = match &f.source {
+                    UniformSource::Time => None,
+                    UniformSource::Table(rows) => Some(table_json(rows)),
+                    _ => Some(f.default.to_json()),
                 };
                 BlockMember {
                     name: f.field.clone(),
-                    wgsl_type: ty.into(),
+                    wgsl_type: f.wgsl_type(),
                     offset: f.offset,
                     source: source.into(),
                     parameter,
-                    default: (!matches!(f.source, UniformSource::Time))
-                        .then(|| f.default.to_json()),
+                    default,
                 }
             })
             .collect(),

@@ -330,12 +330,26 @@ impl<'a> Emitter<'a> {
         let order = self.live_order();
         let nodes = self.graph.nodes();
 
-        // Uniforms: live unbaked parameters (exposed under their names), then time.
+        // Uniforms: live unbaked parameters (exposed under their names), time, node tables.
         let mut uniform_fields: Vec<UniformSpec> = Vec::new();
         // Taken names, and for each base the next suffix to try (the ones before it are
         // taken), so that many colliding names stay linear.
         let mut taken: HashSet<String> = HashSet::new();
         let mut next_suffix: HashMap<String, usize> = HashMap::new();
+        // Constant tables of the emitted node functions: their member names are fixed (the
+        // helpers spell them), so they are taken before any parameter is named.
+        let mut tables: Vec<&'static crate::node::WgslTable> = Vec::new();
+        for &i in &order {
+            let n = &nodes[i];
+            if emits_call(n.node_type.evaluation()) && !self.folded(i) {
+                for &t in n.node_type.wgsl_tables() {
+                    if !tables.iter().any(|x| std::ptr::eq(*x, t)) {
+                        tables.push(t);
+                        taken.insert(t.field.to_owned());
+                    }
+                }
+            }
+        }
         let mut unique = |base: String| {
             let mut name = base.clone();
             let k = next_suffix.entry(base.clone()).or_insert(2);
@@ -412,6 +426,14 @@ impl<'a> Emitter<'a> {
                 default: Value::float(0.0),
             });
         }
+        for t in &tables {
+            uniform_fields.push(UniformSpec {
+                field: t.field.to_owned(),
+                source: super::UniformSource::Table(t.rows),
+                ty: SocketType::Vec4,
+                default: Value::zero(SocketType::Vec4),
+            });
+        }
 
         // Node functions in first-use order, helpers before them.
         let mut helpers: Vec<&'static str> = Vec::new();
@@ -457,10 +479,7 @@ impl<'a> Emitter<'a> {
         if !uniform_fields.is_empty() {
             self.out.push_str("struct MgParams {\n");
             for f in &uniform_fields {
-                let ty = match f.ty {
-                    SocketType::Bool => "u32",
-                    t => wgsl_type(t),
-                };
+                let ty = super::layout::member_type(&f.source, f.ty);
                 let _ = writeln!(self.out, "    {}: {ty},", f.field);
             }
             self.out

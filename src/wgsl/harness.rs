@@ -1,17 +1,20 @@
 //! A compute module that runs one node type's WGSL function on packed samples, for the
 //! node-level CPU/GPU parity tests and for anyone checking a node's WGSL in isolation.
 
-use super::emit::{node_function, output_member};
-use super::{ShaderError, WORKGROUP_SIZE, validate};
+use super::emit::{UniformSpec, node_function, output_member};
+use super::layout::member_type;
+use super::{ShaderError, UniformLayout, UniformSource, WORKGROUP_SIZE, validate};
 use crate::node::NodeType;
 use crate::types::SocketType;
+use crate::value::Value;
 use std::fmt::Write;
 
 /// A validated harness module.
 ///
 /// Bindings (group 0): 0 `mg_in: array<f32>` with `input_width` floats per sample (inputs
 /// in port order, ints and bools as floats), 1 `mg_out: array<f32>` with `output_width`
-/// floats per sample (bools as 0.0 / 1.0), 2 the `MgDispatch { count, row }` uniform.
+/// floats per sample (bools as 0.0 / 1.0), 2 the `MgDispatch { count, row }` uniform, and
+/// 3 `mg_params` holding the node's constant tables ([`HarnessModule::params`]) if it has any.
 #[derive(Clone, Debug)]
 pub struct HarnessModule {
     /// The WGSL text.
@@ -22,6 +25,8 @@ pub struct HarnessModule {
     pub input_width: usize,
     /// Floats per sample in `mg_out`.
     pub output_width: usize,
+    /// The bytes of `mg_params` (binding 3): the node's constant tables; empty without any.
+    pub params: Vec<u8>,
 }
 
 /// Builds the harness of `t` for generic type `generic` (ignored for non-generic nodes).
@@ -40,6 +45,23 @@ pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, 
     s.push_str("@group(0) @binding(1) var<storage, read_write> mg_out: array<f32>;\n");
     s.push_str("struct MgDispatch {\n    count: u32,\n    row: u32,\n}\n");
     s.push_str("@group(0) @binding(2) var<uniform> mg_dispatch: MgDispatch;\n\n");
+    let tables: Vec<UniformSpec> = t
+        .wgsl_tables()
+        .iter()
+        .map(|t| UniformSpec {
+            field: t.field.to_owned(),
+            source: UniformSource::Table(t.rows),
+            ty: SocketType::Vec4,
+            default: Value::zero(SocketType::Vec4),
+        })
+        .collect();
+    if !tables.is_empty() {
+        s.push_str("struct MgParams {\n");
+        for f in &tables {
+            let _ = writeln!(s, "    {}: {},", f.field, member_type(&f.source, f.ty));
+        }
+        s.push_str("}\n@group(0) @binding(3) var<uniform> mg_params: MgParams;\n\n");
+    }
     let _ = writeln!(s, "@compute @workgroup_size({WORKGROUP_SIZE})");
     s.push_str("fn mg_compute(@builtin(global_invocation_id) id: vec3<u32>) {\n");
     s.push_str("    let i = id.x + id.y * mg_dispatch.row;\n    if (i >= mg_dispatch.count) {\n        return;\n    }\n");
@@ -98,10 +120,15 @@ pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, 
     s.push_str("}\n");
     let span = 0..s.len();
     let (module, _) = validate::validate(&s, &[(span, t.name().to_owned())])?;
+    let params = match tables.is_empty() {
+        true => Vec::new(),
+        false => UniformLayout::read(&module, &tables).pack(&Default::default(), 0.0),
+    };
     Ok(HarnessModule {
         source: s,
         module,
         input_width: in_width,
         output_width: out_width,
+        params,
     })
 }

@@ -15,6 +15,18 @@ pub enum UniformSource {
     Fixed,
     /// The batch's time.
     Time,
+    /// A node's constant table (`array<vec4<f32>, N>`, see [`crate::node::WgslTable`]):
+    /// its rows, written as they are.
+    Table(&'static [[f32; 4]]),
+}
+
+/// The WGSL type of a `MgParams` member from `source` of socket type `ty`.
+pub(super) fn member_type(source: &UniformSource, ty: SocketType) -> String {
+    match (source, ty) {
+        (UniformSource::Table(rows), _) => format!("array<vec4<f32>, {}>", rows.len()),
+        (_, SocketType::Bool) => "u32".into(),
+        (_, t) => super::wgsl_type(t).into(),
+    }
 }
 
 /// One member of `MgParams`.
@@ -24,7 +36,7 @@ pub struct UniformField {
     pub field: String,
     /// Where its value comes from.
     pub source: UniformSource,
-    /// Its type (bools are stored as `u32`).
+    /// Its type (bools are stored as `u32`; for a table, its row type `Vec4`).
     pub ty: SocketType,
     /// Byte offset from naga.
     pub offset: u32,
@@ -39,6 +51,13 @@ pub struct UniformLayout {
     pub size: u32,
     /// Members in declaration order.
     pub fields: Vec<UniformField>,
+}
+
+impl UniformField {
+    /// Its WGSL type (bools are `u32`; tables `array<vec4<f32>, N>`).
+    pub fn wgsl_type(&self) -> String {
+        member_type(&self.source, self.ty)
+    }
 }
 
 impl UniformLayout {
@@ -77,12 +96,18 @@ impl UniformLayout {
     pub fn pack(&self, params: &ParamValues, time: f32) -> Vec<u8> {
         let mut bytes = vec![0u8; self.size as usize];
         for f in &self.fields {
+            let at = f.offset as usize;
             let v = match &f.source {
                 UniformSource::Parameter(name) => params.get(name).unwrap_or(f.default),
                 UniformSource::Fixed => f.default,
                 UniformSource::Time => Value::float(time),
+                UniformSource::Table(rows) => {
+                    for (k, x) in rows.iter().flatten().enumerate() {
+                        bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&x.to_le_bytes());
+                    }
+                    continue;
+                }
             };
-            let at = f.offset as usize;
             match f.ty {
                 SocketType::Int => bytes[at..at + 4].copy_from_slice(&v.as_i32().to_le_bytes()),
                 SocketType::Bool => {

@@ -11,6 +11,15 @@
 // index of each CPU sample.
 @group(0) @binding(3) var<uniform> mgr_resolve: array<vec4<u32>, 5>;
 
+// One sample's composite: the material's premultiplied radiance over the background where
+// the material is (alpha ≥ 0), the background elsewhere.
+fn mgr_composite(bg: vec3<f32>, m: vec4<f32>) -> vec3<f32> {
+    if (m.w >= 0.0) {
+        return m.xyz + bg * (1.0 - m.w);
+    }
+    return bg;
+}
+
 @compute @workgroup_size(8, 8)
 fn mgr_resolve_main(@builtin(global_invocation_id) id: vec3<u32>) {
     let dims = mgr_resolve[0];
@@ -21,13 +30,7 @@ fn mgr_resolve_main(@builtin(global_invocation_id) id: vec3<u32>) {
     var sum = vec3<f32>(0.0);
     for (var s = 0u; s < dims.z; s++) {
         let hw = i32(mgr_resolve[1u + s / 4u][s % 4u]);
-        let bg = textureLoad(mgr_scene, xy, hw).xyz;
-        let m = textureLoad(mgr_material, xy, hw);
-        var c = bg;
-        if (m.w >= 0.0) {
-            c = m.xyz + bg * (1.0 - m.w);
-        }
-        sum += c;
+        sum += mgr_composite(textureLoad(mgr_scene, xy, hw).xyz, textureLoad(mgr_material, xy, hw));
     }
     let px = sum / f32(dims.z);
     let i = 3u * (id.y * dims.x + id.x);
@@ -46,12 +49,7 @@ fn mgr_accumulate_main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let xy = vec2<i32>(id.xy);
-    let bg = textureLoad(mgr_scene, xy, 0).xyz;
-    let m = textureLoad(mgr_material, xy, 0);
-    var c = bg;
-    if (m.w >= 0.0) {
-        c = m.xyz * m.w + bg * (1.0 - m.w);
-    }
+    let c = mgr_composite(textureLoad(mgr_scene, xy, 0).xyz, textureLoad(mgr_material, xy, 0));
     let i = 3u * (id.y * dims.x + id.x);
     var sum = c;
     if (dims.w > 0u) {
