@@ -18,6 +18,7 @@ pub mod image_io;
 pub mod io;
 pub mod kernel;
 pub mod material;
+pub(crate) mod memo;
 pub mod node;
 pub mod plan;
 pub mod pretty;

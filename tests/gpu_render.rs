@@ -398,6 +398,45 @@ fn gpu_renders_are_deterministic() {
     assert_eq!(bytes(&a), bytes(&b));
 }
 
+/// The scene textures, IBL tables and packed scenes that frames reuse follow the scene:
+/// the bubble (whose backdrop moves with time, and whose material samples it) drawn at
+/// t = 0, then 2 s, then 0 again: the second frame matches the CPU at 2 s, the third is the
+/// first bit for bit, and the two times differ.
+#[test]
+fn frames_at_other_times_redraw_their_scene_textures() {
+    if gpu_context("frames_at_other_times_redraw_their_scene_textures").is_none() {
+        return;
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/bubble.json");
+    let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+    let scene = scene_of(&graph);
+    let at = |time: f32, backend| {
+        let o = RenderOptions {
+            time: Some(time),
+            ..options(&graph, Some(&path), 1, backend)
+        };
+        render_timed(&graph, &scene, &o).unwrap().0
+    };
+    let bits =
+        |i: &HdrImage| -> Vec<u32> { i.pixels.iter().flatten().map(|v| v.to_bits()).collect() };
+    let first = at(0.0, Backend::Gpu);
+    let later = at(2.0, Backend::Gpu);
+    let again = at(0.0, Backend::Gpu);
+    assert_eq!(bits(&first), bits(&again), "the same time, the same frame");
+    let moved = first
+        .pixels
+        .iter()
+        .zip(&later.pixels)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        moved > first.pixels.len() / 10,
+        "{moved} pixels changed in 2 s"
+    );
+    let mask = edge_mask(&scene, &scene.material_mesh());
+    assert_parity("bubble at 2 s", 1, &at(2.0, Backend::Cpu), &later, &mask);
+}
+
 #[test]
 fn every_sample_count_draws_on_the_gpu_and_matches_the_cpu() {
     let Some(ctx) = gpu_context("every_sample_count_draws_on_the_gpu_and_matches_the_cpu") else {

@@ -818,21 +818,6 @@ fn output_is_identical_across_runs_and_thread_counts() {
 }
 
 #[test]
-fn a_64x64_gbuffer_is_fast() {
-    // Full-resolution material meshes (a 256 × 128 sphere, a 256 × 256 water grid); the
-    // bound is for unoptimised test builds on a slow machine, about 20× the time measured.
-    for name in SCENE_PRESETS {
-        let scene = Scene::preset(name).unwrap();
-        let mesh = scene.material_mesh();
-        let start = std::time::Instant::now();
-        let g = scene.gbuffer(&mesh, 64, 64, 1);
-        let elapsed = start.elapsed();
-        assert!(!g.samples.is_empty());
-        assert!(elapsed.as_secs_f64() < 3.0, "{name}: {elapsed:?}");
-    }
-}
-
-#[test]
 fn empty_frames_are_empty() {
     let scene = Scene::preset("water").unwrap();
     let g = scene.gbuffer(&scene.material_mesh(), 0, 10, 1);

@@ -8,13 +8,15 @@ use super::{HdrImage, RenderError, RenderOptions, RenderTimings, SCENE_TEXTURE_M
 use crate::gpu::GpuContext;
 use crate::gpu::raster::{self, MaterialInput};
 use crate::graph::Graph;
+use crate::memo::{Memo, Same};
 use crate::plan::ParamValues;
 use crate::scene::{Mesh, Scene, ScenePass};
 use crate::texture::{Image, Texture, TextureSet};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// The textures the GPU render binds: the caller's images and the scene textures the graph
-/// samples, drawn on the GPU (their mip chains built here).
+/// samples ([`scene_textures`]).
 fn textures(
     ctx: &GpuContext,
     graph: &Graph,
@@ -26,11 +28,44 @@ fn textures(
     if let Some(given) = &options.textures {
         set.extend_shared(given).map_err(texture_error)?;
     }
-    let wanted: Vec<&str> = graph
+    let mut wanted: Vec<&str> = graph
         .nodes()
         .iter()
         .filter_map(|n| n.texture.as_ref()?.scene_name())
         .collect();
+    wanted.sort_unstable();
+    wanted.dedup();
+    if !wanted.is_empty() {
+        let key: SceneKey = (
+            serde_json::to_string(scene).unwrap_or_default(),
+            wanted.iter().map(|w| w.to_string()).collect(),
+            (options.width, options.height),
+            Same(options.environment.clone()),
+        );
+        static RECENT: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+        let made = RECENT.get_or_make(key, || {
+            scene_textures(ctx, scene, options, &wanted).map(Arc::new)
+        })?;
+        set.extend_shared(&made).map_err(texture_error)?;
+    }
+    Ok(set)
+}
+
+/// What the scene textures of a frame depend on: the scene (its time included), the names the
+/// graph samples, the frame size and the environment image. A material's parameters are not
+/// in it, so a parameter change redraws no scene texture.
+type SceneKey = (String, Vec<String>, (u32, u32), Same<Texture>);
+
+/// The scene textures in `wanted` (`scene:` names), drawn on the GPU (their mip chains built
+/// here).
+fn scene_textures(
+    ctx: &GpuContext,
+    scene: &Scene,
+    options: &RenderOptions,
+    wanted: &[&str],
+) -> Result<TextureSet, RenderError> {
+    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
+    let mut set = TextureSet::new();
     let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
     if wanted.iter().any(|w| super::is_environment_texture(w)) {
         // The map is drawn on the GPU; its image-based-lighting tables are made from it on
@@ -41,7 +76,7 @@ fn textures(
         );
         let data = raster::render_environment(ctx, scene, options.environment.as_ref(), w, h)?;
         let image = Image::new(w, h, data).map_err(texture_error)?;
-        super::insert_environment_textures(&mut set, &wanted, image).map_err(texture_error)?;
+        super::insert_environment_textures(&mut set, wanted, image).map_err(texture_error)?;
     }
     let (tw, th) = super::scene_texture_size(options.width, options.height);
     debug_assert!(tw.max(th) <= SCENE_TEXTURE_MAX);

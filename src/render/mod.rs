@@ -21,6 +21,7 @@
 
 pub mod frames;
 mod gpu;
+mod ibl_cache;
 pub mod sheet;
 pub mod tonemap;
 
@@ -458,7 +459,7 @@ fn is_environment_texture(name: &str) -> bool {
 /// Adds to `set` the environment textures in `wanted` made from the equirectangular map
 /// `env` ([`ENVIRONMENT_TEXTURES`]): `scene:environment` (box mips), and the prefiltered
 /// GGX levels, BRDF table and irradiance coefficients of [`crate::scene::ibl`], computed on
-/// the CPU (the GPU render uploads them too).
+/// the CPU (the GPU render uploads them too) once per map ([`ibl_cache`]).
 pub(super) fn insert_environment_textures(
     set: &mut TextureSet,
     wanted: &[&str],
@@ -466,15 +467,17 @@ pub(super) fn insert_environment_textures(
 ) -> Result<(), crate::texture::TextureError> {
     use crate::scene::ibl;
     let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
+    let map_key = ibl_cache::key(&env);
     let source = Texture::new(env, true)?;
     if wanted.contains(&"environment_ggx") {
-        set.insert(key("environment_ggx"), ibl::environment_ggx(&source)?)?;
+        let ggx = ibl_cache::environment_ggx(map_key, &source)?;
+        set.insert_shared(key("environment_ggx"), ggx)?;
     }
     if wanted.contains(&"brdf_lut") {
         set.insert(key("brdf_lut"), ibl::brdf_lut().clone())?;
     }
     if wanted.contains(&"environment_sh") {
-        let sh = ibl::sh_irradiance(&source, ibl::SH_LEVEL);
+        let sh = ibl_cache::sh_irradiance(map_key, &source);
         set.insert(key("environment_sh"), ibl::sh_texture(&sh)?)?;
     }
     if wanted.contains(&"environment") {
