@@ -17,6 +17,7 @@
 //! `SKIPPED …`, and fails instead when `MATGRAPH_REQUIRE_GPU` is set (CI sets it).
 
 mod common;
+use common::scenes::scene_of;
 use common::{bundled_graphs, gpu_context};
 
 use matgraph::gpu::Backend;
@@ -32,12 +33,6 @@ const SIZE: u32 = 256;
 
 /// Samples per pixel of the G-buffer the edge mask is measured on.
 const MASK_SPP: u32 = 16;
-
-fn scene_of(graph: &Graph) -> Scene {
-    matgraph::render::graph_scene(graph)
-        .unwrap()
-        .unwrap_or_else(|| Scene::preset("ball").unwrap())
-}
 
 fn options(graph: &Graph, path: Option<&Path>, spp: u32, backend: Backend) -> RenderOptions {
     options_in(graph, path, spp, backend, TextureMode::Exact)

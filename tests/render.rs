@@ -4,32 +4,13 @@
 
 mod common;
 use common::bundled_graphs;
+use common::scenes::{graph, render_options, scene_of};
 
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, render};
 use matgraph::scene::Scene;
-use matgraph::{Attribute, Graph, Registry};
+use matgraph::{Attribute, Registry};
 use std::path::Path;
-use std::sync::Arc;
-
-/// The scene a graph names (ball by default), as `matgraph render` picks it.
-fn scene_of(graph: &Graph) -> Scene {
-    matgraph::render::graph_scene(graph)
-        .unwrap()
-        .unwrap_or_else(|| Scene::preset("ball").unwrap())
-}
-
-fn options(size: u32, backend: Backend, graph: &Graph, path: &Path) -> RenderOptions {
-    let textures = matgraph::image_io::load_graph_textures(graph, path).unwrap();
-    RenderOptions {
-        width: size,
-        height: size,
-        samples: 1,
-        backend,
-        textures: Some(Arc::new(textures)),
-        ..RenderOptions::default()
-    }
-}
 
 /// CPU and GPU renders of every bundled graph agree on the 8-bit output: per-pixel max |Δ| ≤
 /// 2/255 and RMSE ≤ 0.5/255 over every pixel, on the hybrid path (`Backend::GpuCompute`):
@@ -44,13 +25,17 @@ fn cpu_and_gpu_renders_agree() {
     for path in bundled_graphs() {
         let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
         let scene = scene_of(&graph);
-        let cpu = render(&graph, &scene, &options(128, Backend::Cpu, &graph, &path))
-            .unwrap()
-            .to_srgb8(0.0);
+        let cpu = render(
+            &graph,
+            &scene,
+            &render_options(128, Backend::Cpu, &graph, &path),
+        )
+        .unwrap()
+        .to_srgb8(0.0);
         let gpu = render(
             &graph,
             &scene,
-            &options(128, Backend::GpuCompute, &graph, &path),
+            &render_options(128, Backend::GpuCompute, &graph, &path),
         )
         .unwrap()
         .to_srgb8(0.0);
@@ -67,10 +52,6 @@ fn cpu_and_gpu_renders_agree() {
         assert!(max <= 2, "{}: max |Δ| = {max}/255", graph.name);
         assert!(rmse <= 0.5, "{}: RMSE = {rmse}/255", graph.name);
     }
-}
-
-fn graph(text: &str) -> Graph {
-    Graph::from_json(text, Registry::builtin()).unwrap_or_else(|e| panic!("{e:?}"))
 }
 
 /// A Lambert graph summed over the scene's lights equals Lambert computed here from the
@@ -418,7 +399,7 @@ fn banded_renders_equal_the_whole_frame_bit_for_bit() {
     for path in bundled_graphs() {
         let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
         let scene = scene_of(&graph);
-        let mut o = options(0, Backend::Cpu, &graph, &path);
+        let mut o = render_options(0, Backend::Cpu, &graph, &path);
         (o.width, o.height, o.samples) = (29, 23, 4);
         o.band_rows = Some(23);
         let whole = render(&graph, &scene, &o).unwrap();

@@ -6,37 +6,17 @@
 
 mod common;
 use common::bundled_graphs;
+use common::scenes::{graph, render_options, scene_of};
 
 use matgraph::gpu::Backend;
 use matgraph::plan::{Plan, PlanOptions};
-use matgraph::render::{HdrImage, RenderOptions, render};
-use matgraph::scene::Scene;
+use matgraph::render::{HdrImage, render};
 use matgraph::specialise::{
     EnvironmentInfo, LightInfo, RewriteKind, SceneInfo, SpecialiseOptions, Specialised, specialise,
     thin_film::COHERENCE_LENGTH_D65_NM,
 };
 use matgraph::{Graph, Registry, SampleBatch};
 use std::path::Path;
-use std::sync::Arc;
-
-/// The scene a graph names (ball by default), as `matgraph render` picks it.
-fn scene_of(graph: &Graph) -> Scene {
-    matgraph::render::graph_scene(graph)
-        .unwrap()
-        .unwrap_or_else(|| Scene::preset("ball").unwrap())
-}
-
-fn options(size: u32, backend: Backend, graph: &Graph, path: &Path) -> RenderOptions {
-    let textures = matgraph::image_io::load_graph_textures(graph, path).unwrap();
-    RenderOptions {
-        width: size,
-        height: size,
-        samples: 1,
-        backend,
-        textures: Some(Arc::new(textures)),
-        ..RenderOptions::default()
-    }
-}
 
 /// RMSE of linear radiance over every pixel and channel, and the RMS of `a` (the scale).
 fn rmse(a: &HdrImage, b: &HdrImage) -> (f64, f64) {
@@ -49,10 +29,6 @@ fn rmse(a: &HdrImage, b: &HdrImage) -> (f64, f64) {
     }
     let n = (a.pixels.len() * 3) as f64;
     ((d2 / n).sqrt(), (a2 / n).sqrt())
-}
-
-fn graph(text: &str) -> Graph {
-    Graph::from_json(text, Registry::builtin()).unwrap_or_else(|e| panic!("{e:?}"))
 }
 
 fn spec(g: &Graph, scene: &SceneInfo, approximate: bool) -> Specialised {
@@ -116,7 +92,7 @@ fn every_bundled_graph_specialised_renders_as_its_full_build_on_the_cpu() {
         let scene = scene_of(&g);
         let s = spec(&g, &SceneInfo::of(&scene, Some(scene.time)), false);
         assert!(s.is_exact());
-        let o = options(40, Backend::Cpu, &g, &path);
+        let o = render_options(40, Backend::Cpu, &g, &path);
         let full = render(&g, &scene, &o).unwrap();
         let fast = render(&s.graph, &scene, &o).unwrap();
         let (e, scale) = rmse(&full, &fast);
@@ -142,7 +118,7 @@ fn every_bundled_graph_specialised_renders_as_its_full_build_on_the_gpu() {
         let g = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
         let scene = scene_of(&g);
         let s = spec(&g, &SceneInfo::of(&scene, Some(scene.time)), false);
-        let o = options(40, Backend::Gpu, &g, &path);
+        let o = render_options(40, Backend::Gpu, &g, &path);
         let full = render(&g, &scene, &o).unwrap();
         let fast = render(&s.graph, &scene, &o).unwrap();
         let (e, scale) = rmse(&full, &fast);
@@ -309,7 +285,7 @@ fn a_constant_environment_replaces_the_environment_lookups() {
     );
     assert!(matgraph::render::uses_scene_textures(&g));
     assert!(!matgraph::render::uses_scene_textures(&s.graph));
-    let o = options(32, Backend::Cpu, &g, &path);
+    let o = render_options(32, Backend::Cpu, &g, &path);
     let (e, scale) = rmse(
         &render(&g, &scene, &o).unwrap(),
         &render(&s.graph, &scene, &o).unwrap(),

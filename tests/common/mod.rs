@@ -7,6 +7,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 pub mod rng;
+pub mod scenes;
 pub mod tint;
 
 /// Every bundled graph (`graphs/*.json`), sorted; fails if there is none.
