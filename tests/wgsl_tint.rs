@@ -54,7 +54,7 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
                     ..Default::default()
                 },
             };
-            let m = generate(&graph, &options)
+            let m = generate(graph, &options)
                 .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
             // Named `graph.entry[.baked].wgsl`: every message names the graph and the entry.
             let baked = if bake { ".baked" } else { "" };

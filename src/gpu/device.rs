@@ -16,10 +16,8 @@ pub(super) struct DeviceState {
     pub(super) lost: Arc<Mutex<Option<String>>>,
     /// Compute pipelines created on this device.
     pub(super) pipelines: AtomicUsize,
-    /// Pipelines and layouts of the GPU rasteriser, by what they were made from, so that
-    /// frames after the first compile nothing (see `raster::cached`).
-    pub(super) cache:
-        Mutex<std::collections::HashMap<String, Arc<dyn std::any::Any + Send + Sync>>>,
+    /// What the GPU rasteriser made on this device, bounded (see `raster::cached`).
+    pub(super) cache: Mutex<super::cache::DeviceCache>,
 }
 
 pub(super) fn gpu_err(context: &str, e: impl std::fmt::Display) -> EvalError {

@@ -138,23 +138,24 @@ fn tile_size(ctx: &GpuContext, w: u32, h: u32, spp: u32) -> (u32, u32) {
     let tw = w.min(side);
     let budget = limits
         .max_buffer_size
-        .min(limits.max_storage_buffer_binding_size as u64);
+        .min(limits.max_storage_buffer_binding_size);
     let rows = (budget / (tw as u64 * 16 * spp as u64)).clamp(2, side as u64) as u32 & !1;
     (tw, h.min(rows))
 }
 
-/// The value cached on the device under `key`, made by `make` the first time.
+/// The value cached on the device under `key`, made by `make` the first time (and again
+/// after the bounded cache dropped it).
 fn cached<T: Send + Sync + 'static>(
     s: &DeviceState,
     key: &str,
     make: impl FnOnce() -> T,
 ) -> Arc<T> {
     let mut cache = s.cache.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(v) = cache.get(key).and_then(|v| v.clone().downcast::<T>().ok()) {
+    if let Some(v) = cache.get::<T>(key) {
         return v;
     }
     let v = Arc::new(make());
-    cache.insert(key.to_owned(), v.clone());
+    cache.insert(key, v.clone());
     v
 }
 
