@@ -383,14 +383,12 @@ fn gpu_renders_are_deterministic() {
     let o = options(&graph, Some(&path), 4, Backend::Gpu);
     let a = render_timed(&graph, &scene, &o).unwrap().0;
     let b = render_timed(&graph, &scene, &o).unwrap().0;
-    let bytes = |i: &HdrImage| {
-        i.pixels
-            .iter()
-            .flatten()
-            .map(|v| v.to_bits())
-            .collect::<Vec<_>>()
-    };
-    assert_eq!(bytes(&a), bytes(&b));
+    assert_eq!(bits(&a), bits(&b));
+}
+
+/// The bits of every channel of every pixel.
+fn bits(image: &HdrImage) -> Vec<u32> {
+    image.pixels.iter().flatten().map(|v| v.to_bits()).collect()
 }
 
 /// The scene textures, IBL tables and packed scenes that frames reuse follow the scene:
@@ -412,8 +410,6 @@ fn frames_at_other_times_redraw_their_scene_textures() {
         };
         render_timed(&graph, &scene, &o).unwrap().0
     };
-    let bits =
-        |i: &HdrImage| -> Vec<u32> { i.pixels.iter().flatten().map(|v| v.to_bits()).collect() };
     let first = at(0.0, Backend::Gpu);
     let later = at(2.0, Backend::Gpu);
     let again = at(0.0, Backend::Gpu);
