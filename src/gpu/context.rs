@@ -90,7 +90,7 @@ impl GpuContext {
             uncaptured,
             lost,
             pipelines: AtomicUsize::new(0),
-            cache: Mutex::new(Default::default()),
+            cache: crate::memo::Memo::new(),
         });
         Ok(GpuContext {
             _instance: instance,

@@ -16,8 +16,11 @@ pub(super) struct DeviceState {
     pub(super) lost: Arc<Mutex<Option<String>>>,
     /// Compute pipelines created on this device.
     pub(super) pipelines: AtomicUsize,
-    /// What the GPU rasteriser made on this device, bounded (see `raster::cached`).
-    pub(super) cache: Mutex<super::cache::DeviceCache>,
+    /// What the GPU rasteriser made on this device (pipelines, layouts, generated materials,
+    /// packed textures), by what it was made from, so that frames after the first compile
+    /// nothing; bounded, so that an editing session that compiles a material per structural
+    /// edit does not grow it without bound (see `raster::cached`).
+    pub(super) cache: crate::memo::Memo<String, Arc<dyn std::any::Any + Send + Sync>, 64>,
 }
 
 pub(super) fn gpu_err(context: &str, e: impl std::fmt::Display) -> EvalError {

@@ -7,7 +7,6 @@
 //! failure (no adapter, a shader the driver rejects, a lost device) is an
 //! [`EvalError::Gpu`] that callers can fall back from; nothing here panics on them.
 
-mod cache;
 mod context;
 mod device;
 mod harness;

@@ -42,8 +42,8 @@ fn textures(
             (options.width, options.height),
             Same(options.environment.clone()),
         );
-        static RECENT: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
-        let made = RECENT.get_or_make(key, || {
+        static SCENE_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+        let made = SCENE_TEXTURES.get_or_make(key, || {
             scene_textures(ctx, scene, options, &wanted).map(Arc::new)
         })?;
         set.extend_shared(&made).map_err(texture_error)?;

@@ -28,8 +28,5 @@ pub(super) fn environment_ggx(key: u64, source: &Texture) -> Result<Arc<Texture>
 /// The irradiance coefficients of the map with key `key` ([`ibl::sh_irradiance`]).
 pub(super) fn sh_irradiance(key: u64, source: &Texture) -> [[f32; 3]; 9] {
     static SH: Memo<u64, [[f32; 3]; 9], 4> = Memo::new();
-    let Ok(sh) = SH.get_or_make::<std::convert::Infallible>(key, || {
-        Ok(ibl::sh_irradiance(source, ibl::SH_LEVEL))
-    });
-    sh
+    SH.get_or(key, || ibl::sh_irradiance(source, ibl::SH_LEVEL))
 }

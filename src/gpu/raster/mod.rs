@@ -150,13 +150,16 @@ fn cached<T: Send + Sync + 'static>(
     key: &str,
     make: impl FnOnce() -> T,
 ) -> Arc<T> {
-    let mut cache = s.cache.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(v) = cache.get::<T>(key) {
-        return v;
+    let mut make = Some(make);
+    let value = s.cache.get_or(key.to_owned(), || {
+        let made = make.take().expect("made once")();
+        Arc::new(made) as Arc<dyn std::any::Any + Send + Sync>
+    });
+    match value.downcast::<T>() {
+        Ok(v) => v,
+        // A key is only ever used with one type; were it not, this value is not kept.
+        Err(_) => Arc::new(make.take().expect("not made: the key held another type")()),
     }
-    let v = Arc::new(make());
-    cache.insert(key, v.clone());
-    v
 }
 
 /// A storage buffer holding `bytes` (padded to at least `min` bytes).
@@ -613,11 +616,9 @@ impl SceneGpu {
             serde_json::to_string(scene).unwrap_or_default(),
             Same(environment.cloned()),
         );
-        let Ok(packed) = PACKED.get_or_make::<std::convert::Infallible>(key, || {
+        let packed = PACKED.get_or(key, || {
             let lookup = environment.map(|t| environment_lookup(t.clone()));
-            Ok(Arc::new(scene.packed(
-                lookup.as_ref().map(|f| f as &crate::scene::EnvLookup),
-            )))
+            Arc::new(scene.packed(lookup.as_ref().map(|f| f as &crate::scene::EnvLookup)))
         });
         let textures = scene_textures(s, &packed, environment)?;
         let backdrop = storage(
