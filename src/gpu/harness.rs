@@ -13,7 +13,8 @@ pub struct GpuHarness {
     pipeline: wgpu::ComputePipeline,
     input_width: usize,
     output_width: usize,
-    params: Vec<u8>,
+    /// `mg_params` (binding 3), the node's constant tables, written once.
+    params: Option<wgpu::Buffer>,
     max_groups_x: u32,
 }
 
@@ -30,10 +31,17 @@ impl GpuHarness {
         if !harness.params.is_empty() {
             entries.push((3, T::Uniform));
         }
-        let (layout, pipeline) = state.scoped("compiling a node harness", || {
+        let (layout, pipeline, params) = state.scoped("compiling a node harness", || {
             let layout = state.layout("matgraph harness", &entries);
             let pipeline = state.pipeline("matgraph harness", &harness.source, &layout);
-            Ok((layout, pipeline))
+            let params = (!harness.params.is_empty()).then(|| {
+                use wgpu::BufferUsages as U;
+                let size = harness.params.len() as u64;
+                let b = state.buffer("MgParams", size, U::UNIFORM | U::COPY_DST);
+                state.queue.write_buffer(&b, 0, &harness.params);
+                b
+            });
+            Ok((layout, pipeline, params))
         })?;
         let max_groups_x = state.device.limits().max_compute_workgroups_per_dimension;
         Ok(GpuHarness {
@@ -42,7 +50,7 @@ impl GpuHarness {
             pipeline,
             input_width: harness.input_width,
             output_width: harness.output_width,
-            params: harness.params.clone(),
+            params,
             max_groups_x,
         })
     }
@@ -88,15 +96,6 @@ impl GpuHarness {
             d[..4].copy_from_slice(&(count as u32).to_le_bytes());
             d[4..].copy_from_slice(&row.to_le_bytes());
             s.queue.write_buffer(&dispatch, 0, &d);
-            let params = (!self.params.is_empty()).then(|| {
-                let b = s.buffer(
-                    "MgParams",
-                    self.params.len() as u64,
-                    U::UNIFORM | U::COPY_DST,
-                );
-                s.queue.write_buffer(&b, 0, &self.params);
-                b
-            });
             let mut entries = vec![
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -111,7 +110,7 @@ impl GpuHarness {
                     resource: dispatch.as_entire_binding(),
                 },
             ];
-            if let Some(p) = &params {
+            if let Some(p) = &self.params {
                 entries.push(wgpu::BindGroupEntry {
                     binding: 3,
                     resource: p.as_entire_binding(),

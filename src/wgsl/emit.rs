@@ -23,6 +23,32 @@ pub(super) struct UniformSpec {
     pub(super) default: Value,
 }
 
+impl UniformSpec {
+    /// The member holding node table `t`, under its fixed name.
+    pub(super) fn table(t: &'static crate::node::WgslTable) -> UniformSpec {
+        UniformSpec {
+            field: t.field.to_owned(),
+            source: super::UniformSource::Table(t.rows),
+            ty: SocketType::Vec4,
+            default: Value::zero(SocketType::Vec4),
+        }
+    }
+}
+
+/// `struct MgParams` with `fields`, and `mg_params` bound at `binding` of group 0.
+pub(super) fn params_block(fields: &[UniformSpec], binding: u32) -> String {
+    let mut out = String::from("struct MgParams {\n");
+    for f in fields {
+        let ty = super::layout::member_type(&f.source, f.ty);
+        let _ = writeln!(out, "    {}: {ty},", f.field);
+    }
+    let _ = writeln!(
+        out,
+        "}}\n\n@group(0) @binding({binding}) var<uniform> mg_params: MgParams;\n"
+    );
+    out
+}
+
 /// What the emitter produced.
 pub(super) struct Text {
     pub(super) source: String,
@@ -426,14 +452,7 @@ impl<'a> Emitter<'a> {
                 default: Value::float(0.0),
             });
         }
-        for t in &tables {
-            uniform_fields.push(UniformSpec {
-                field: t.field.to_owned(),
-                source: super::UniformSource::Table(t.rows),
-                ty: SocketType::Vec4,
-                default: Value::zero(SocketType::Vec4),
-            });
-        }
+        uniform_fields.extend(tables.iter().map(|&t| UniformSpec::table(t)));
 
         // Node functions in first-use order, helpers before them.
         let mut helpers: Vec<&'static str> = Vec::new();
@@ -477,13 +496,7 @@ impl<'a> Emitter<'a> {
         );
         let mut bindings = Vec::new();
         if !uniform_fields.is_empty() {
-            self.out.push_str("struct MgParams {\n");
-            for f in &uniform_fields {
-                let ty = super::layout::member_type(&f.source, f.ty);
-                let _ = writeln!(self.out, "    {}: {ty},", f.field);
-            }
-            self.out
-                .push_str("}\n\n@group(0) @binding(0) var<uniform> mg_params: MgParams;\n\n");
+            self.out.push_str(&params_block(&uniform_fields, 0));
             bindings.push((0, Binding::Params));
         }
         if !attributes.is_empty() {

@@ -1,12 +1,10 @@
 //! A compute module that runs one node type's WGSL function on packed samples, for the
 //! node-level CPU/GPU parity tests and for anyone checking a node's WGSL in isolation.
 
-use super::emit::{UniformSpec, node_function, output_member};
-use super::layout::member_type;
-use super::{ShaderError, UniformLayout, UniformSource, WORKGROUP_SIZE, validate};
+use super::emit::{UniformSpec, node_function, output_member, params_block};
+use super::{ShaderError, UniformLayout, WORKGROUP_SIZE, validate};
 use crate::node::NodeType;
 use crate::types::SocketType;
-use crate::value::Value;
 use std::fmt::Write;
 
 /// A validated harness module.
@@ -48,19 +46,10 @@ pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, 
     let tables: Vec<UniformSpec> = t
         .wgsl_tables()
         .iter()
-        .map(|t| UniformSpec {
-            field: t.field.to_owned(),
-            source: UniformSource::Table(t.rows),
-            ty: SocketType::Vec4,
-            default: Value::zero(SocketType::Vec4),
-        })
+        .map(|&t| UniformSpec::table(t))
         .collect();
     if !tables.is_empty() {
-        s.push_str("struct MgParams {\n");
-        for f in &tables {
-            let _ = writeln!(s, "    {}: {},", f.field, member_type(&f.source, f.ty));
-        }
-        s.push_str("}\n@group(0) @binding(3) var<uniform> mg_params: MgParams;\n\n");
+        s.push_str(&params_block(&tables, 3));
     }
     let _ = writeln!(s, "@compute @workgroup_size({WORKGROUP_SIZE})");
     s.push_str("fn mg_compute(@builtin(global_invocation_id) id: vec3<u32>) {\n");
