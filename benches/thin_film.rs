@@ -8,7 +8,7 @@ mod ciede2000;
 
 use ciede2000::{delta_e_2000, srgb_to_lab};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use matgraph::nodes::thin_film::{BELCOUR_BARLA, METHOD_NAMES, RGB3, SPECTRAL, thin_film};
+use matgraph::nodes::thin_film::{BELCOUR_BARLA, METHOD_NAMES, RGB3, SPECTRAL, TABLE, thin_film};
 use std::hint::black_box;
 
 /// Samples per timed batch: thickness and angle on a 32 × 32 grid over the measured domain.
@@ -24,70 +24,18 @@ fn samples() -> Vec<(f32, f32)> {
     v
 }
 
-/// A prototype of the "table" method (not shipped; docs/models/thin_film.md says why): the
-/// spectral reflectance of the free n = 1.33 film tabulated over thickness 0–2000 nm every
-/// 5 nm × angle 0–90° every 2°, looked up bilinearly.
-struct Table {
-    rows: Vec<[f32; 3]>,
-}
-
-const TABLE_D_STEP: f32 = 5.0;
-const TABLE_D_N: usize = 401;
-const TABLE_DEG_STEP: f32 = 2.0;
-const TABLE_DEG_N: usize = 46;
-
-impl Table {
-    fn new() -> Table {
-        let mut rows = Vec::with_capacity(TABLE_D_N * TABLE_DEG_N);
-        for j in 0..TABLE_DEG_N {
-            let cos = (TABLE_DEG_STEP * j as f32).to_radians().cos().max(0.0);
-            for i in 0..TABLE_D_N {
-                let (r, _) = thin_film(cos, TABLE_D_STEP * i as f32, 1.33, 1.0, 1.0, SPECTRAL);
-                rows.push(r.to_array());
-            }
-        }
-        Table { rows }
-    }
-    /// Bilinear lookup at (cosθ, d); the angle from acos, as a shader would.
-    fn at(&self, cos: f32, d: f32) -> glam::Vec3 {
-        let u = (d / TABLE_D_STEP).clamp(0.0, (TABLE_D_N - 1) as f32);
-        let v = (cos.clamp(0.0, 1.0).acos().to_degrees() / TABLE_DEG_STEP)
-            .clamp(0.0, (TABLE_DEG_N - 1) as f32);
-        let (i, j) = (
-            (u as usize).min(TABLE_D_N - 2),
-            (v as usize).min(TABLE_DEG_N - 2),
-        );
-        let (fu, fv) = (u - i as f32, v - j as f32);
-        let at = |i: usize, j: usize| glam::Vec3::from(self.rows[j * TABLE_D_N + i]);
-        let a = at(i, j).lerp(at(i + 1, j), fu);
-        let b = at(i, j + 1).lerp(at(i + 1, j + 1), fu);
-        a.lerp(b, fv)
-    }
-}
-
-/// Table method id in the error table.
-const TABLE: i32 = -1;
-
 fn v3(v: glam::Vec3) -> [f64; 3] {
     [v.x as f64, v.y as f64, v.z as f64]
 }
 
 /// Prints mean, 95th percentile and max ΔE00 of each cheap method's reflectance (and the
 /// mean for transmittance) against spectral, over d = 0, 2, …, 2000 nm × θ = 0, 1, …, 89°.
-fn error_table(table: &Table) {
+fn error_table() {
     println!("thin_film ΔE00 against spectral, d 0–2000 nm step 2, θ 0–89° step 1, n 1.33 in air");
-    let eval = |method: i32, cos: f32, d: f32| {
-        if method == TABLE {
-            let r = table.at(cos, d);
-            (r, glam::Vec3::ONE - r)
-        } else {
-            thin_film(cos, d, 1.33, 1.0, 1.0, method)
-        }
-    };
     for (method, name) in [
         (BELCOUR_BARLA, "belcour_barla"),
         (RGB3, "rgb3"),
-        (TABLE, "table (proto)"),
+        (TABLE, "table"),
     ] {
         for (label, max_deg) in [("θ ≤ 89°", 89), ("θ ≤ 60°", 60)] {
             let mut er = Vec::new();
@@ -98,7 +46,7 @@ fn error_table(table: &Table) {
                 for deg in 0..=max_deg {
                     let cos = (deg as f32).to_radians().cos();
                     let (rs, ts) = thin_film(cos, d, 1.33, 1.0, 1.0, SPECTRAL);
-                    let (rm, tm) = eval(method, cos, d);
+                    let (rm, tm) = thin_film(cos, d, 1.33, 1.0, 1.0, method);
                     let e = delta_e_2000(srgb_to_lab(v3(rs)), srgb_to_lab(v3(rm)));
                     if e > worst.0 {
                         worst = (e, d, deg);
@@ -123,12 +71,11 @@ fn error_table(table: &Table) {
 }
 
 fn bench(c: &mut Criterion) {
-    let table = Table::new();
-    error_table(&table);
+    error_table();
     let samples = samples();
     let mut group = c.benchmark_group("thin_film_cpu");
     group.throughput(Throughput::Elements(samples.len() as u64));
-    for method in [SPECTRAL, BELCOUR_BARLA, RGB3] {
+    for method in [SPECTRAL, BELCOUR_BARLA, RGB3, TABLE] {
         group.bench_with_input(
             BenchmarkId::new("method", METHOD_NAMES[method as usize]),
             &samples,
@@ -148,17 +95,6 @@ fn bench(c: &mut Criterion) {
             },
         );
     }
-    group.bench_with_input(
-        BenchmarkId::new("method", "table_prototype"),
-        &samples,
-        |b, s| {
-            b.iter(|| {
-                for &(cos, d) in s {
-                    black_box(table.at(black_box(cos), black_box(d)));
-                }
-            })
-        },
-    );
     group.finish();
 }
 

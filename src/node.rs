@@ -484,6 +484,28 @@ pub struct WgslTable {
     pub rows: &'static [[f32; 4]],
 }
 
+/// A node's WGSL for one literal choice of one of its enum inputs, used instead of the
+/// general template wherever that input is written as that choice (not linked): the module
+/// then holds only the chosen method's code, helpers and tables. naga keeps every branch of
+/// an `if (method == k)` on a function argument, so without it a constant choice would still
+/// compile (and count, and upload the tables of) every other method.
+///
+/// The template has the general template's signature (it takes the enum input and ignores
+/// it), so the call is the same either way.
+#[derive(Debug)]
+pub struct WgslChoice {
+    /// The enum input.
+    pub input: &'static str,
+    /// The choice, by name.
+    pub choice: &'static str,
+    /// The function template (as for [`NodeType::wgsl`]).
+    pub template: &'static str,
+    /// The helpers it calls, replacing the node's [`NodeType::wgsl_uses`].
+    pub helpers: &'static [&'static str],
+    /// The tables it reads, replacing the node's [`NodeType::wgsl_uses_tables`].
+    pub tables: &'static [&'static WgslTable],
+}
+
 /// A node type: declaration, docs, hard cases and compute.
 #[derive(Debug)]
 pub struct NodeType {
@@ -500,6 +522,7 @@ pub struct NodeType {
     wgsl_variants: Vec<(SocketType, &'static str)>,
     wgsl_helpers: Vec<&'static str>,
     wgsl_tables: Vec<&'static WgslTable>,
+    wgsl_choices: Vec<WgslChoice>,
     texture_kernel: Option<TextureKernel>,
 }
 
@@ -520,6 +543,7 @@ impl NodeType {
             wgsl_variants: Vec::new(),
             wgsl_helpers: Vec::new(),
             wgsl_tables: Vec::new(),
+            wgsl_choices: Vec::new(),
             texture_kernel: None,
         }
     }
@@ -615,6 +639,24 @@ impl NodeType {
         self.wgsl_tables.extend_from_slice(tables);
         self
     }
+    /// Adds the WGSL for one literal choice of an enum input (see [`WgslChoice`]).
+    ///
+    /// # Panics
+    /// If the input is not an enum input of this node or has no such choice (a declaration
+    /// error, caught by the registry's tests).
+    pub fn wgsl_choice(mut self, choice: WgslChoice) -> NodeType {
+        let known = self
+            .inputs
+            .iter()
+            .any(|i| i.name == choice.input && i.choices.contains(&choice.choice));
+        assert!(
+            known,
+            "{}: wgsl_choice {}={} is not a declared choice",
+            self.name, choice.input, choice.choice
+        );
+        self.wgsl_choices.push(choice);
+        self
+    }
 
     /// Stable snake_case type name.
     pub fn name(&self) -> &'static str {
@@ -676,6 +718,10 @@ impl NodeType {
     /// Constant tables the WGSL reads from `MgParams`.
     pub fn wgsl_tables(&self) -> &[&'static WgslTable] {
         &self.wgsl_tables
+    }
+    /// The per-choice WGSL (see [`WgslChoice`]).
+    pub fn wgsl_choices(&self) -> &[WgslChoice] {
+        &self.wgsl_choices
     }
     /// Index of the input called `name`.
     pub fn input_index(&self, name: &str) -> Option<usize> {

@@ -17,7 +17,7 @@ use common::{bundled_graphs, gpu_context as context};
 
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
 use matgraph::node::{Evaluation, NodeType};
-use matgraph::wgsl::{ShaderError, node_harness};
+use matgraph::wgsl::{ShaderError, node_choice_harness, node_harness};
 use matgraph::{
     Attribute, EvalError, Graph, OutputBatch, Plan, PlanOptions, Registry, SampleBatch, SocketType,
     Value,
@@ -428,6 +428,91 @@ fn every_node_type_matches_its_cpu_kernel() {
     assert!(report.is_empty(), "node parity failed:\n{report}");
 }
 
+/// Every per-choice WGSL (`NodeType::wgsl_choice`, used where an enum input is a literal)
+/// against the CPU kernel at that choice: the node's samples with the input set to it.
+#[test]
+fn every_literal_choice_matches_its_cpu_kernel() {
+    let Some(ctx) = context("every_literal_choice_matches_its_cpu_kernel") else {
+        return;
+    };
+    let mut failures: Vec<String> = Vec::new();
+    let mut checked = 0;
+    for (seed, t) in Registry::builtin().types().iter().enumerate() {
+        for choice in t.wgsl_choices() {
+            let generic = SocketType::Float;
+            let label = format!("{} [{}={}]", t.name(), choice.input, choice.choice);
+            let module = match node_choice_harness(t, generic, choice) {
+                Ok(m) => m,
+                Err(e) => {
+                    failures.push(format!("{label}: harness does not validate: {e}"));
+                    continue;
+                }
+            };
+            let harness = match GpuHarness::new(ctx, &module) {
+                Ok(h) => h,
+                Err(e) => {
+                    failures.push(format!("{label}: the driver rejected the harness: {e}"));
+                    continue;
+                }
+            };
+            let k = t.input_index(choice.input).unwrap();
+            let index = t.inputs()[k]
+                .choices
+                .iter()
+                .position(|c| *c == choice.choice);
+            let mut samples = node_samples(t, generic, 0x0c40_1ce0 + seed as u64);
+            samples.columns[k].fill(index.unwrap() as f32);
+            let cpu = run_cpu(t, generic, &samples);
+            let gpu = match harness.run(
+                &pack(t, generic, &samples, harness.input_width()),
+                samples.n,
+            ) {
+                Ok(g) => g,
+                Err(e) => {
+                    failures.push(format!("{label}: GPU run failed: {e}"));
+                    continue;
+                }
+            };
+            let bound = bound_for(t.name());
+            let mut errors = Errors::default();
+            let ow = harness.output_width();
+            let mut at = 0;
+            for (o, d) in t.outputs().iter().enumerate() {
+                let w = d.ty.resolve(generic).width();
+                for i in 0..samples.n {
+                    for c in 0..w {
+                        let (a, b) = (cpu[o][c * samples.n + i], gpu[i * ow + at + c]);
+                        if !errors.check(a, b, bound) && failures.len() < 12 {
+                            failures.push(format!(
+                                "{label}: output {}[{c}] cpu {a:e} gpu {b:e} at {}",
+                                d.name,
+                                describe_inputs(t, generic, &samples, i)
+                            ));
+                        }
+                    }
+                }
+                at += w;
+            }
+            checked += 1;
+            eprintln!(
+                "  {label:<40} {:>6} samples  max abs {:9.3e}  {:5.1}% of bound",
+                samples.n,
+                errors.max_abs,
+                errors.worst * 100.0
+            );
+        }
+    }
+    assert!(
+        checked >= 4,
+        "thin_film's four methods have per-choice WGSL"
+    );
+    assert!(
+        failures.is_empty(),
+        "per-choice parity failed:\n{}",
+        failures.join("\n")
+    );
+}
+
 // ------------------------------------------------------------------------------------------
 // b) Graph parity
 // ------------------------------------------------------------------------------------------
@@ -532,10 +617,25 @@ fn every_shipped_graph_matches_the_cpu_plan() {
     let mut failures = Vec::new();
     let files = bundled_graphs();
     assert!(!files.is_empty(), "no graphs/*.json");
+    // Every file at its defaults, then at each other choice of its declared variants.
+    let mut graphs = Vec::new();
     for path in files {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let graph =
             matgraph::io::load_graph(&path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"));
+        let text = std::fs::read_to_string(&path).unwrap();
+        let doc = matgraph::GraphDocument::parse(&text).unwrap();
+        graphs.push((name.clone(), path.clone(), graph));
+        for (variant, v) in &doc.variants {
+            for choice in v.choices.iter().filter(|c| **c != v.default) {
+                let selection = vec![(variant.clone(), choice.clone())];
+                let g = Graph::with_variants(&doc, Registry::builtin(), &selection)
+                    .unwrap_or_else(|e| panic!("{name} {variant}={choice}: {e:?}"));
+                graphs.push((format!("{name} {variant}={choice}"), path.clone(), g));
+            }
+        }
+    }
+    for (name, path, graph) in graphs {
         let options = PlanOptions::default();
         let plan = Plan::compile(&graph, &options).unwrap();
         // The graph's images, and a stand-in for each scene texture it samples.

@@ -264,6 +264,91 @@ fn constant_tables_are_uniform_members_packed_at_naga_offsets() {
     }
 }
 
+/// A `method` written in the file emits only that method (its per-choice template, helpers
+/// and tables); the node's harness has all four. Counted on the generated text and in naga's
+/// expressions, which must now differ per method.
+#[test]
+fn a_literal_method_emits_only_that_method() {
+    let graph = |method: &str| {
+        let text = format!(
+            r#"{{
+          "version": 1, "name": "one_method",
+          "nodes": [
+            {{ "id": "geo", "type": "geometry" }},
+            {{ "id": "cos", "type": "dot", "inputs": {{ "a": {{ "link": "geo.normal" }}, "b": {{ "link": "geo.view" }} }} }},
+            {{ "id": "film", "type": "thin_film", "inputs": {{ "cos_theta": {{ "link": "cos.result" }}, {method} }} }}
+          ],
+          "outputs": [ {{ "name": "c", "from": "film.reflectance" }} ]
+        }}"#
+        );
+        Graph::from_json(&text, Registry::builtin()).unwrap_or_else(|e| panic!("{e:?}"))
+    };
+    // (method, what it must contain, what it must not, MgParams size in bytes)
+    let cases = [
+        (
+            "spectral",
+            "mg_tf_spectral",
+            ["mg_tf_bb_", "mg_tf_cos:", "MG_TF_RGB3_INV"],
+            471 * 16,
+        ),
+        (
+            "belcour_barla",
+            "mg_tf_bb_pol",
+            ["mg_tf_w:", "mg_tf_cos:", "mg_tf_spectral"],
+            0,
+        ),
+        (
+            "rgb3",
+            "MG_TF_RGB3_INV",
+            ["mg_tf_w:", "mg_tf_cos:", "mg_tf_bb_"],
+            0,
+        ),
+        (
+            "table",
+            "mg_tf_cos_at",
+            ["mg_tf_w:", "mg_tf_bb_", "mg_tf_spectral"],
+            2048 * 16,
+        ),
+    ];
+    let mut counts = Vec::new();
+    for (method, has, lacks, size) in cases {
+        let m = generate(
+            &graph(&format!(r#""method": "{method}""#)),
+            &WgslOptions::default(),
+        )
+        .unwrap();
+        assert!(m.source.contains(has), "{method}: no {has}");
+        for l in lacks {
+            assert!(!m.source.contains(l), "{method}: holds {l}");
+        }
+        assert!(m.source.contains(&format!("fn mg_thin_film_is_{method}(")));
+        assert_eq!(m.uniforms.size as usize, size, "{method}");
+        let n: usize = m
+            .module
+            .functions
+            .iter()
+            .map(|(_, f)| f.expressions.len())
+            .sum();
+        counts.push(n);
+    }
+    counts.sort();
+    counts.dedup();
+    assert_eq!(counts.len(), 4, "expression counts tie: {counts:?}");
+    // No node outputs an int, so an enum input is always written in the file; the general
+    // function (every method, both tables) is what the node's parity harness runs.
+    let t = Registry::builtin().get("thin_film").unwrap();
+    let h = node_harness(t, SocketType::Float).unwrap();
+    for f in [
+        "fn mg_thin_film(",
+        "mg_tf_spectral",
+        "mg_tf_bb_pol",
+        "mg_tf_cos_at",
+        "MG_TF_RGB3_INV",
+    ] {
+        assert!(h.source.contains(f), "harness: no {f}");
+    }
+}
+
 /// No node's WGSL declares a large array constant: naga's SPIR-V backend stores a `const`
 /// array into a temporary at every run-time index, and lavapipe took 263 s to compile one
 /// loop over a 471-entry one (thin_film's former table; tables are `WgslTable`s now).

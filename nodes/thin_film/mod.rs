@@ -1,8 +1,9 @@
 //! Thin-film interference (docs/models/thin_film.md): a dielectric film of index `n_f` and
 //! thickness `d` between an outside medium `n_1` and a substrate `n_3` (a soap bubble is the
-//! free film `n_1 = n_3 = 1`), reflected and transmitted colour in linear sRGB by three
-//! methods: the spectral reference, Belcour & Barla 2017's analytic integration, and three
-//! wavelengths.
+//! free film `n_1 = n_3 = 1`), reflected and transmitted colour in linear sRGB by four
+//! methods: the spectral reference, Belcour & Barla 2017's analytic integration, three
+//! wavelengths, and the Airy sum's Fourier series integrated through a table of the spectral
+//! weights' cosine transform.
 //!
 //! Airy summation per polarisation (Born & Wolf, *Principles of Optics*, 7th ed., §1.6.4 "A
 //! homogeneous dielectric film" and §7.6.1), with Fresnel amplitudes in Hecht's convention
@@ -17,9 +18,12 @@
 #[rustfmt::skip]
 mod cie_tables;
 
-pub use cie_tables::{CMF_1931_2DEG, D65, LAMBDA_MIN_NM, LEN, RGB3_INV_NM, RGB3_NM, SRGB_WEIGHTS};
+pub use cie_tables::{
+    CMF_1931_2DEG, D65, LAMBDA_MIN_NM, LEN, RGB3_INV_NM, RGB3_NM, SRGB_COS, SRGB_COS_LEN,
+    SRGB_COS_STEP_NM, SRGB_WEIGHTS,
+};
 
-use crate::node::{Category, In, NodeType, Out, WgslTable};
+use crate::node::{Category, In, NodeType, Out, WgslChoice, WgslTable};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
 use crate::value::Value;
 use glam::Vec3;
@@ -33,13 +37,24 @@ pub const IOR_MIN: f32 = 1.0;
 pub const IOR_MAX: f32 = 4.0;
 
 /// Names of the `method` choices, in index order.
-pub const METHOD_NAMES: &[&str] = &["spectral", "belcour_barla", "rgb3"];
+pub const METHOD_NAMES: &[&str] = &["spectral", "belcour_barla", "rgb3", "table"];
 /// `method` choice: the spectral reference.
 pub const SPECTRAL: i32 = 0;
 /// `method` choice: Belcour & Barla 2017.
 pub const BELCOUR_BARLA: i32 = 1;
 /// `method` choice: three wavelengths.
 pub const RGB3: i32 = 2;
+/// `method` choice: the Fourier series through the cosine table ([`table`]).
+pub const TABLE: i32 = 3;
+
+/// The table method stops summing harmonics once the rest of the series is bounded by this
+/// (in R, for each polarisation's half of the average).
+pub const TABLE_TAIL: f32 = 5e-6;
+/// The most harmonics the table method sums (reached only within a few degrees of grazing).
+pub const TABLE_HARMONICS: u32 = 64;
+/// The optical path difference (nm) of [`SRGB_COS`]'s last row; the transform is taken as 0
+/// from there on.
+pub const TABLE_OPD_END_NM: f32 = SRGB_COS_STEP_NM * (SRGB_COS_LEN - 1) as f32;
 
 /// A complex number, for the Fresnel amplitudes and the film's phase factor.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,6 +156,9 @@ pub struct Film {
     pub opd: C,
     /// Light arrives exactly grazing (`cosθ = 0`): all of it is reflected, at every λ.
     pub grazing: bool,
+    /// The film is beyond its critical angle (its cosine is imaginary: the wave in it
+    /// decays), also at thickness 0 where `opd` is 0.
+    pub evanescent: bool,
 }
 
 impl Film {
@@ -181,6 +199,7 @@ impl Film {
             tau: [0.0; 2],
             opd: cf.scale(2.0 * nf * d),
             grazing: c == 0.0,
+            evanescent: cf.im != 0.0,
         };
         for j in 0..2 {
             let ((x1, y1), (x2, y2)) = (f12[j], f23[j]);
@@ -336,25 +355,48 @@ fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
     [0, 1, 2, 3].map(|m| Vec3::new(x[m] + x2[m], y[m], z[m]))
 }
 
-/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm (±1)^m S(m·opd)` in XYZ.
+/// One polarisation's Airy reflectance as the Fourier series in the phase δ (Belcour & Barla
+/// 2017, eq. 9): `R(δ) = c0 + 2 Σ_{m≥1} c · root^m cos(m δ)`, with `c0 = R12 + Rs`,
+/// `c = Rs − T121`, `Rs = T121² R23 / (1 − R12 R23)`, `T121 = 1 − R12`, and
+/// `root = ±√(R12 R23)`: the phase φ = arg(r21 r23) = arg(−r12 r23) is π when r12 r23 > 0,
+/// which turns harmonic m by (−1)^m (the sign of `root`).
+#[derive(Clone, Copy, Debug)]
+struct AirySeries {
+    c0: f32,
+    c: f32,
+    root: f32,
+}
+
+impl AirySeries {
+    /// The series of the faces with amplitudes `r12`, `r23`.
+    #[inline]
+    fn new(r12: C, r23: C) -> AirySeries {
+        let big_r12 = r12.norm2();
+        let big_r23 = r23.norm2();
+        let t121 = 1.0 - big_r12;
+        let r123 = big_r12 * big_r23;
+        let rs = t121 * t121 * big_r23 / (1.0 - r123);
+        let root = if r12.re * r23.re > 0.0 {
+            -r123.sqrt()
+        } else {
+            r123.sqrt()
+        };
+        AirySeries {
+            c0: big_r12 + rs,
+            c: rs - t121,
+            root,
+        }
+    }
+}
+
+/// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm S(m·opd)` in XYZ.
 #[inline]
 fn bb_polarisation(r12: C, r23: C, s: &[Vec3; 4]) -> Vec3 {
-    let big_r12 = r12.norm2();
-    let big_r23 = r23.norm2();
-    let t121 = 1.0 - big_r12;
-    let r123 = big_r12 * big_r23;
-    let rs = t121 * t121 * big_r23 / (1.0 - r123);
-    let c0 = big_r12 + rs;
-    // φ = arg(r21 r23) = arg(−r12 r23): π when r12 r23 > 0, so harmonic m turns by (−1)^m.
-    let root = if r12.re * r23.re > 0.0 {
-        -r123.sqrt()
-    } else {
-        r123.sqrt()
-    };
-    let mut cm = rs - t121;
-    let mut xyz = c0 * s[0];
+    let a = AirySeries::new(r12, r23);
+    let mut cm = a.c;
+    let mut xyz = a.c0 * s[0];
     for sm in &s[1..] {
-        cm *= root;
+        cm *= a.root;
         xyz += (2.0 * cm) * *sm;
     }
     xyz
@@ -373,7 +415,7 @@ fn bb_polarisation(r12: C, r23: C, s: &[Vec3; 4]) -> Vec3 {
 /// it returns R = 1 (no tunnelling through the film: the model has `T121 = 0` there), and
 /// the series is cut at m = 3, which costs 2 (R12 R23)² of the d → 0 limit (3e-7 for water).
 pub fn belcour_barla(film: &Film) -> Vec3 {
-    if film.opd.im != 0.0 {
+    if film.evanescent {
         return Vec3::ONE;
     }
     let s = bb_sensitivities(film.opd.re);
@@ -388,8 +430,61 @@ pub fn belcour_barla(film: &Film) -> Vec3 {
     )
 }
 
+/// [`SRGB_COS`] at `x` nm of optical path difference (`x ≥ 0`), linearly interpolated between
+/// its rows; 0 from [`TABLE_OPD_END_NM`] on.
+#[inline]
+fn srgb_cos(x: f32) -> Vec3 {
+    let u = x / SRGB_COS_STEP_NM;
+    if !(u < (SRGB_COS_LEN - 1) as f32) {
+        return Vec3::ZERO;
+    }
+    let i = u as usize;
+    let f = u - i as f32;
+    let a = Vec3::from_slice(&SRGB_COS[i][..3]);
+    let b = Vec3::from_slice(&SRGB_COS[i + 1][..3]);
+    a + (b - a) * f
+}
+
+/// The Airy sum's Fourier series ([`AirySeries`], as [`belcour_barla`]) with each harmonic
+/// integrated against the spectral method's own weights: since `Σ_λ w(λ) = 1` and
+/// `cos(m δ) = cos(2π m·opd/λ)`, `Σ_λ w(λ) R(λ) = ½ Σ_{s,p} [c0 + 2 Σ_m c root^m T(m·opd)]`
+/// exactly, with `T(x) = Σ_λ w(λ) cos(2π x/λ)` the weights' cosine transform, tabulated in
+/// [`SRGB_COS`] (every 5 nm to 10 235 nm, f64 sums by nodes/thin_film/gen_cie_tables.py) and
+/// read linearly. The same D65 × CIE 1931 weights as the reference, so no Gaussian fit and
+/// no white balance; what it leaves out, stated: harmonics past the point where the rest of
+/// the series is below [`TABLE_TAIL`] per polarisation or past [`TABLE_HARMONICS`] (only
+/// within a few degrees of grazing), `T` beyond 10 235 nm (|T| < 0.012 there, times the
+/// harmonic's |2 c root^m| ≤ 0.04 for soap at normal incidence), the linear interpolation
+/// (|ΔT| < 6e-4), and, as Belcour & Barla, tunnelling: beyond the film's critical angle it
+/// returns R = 1. Returns reflectance; the film is lossless, so transmittance is `1 − R`.
+pub fn table(film: &Film) -> Vec3 {
+    if film.evanescent {
+        return Vec3::ONE;
+    }
+    let s = AirySeries::new(film.r12[0], film.r23[0]);
+    let p = AirySeries::new(film.r12[1], film.r23[1]);
+    let mut rgb = Vec3::splat(0.5 * (s.c0 + p.c0));
+    let (mut cs, mut cp) = (s.c, p.c);
+    for m in 1..=TABLE_HARMONICS {
+        cs *= s.root;
+        cp *= p.root;
+        let x = m as f32 * film.opd.re;
+        if x >= TABLE_OPD_END_NM {
+            break;
+        }
+        rgb += (cs + cp) * srgb_cos(x);
+        // What is left of each polarisation's half: |c root^m| |root| / (1 − |root|).
+        let done_s = (cs * s.root).abs() <= TABLE_TAIL * (1.0 - s.root.abs());
+        let done_p = (cp * p.root).abs() <= TABLE_TAIL * (1.0 - p.root.abs());
+        if done_s && done_p {
+            break;
+        }
+    }
+    rgb
+}
+
 /// The node's compute: `(reflectance, transmittance)` in linear sRGB by `method`
-/// ([`SPECTRAL`], [`BELCOUR_BARLA`], [`RGB3`]; any other value is spectral).
+/// ([`SPECTRAL`], [`BELCOUR_BARLA`], [`RGB3`], [`TABLE`]; any other value is spectral).
 pub fn thin_film(
     cos_theta: f32,
     thickness_nm: f32,
@@ -414,6 +509,10 @@ pub fn thin_film(
             (r, Vec3::ONE - r)
         }
         RGB3 => rgb3(&film),
+        TABLE => {
+            let r = table(&film);
+            (r, Vec3::ONE - r)
+        }
         _ => spectral(&film),
     }
 }
@@ -452,6 +551,11 @@ struct MgTfFilm {
     tau: vec2<f32>,
     opd: vec2<f32>,
     grazing: bool,
+    evanescent: bool,
+}
+struct MgTfRt {
+    r: vec3<f32>,
+    t: vec3<f32>,
 }
 struct MgTfPol {
     r12: vec2<f32>,
@@ -507,7 +611,7 @@ fn mg_tf_film(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32
     let k = n3 * c3.x / (n1 * max(c, 1.17549435e-38));
     let s = mg_tf_pol(c1 * n1, cf * nf, cf * nf, c3 * n3, c1, cf, n1, nf, n3, k);
     let p = mg_tf_pol(c1 * nf, cf * n1, cf * n3, c3 * nf, c1, cf, n1, nf, n3, k);
-    return MgTfFilm(s.r12, p.r12, s.r23, p.r23, mg_tf_mul(s.r12, s.r23), mg_tf_mul(p.r12, p.r23), s.q, p.q, s.n0, p.n0, vec2<f32>(s.tau, p.tau), cf * (2.0 * nf * d), c == 0.0);
+    return MgTfFilm(s.r12, p.r12, s.r23, p.r23, mg_tf_mul(s.r12, s.r23), mg_tf_mul(p.r12, p.r23), s.q, p.q, s.n0, p.n0, vec2<f32>(s.tau, p.tau), cf * (2.0 * nf * d), c == 0.0, cf.y != 0.0);
 }
 fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     let cycles = f.opd.x * inv_lambda_nm;
@@ -529,6 +633,65 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     let r = mg_tf_norm2(num_s) / den_s + mg_tf_norm2(num_p) / den_p;
     let t = f.tau.x * decay / den_s + f.tau.y * decay / den_p;
     return vec2<f32>(0.5 * r, 0.5 * t);
+}
+"#;
+
+/// WGSL of [`AirySeries`]: the same steps.
+const SERIES_WGSL: &str = r#"
+struct MgTfSeries {
+    c0: f32,
+    c: f32,
+    root: f32,
+}
+fn mg_tf_series(r12: vec2<f32>, r23: vec2<f32>) -> MgTfSeries {
+    let big_r12 = mg_tf_norm2(r12);
+    let big_r23 = mg_tf_norm2(r23);
+    let t121 = 1.0 - big_r12;
+    let r123 = big_r12 * big_r23;
+    let rs = t121 * t121 * big_r23 / (1.0 - r123);
+    let root = select(sqrt(r123), -sqrt(r123), r12.x * r23.x > 0.0);
+    return MgTfSeries(big_r12 + rs, rs - t121, root);
+}
+"#;
+
+/// WGSL of [`table`] and [`srgb_cos`] (the `MgParams` table `mg_tf_cos`): the same steps and
+/// constants.
+const TABLE_WGSL: &str = r#"
+fn mg_tf_cos_at(x: f32) -> vec3<f32> {
+    let u = x / 5.0;
+    if (!(u < 2047.0)) {
+        return vec3<f32>(0.0);
+    }
+    let i = u32(u);
+    let f = u - f32(i);
+    let a = mg_params.mg_tf_cos[i].xyz;
+    let b = mg_params.mg_tf_cos[i + 1u].xyz;
+    return a + (b - a) * f;
+}
+fn mg_tf_table(f: MgTfFilm) -> vec3<f32> {
+    if (f.evanescent) {
+        return vec3<f32>(1.0);
+    }
+    let s = mg_tf_series(f.r12s, f.r23s);
+    let p = mg_tf_series(f.r12p, f.r23p);
+    var rgb = vec3<f32>(0.5 * (s.c0 + p.c0));
+    var cs = s.c;
+    var cp = p.c;
+    for (var m = 1u; m <= 64u; m++) {
+        cs *= s.root;
+        cp *= p.root;
+        let x = f32(m) * f.opd.x;
+        if (x >= 10235.0) {
+            break;
+        }
+        rgb += (cs + cp) * mg_tf_cos_at(x);
+        let done_s = abs(cs * s.root) <= 5e-6 * (1.0 - abs(s.root));
+        let done_p = abs(cp * p.root) <= 5e-6 * (1.0 - abs(p.root));
+        if (done_s && done_p) {
+            break;
+        }
+    }
+    return rgb;
 }
 "#;
 
@@ -559,25 +722,19 @@ fn mg_tf_bb_sensitivities(opd_nm: f32) -> MgTfBbS {
     return MgTfBbS(vec3<f32>(xs.x, y.x, z.x), vec3<f32>(xs.y, y.y, z.y), vec3<f32>(xs.z, y.z, z.z), vec3<f32>(xs.w, y.w, z.w));
 }
 fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, s: MgTfBbS) -> vec3<f32> {
-    let big_r12 = mg_tf_norm2(r12);
-    let big_r23 = mg_tf_norm2(r23);
-    let t121 = 1.0 - big_r12;
-    let r123 = big_r12 * big_r23;
-    let rs = t121 * t121 * big_r23 / (1.0 - r123);
-    let c0 = big_r12 + rs;
-    let root = select(sqrt(r123), -sqrt(r123), r12.x * r23.x > 0.0);
-    var cm = rs - t121;
-    var xyz = c0 * s.s0;
-    cm *= root;
+    let a = mg_tf_series(r12, r23);
+    var cm = a.c;
+    var xyz = a.c0 * s.s0;
+    cm *= a.root;
     xyz += (2.0 * cm) * s.s1;
-    cm *= root;
+    cm *= a.root;
     xyz += (2.0 * cm) * s.s2;
-    cm *= root;
+    cm *= a.root;
     xyz += (2.0 * cm) * s.s3;
     return xyz;
 }
 fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
-    if (f.opd.y != 0.0) {
+    if (f.evanescent) {
         return vec3<f32>(1.0);
     }
     let s = mg_tf_bb_sensitivities(f.opd.x);
@@ -593,23 +750,9 @@ fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
 }
 "#;
 
-/// WGSL of [`thin_film`] (the node), [`spectral`] and [`rgb3`].
-const THIN_FILM_WGSL: &str = r#"
-fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32, method: i32) -> $out {
-    let f = mg_tf_film(cos_theta, thickness_nm, film_ior, outside_ior, substrate_ior);
-    if (f.grazing) {
-        return $out(vec3<f32>(1.0), vec3<f32>(0.0));
-    }
-    if (method == 1) {
-        let r = mg_tf_belcour_barla(f);
-        return $out(r, vec3<f32>(1.0) - r);
-    }
-    if (method == 2) {
-        let a = mg_tf_at(f, MG_TF_RGB3_INV.x);
-        let b = mg_tf_at(f, MG_TF_RGB3_INV.y);
-        let c = mg_tf_at(f, MG_TF_RGB3_INV.z);
-        return $out(vec3<f32>(a.x, b.x, c.x), vec3<f32>(a.y, b.y, c.y));
-    }
+/// WGSL of [`spectral`]: `(R, T)` as `MgTfRt`.
+const SPECTRAL_WGSL: &str = r#"
+fn mg_tf_spectral(f: MgTfFilm) -> MgTfRt {
     var r = vec3<f32>(0.0);
     var t = vec3<f32>(0.0);
     for (var k = 0u; k < 471u; k++) {
@@ -618,9 +761,93 @@ fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, subst
         r += w.xyz * rt.x;
         t += w.xyz * rt.y;
     }
-    return $out(r, t);
+    return MgTfRt(r, t);
 }
 "#;
+
+/// WGSL of [`rgb3`]: `(R, T)` as `MgTfRt`.
+const RGB3_FN_WGSL: &str = r#"
+fn mg_tf_rgb3(f: MgTfFilm) -> MgTfRt {
+    let a = mg_tf_at(f, MG_TF_RGB3_INV.x);
+    let b = mg_tf_at(f, MG_TF_RGB3_INV.y);
+    let c = mg_tf_at(f, MG_TF_RGB3_INV.z);
+    return MgTfRt(vec3<f32>(a.x, b.x, c.x), vec3<f32>(a.y, b.y, c.y));
+}
+"#;
+
+/// A template of [`thin_film`] (the node): the film, exactly grazing light, then `$body`.
+macro_rules! thin_film_template {
+    ($body:literal) => {
+        concat!(
+            "fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32, method: i32) -> $out {\n",
+            "    let f = mg_tf_film(cos_theta, thickness_nm, film_ior, outside_ior, substrate_ior);\n",
+            "    if (f.grazing) {\n",
+            "        return $out(vec3<f32>(1.0), vec3<f32>(0.0));\n",
+            "    }\n",
+            $body,
+            "}\n"
+        )
+    };
+}
+
+/// WGSL of [`thin_film`] for a linked `method`: every method, chosen at run time.
+const THIN_FILM_WGSL: &str = thin_film_template!(
+    "    if (method == 1) {
+        let r = mg_tf_belcour_barla(f);
+        return $out(r, vec3<f32>(1.0) - r);
+    }
+    if (method == 2) {
+        let rt = mg_tf_rgb3(f);
+        return $out(rt.r, rt.t);
+    }
+    if (method == 3) {
+        let r = mg_tf_table(f);
+        return $out(r, vec3<f32>(1.0) - r);
+    }
+    let rt = mg_tf_spectral(f);
+    return $out(rt.r, rt.t);
+"
+);
+
+/// WGSL of [`thin_film`] at `method` spectral.
+const SPECTRAL_CHOICE_WGSL: &str = thin_film_template!(
+    "    let rt = mg_tf_spectral(f);
+    return $out(rt.r, rt.t);
+"
+);
+
+/// WGSL of [`thin_film`] at `method` rgb3.
+const RGB3_CHOICE_WGSL: &str = thin_film_template!(
+    "    let rt = mg_tf_rgb3(f);
+    return $out(rt.r, rt.t);
+"
+);
+
+/// WGSL of [`thin_film`] at `method` belcour_barla.
+const BELCOUR_BARLA_CHOICE_WGSL: &str = thin_film_template!(
+    "    let r = mg_tf_belcour_barla(f);
+    return $out(r, vec3<f32>(1.0) - r);
+"
+);
+
+/// WGSL of [`thin_film`] at `method` table.
+const TABLE_CHOICE_WGSL: &str = thin_film_template!(
+    "    let r = mg_tf_table(f);
+    return $out(r, vec3<f32>(1.0) - r);
+"
+);
+
+/// The helpers of every method.
+const ALL_HELPERS: &[&str] = &[
+    COS2_T_WGSL,
+    cie_tables::RGB3_WGSL,
+    FILM_WGSL,
+    SPECTRAL_WGSL,
+    RGB3_FN_WGSL,
+    SERIES_WGSL,
+    BELCOUR_BARLA_WGSL,
+    TABLE_WGSL,
+];
 
 /// [`SRGB_WEIGHTS`] as the `MgParams` table `mg_tf_w` that the spectral method's WGSL loop
 /// reads (a uniform array: as a WGSL `const` it took lavapipe minutes to compile).
@@ -629,10 +856,55 @@ pub static SRGB_WEIGHTS_TABLE: WgslTable = WgslTable {
     rows: &SRGB_WEIGHTS,
 };
 
+/// [`SRGB_COS`] as the `MgParams` table `mg_tf_cos` that the table method's WGSL reads.
+pub static SRGB_COS_TABLE: WgslTable = WgslTable {
+    field: "mg_tf_cos",
+    rows: &SRGB_COS,
+};
+
+/// The tables of every method, of the spectral method, and of the table method.
+static ALL_TABLES: [&WgslTable; 2] = [&SRGB_WEIGHTS_TABLE, &SRGB_COS_TABLE];
+static SPECTRAL_TABLES: [&WgslTable; 1] = [&SRGB_WEIGHTS_TABLE];
+static TABLE_TABLES: [&WgslTable; 1] = [&SRGB_COS_TABLE];
+
+/// The per-method WGSL of a literal `method`: only that method's code, helpers and tables.
+fn method_choices() -> [WgslChoice; 4] {
+    [
+        WgslChoice {
+            input: "method",
+            choice: "spectral",
+            template: SPECTRAL_CHOICE_WGSL,
+            helpers: &[COS2_T_WGSL, FILM_WGSL, SPECTRAL_WGSL],
+            tables: &SPECTRAL_TABLES,
+        },
+        WgslChoice {
+            input: "method",
+            choice: "belcour_barla",
+            template: BELCOUR_BARLA_CHOICE_WGSL,
+            helpers: &[COS2_T_WGSL, FILM_WGSL, SERIES_WGSL, BELCOUR_BARLA_WGSL],
+            tables: &[],
+        },
+        WgslChoice {
+            input: "method",
+            choice: "rgb3",
+            template: RGB3_CHOICE_WGSL,
+            helpers: &[COS2_T_WGSL, cie_tables::RGB3_WGSL, FILM_WGSL, RGB3_FN_WGSL],
+            tables: &[],
+        },
+        WgslChoice {
+            input: "method",
+            choice: "table",
+            template: TABLE_CHOICE_WGSL,
+            helpers: &[COS2_T_WGSL, FILM_WGSL, SERIES_WGSL, TABLE_WGSL],
+            tables: &TABLE_TABLES,
+        },
+    ]
+}
+
 /// The thin-film node type.
 pub fn all() -> Vec<NodeType> {
     let f = Value::float;
-    vec![
+    let node =
         NodeType::new("thin_film", Category::Optics, "Thin-film interference colour (soap bubbles, oil slicks, coatings).")
             .source(
                 "Airy summation of a dielectric film per polarisation with complex Fresnel amplitudes: \
@@ -644,7 +916,9 @@ pub fn all() -> Vec<NodeType> {
                  colour-science by nodes/thin_film/gen_cie_tables.py. belcour_barla: Belcour & Barla 2017 (ACM TOG 36(4)) \
                  (their supplemental shader; KHR_materials_iridescence), the Fourier series of the Airy sum integrated analytically against their Gaussian fit of the \
                  XYZ matching functions (m ≤ 3; illuminant E balanced to white; R = 1 beyond the film's critical angle, no \
-                 tunnelling), T = 1 − R. rgb3: R at 600.2, 539.1, 453.4 nm (each channel's mean wavelength over its \
+                 tunnelling), T = 1 − R. table: the same Fourier series with each harmonic integrated against the spectral method's own \
+                 weights through their tabulated cosine transform T(x) = Σ_λ w(λ) cos(2π x/λ) (every 5 nm of optical path to 10 235 nm, linear; 0 beyond, \
+                 where |T| < 0.012), harmonics until the rest of the series is below 1e-5 (at most 64); R = 1 beyond the film's critical angle, T = 1 − R. rgb3: R at 600.2, 539.1, 453.4 nm (each channel's mean wavelength over its \
                  weight's positive lobe); wrong for films thicker than ~500 nm, where it aliases. cos_theta < 0: light from \
                  the substrate side (indices swap); exactly grazing gives R = 1. Thickness is clamped to [0, 10000] nm and \
                  the indices to [1, 4]. Colours may leave [0, 1] where the film's colour is outside the sRGB gamut. \
@@ -656,21 +930,27 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("film_ior", 1.33).range(1.0, 2.5).hard(IOR_MIN, IOR_MAX).doc("Index of refraction of the film (1.33: soapy water)."))
             .input(In::float("outside_ior", 1.0).range(1.0, 2.5).hard(IOR_MIN, IOR_MAX).doc("Index of refraction of the medium the light arrives from."))
             .input(In::float("substrate_ior", 1.0).range(1.0, 2.5).hard(IOR_MIN, IOR_MAX).doc("Index of refraction behind the film (1.0: a free film, a bubble)."))
-            .input(In::choice("method", METHOD_NAMES, 0).doc("spectral: the 471-wavelength reference; belcour_barla: analytic (Belcour & Barla 2017); rgb3: three wavelengths."))
+            .input(In::choice("method", METHOD_NAMES, 0).doc("spectral: the 471-wavelength reference; belcour_barla: analytic (Belcour & Barla 2017); rgb3: three wavelengths; table: the Fourier series through the tabulated spectral weights."))
             .output(Out::color("reflectance").doc("Reflected colour for white (D65) light, linear sRGB."))
             .output(Out::color("transmittance").doc("Transmitted colour for white (D65) light, linear sRGB."))
             .wgsl(THIN_FILM_WGSL)
-            .wgsl_uses(&[COS2_T_WGSL, cie_tables::RGB3_WGSL, FILM_WGSL, BELCOUR_BARLA_WGSL])
-            .wgsl_uses_tables(&[&SRGB_WEIGHTS_TABLE])
+            .wgsl_uses(ALL_HELPERS)
+            .wgsl_uses_tables(&ALL_TABLES)
             .hard_case("black film (d = 0)", &[("thickness_nm", f(0.0))])
             .hard_case("thickest film", &[("thickness_nm", f(THICKNESS_MAX_NM))])
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
             .hard_case("very grazing", &[("cos_theta", f(1e-6))])
             .hard_case("beyond the film's critical angle (frustrated TIR)", &[("cos_theta", f(0.3)), ("outside_ior", f(1.5)), ("film_ior", f(1.0)), ("substrate_ior", f(1.5)), ("thickness_nm", f(100.0))])
+            .hard_case("no film beyond its critical angle, belcour_barla", &[("cos_theta", f(0.5)), ("outside_ior", f(1.96)), ("film_ior", f(1.05)), ("substrate_ior", f(1.94)), ("thickness_nm", f(0.0)), ("method", Value::int(BELCOUR_BARLA))])
+            .hard_case("no film beyond its critical angle, table", &[("cos_theta", f(0.5)), ("outside_ior", f(1.96)), ("film_ior", f(1.05)), ("substrate_ior", f(1.94)), ("thickness_nm", f(0.0)), ("method", Value::int(TABLE))])
             .hard_case("TIR at the substrate", &[("cos_theta", f(0.3)), ("outside_ior", f(1.5)), ("film_ior", f(1.6)), ("substrate_ior", f(1.0))])
             .hard_case("from the substrate side", &[("cos_theta", f(-0.7)), ("substrate_ior", f(1.5))])
             .hard_case("index-matched film", &[("film_ior", f(1.0))])
             .hard_case("film matched to the substrate", &[("film_ior", f(1.5)), ("substrate_ior", f(1.5))])
-            .compute(thin_film),
+            .compute(thin_film);
+    vec![
+        method_choices()
+            .into_iter()
+            .fold(node, NodeType::wgsl_choice),
     ]
 }

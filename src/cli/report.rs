@@ -33,7 +33,8 @@ pub struct Args {
     /// Folder of the bundled graphs the families name.
     #[arg(long, default_value = "graphs")]
     pub graphs: PathBuf,
-    /// Only these families (repeatable; default: all).
+    /// Only these families (repeatable; default: all); an existing index README.md, which
+    /// lists every family, is then left as it is.
     #[arg(long = "family", value_name = "NAME")]
     pub families: Vec<String>,
     /// Short mode (CI): 32×32 renders, 1024 samples, 2 timing repeats.
@@ -422,6 +423,8 @@ pub fn run(args: &Args) -> CliResult {
         );
         reports.push(r);
     }
-    write(&args.out, "README.md", index(&reports).as_bytes())?;
+    if args.families.is_empty() || !args.out.join("README.md").exists() {
+        write(&args.out, "README.md", index(&reports).as_bytes())?;
+    }
     Ok(())
 }

@@ -156,11 +156,15 @@ pub const FAMILIES: &[Family] = &[
                 set: &[],
                 doc: "thin_film at three wavelengths (R, G, B)",
             },
+            VariantSpec {
+                name: "table",
+                graph: "bubble_iridescent.json",
+                choices: &[("thin_film", "table")],
+                set: &[],
+                doc: "thin_film, the Airy sum's Fourier series through the tabulated cosine transform of the spectral weights",
+            },
         ],
-        pending: &[(
-            "table",
-            "a precomputed LUT over (thickness, cos θ) of the spectral result: not written yet",
-        )],
+        pending: &[],
     },
     Family {
         name: "sunshine",

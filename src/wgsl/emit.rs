@@ -1,8 +1,8 @@
 //! WGSL text generation for a planned graph.
 
 use super::{Binding, Entry, ShaderError, ShaderOutput, WORKGROUP_SIZE, WgslOptions, wgsl_type};
-use crate::graph::{Graph, InputSource, NodeIndex, OutputRef};
-use crate::node::{Attribute, Evaluation, NodeType};
+use crate::graph::{Graph, InputSource, Node, NodeIndex, OutputRef};
+use crate::node::{Attribute, Evaluation, NodeType, WgslChoice, WgslTable};
 use crate::plan::Plan;
 use crate::types::{LUMA_709, SocketType};
 use crate::value::Value;
@@ -234,10 +234,58 @@ pub(super) fn function_name(t: &NodeType, generic: SocketType) -> String {
     }
 }
 
-/// Builds the WGSL function of `t` for generic type `generic` from its template.
-pub(super) fn node_function(t: &NodeType, generic: SocketType) -> Option<NodeFunction> {
-    let template = t.wgsl_for(generic)?;
-    let name = function_name(t, generic);
+/// The per-choice WGSL that replaces `n`'s general template: the first of its type's
+/// [`WgslChoice`]s whose enum input is written as that choice (not linked).
+pub(super) fn literal_choice(n: &Node) -> Option<&WgslChoice> {
+    let t = &n.node_type;
+    t.wgsl_choices().iter().find(|c| {
+        let Some(k) = t.input_index(c.input) else {
+            return false;
+        };
+        let index = t.inputs()[k].choices.iter().position(|x| *x == c.choice);
+        match &n.inputs[k] {
+            InputSource::Default(v) | InputSource::Value { value: v, .. } => {
+                usize::try_from(v.as_i32()).ok() == index
+            }
+            InputSource::Link(..) => false,
+        }
+    })
+}
+
+/// The helpers `n`'s emitted function calls: its choice's, or its type's.
+fn helpers_of(n: &Node) -> &[&'static str] {
+    literal_choice(n).map_or(n.node_type.wgsl_helpers(), |c| c.helpers)
+}
+
+/// The tables `n`'s emitted function reads: its choice's, or its type's.
+fn tables_of(n: &Node) -> &[&'static WgslTable] {
+    literal_choice(n).map_or(n.node_type.wgsl_tables(), |c| c.tables)
+}
+
+/// The emitted name of `n`'s function: [`function_name`], suffixed `_is_<choice>` for a
+/// per-choice template.
+fn call_name(n: &Node) -> String {
+    let base = function_name(&n.node_type, n.generic);
+    match literal_choice(n) {
+        Some(c) => format!("{base}_is_{}", c.choice),
+        None => base,
+    }
+}
+
+/// Builds the WGSL function of `t` for generic type `generic` from its template, or from
+/// `choice`'s when given.
+pub(super) fn node_function(
+    t: &NodeType,
+    generic: SocketType,
+    choice: Option<&WgslChoice>,
+) -> Option<NodeFunction> {
+    let (template, name) = match choice {
+        Some(c) => (
+            c.template,
+            format!("{}_is_{}", function_name(t, generic), c.choice),
+        ),
+        None => (t.wgsl_for(generic)?, function_name(t, generic)),
+    };
     let mut definition = String::new();
     let out_struct = (t.outputs().len() > 1).then(|| format!("{name}_out"));
     if let Some(s) = &out_struct {
@@ -364,11 +412,11 @@ impl<'a> Emitter<'a> {
         let mut next_suffix: HashMap<String, usize> = HashMap::new();
         // Constant tables of the emitted node functions: their member names are fixed (the
         // helpers spell them), so they are taken before any parameter is named.
-        let mut tables: Vec<&'static crate::node::WgslTable> = Vec::new();
+        let mut tables: Vec<&'static WgslTable> = Vec::new();
         for &i in &order {
             let n = &nodes[i];
             if emits_call(n.node_type.evaluation()) && !self.folded(i) {
-                for &t in n.node_type.wgsl_tables() {
+                for &t in tables_of(n) {
                     if !tables.iter().any(|x| std::ptr::eq(*x, t)) {
                         tables.push(t);
                         taken.insert(t.field.to_owned());
@@ -466,19 +514,20 @@ impl<'a> Emitter<'a> {
                 continue;
             }
             // Keyed by the emitted name: vec3 and colour share one function.
-            let key = function_name(&n.node_type, n.generic);
+            let key = call_name(n);
             if let Some(&f) = function_index.get(&key) {
                 calls.push((i, f));
                 continue;
             }
             calls.push((i, functions.len()));
             function_index.insert(key.clone(), functions.len());
-            let f =
-                node_function(&n.node_type, n.generic).ok_or_else(|| ShaderError::MissingWgsl {
+            let f = node_function(&n.node_type, n.generic, literal_choice(n)).ok_or_else(|| {
+                ShaderError::MissingWgsl {
                     node: n.id.clone(),
                     node_type: n.node_type.name().to_owned(),
-                })?;
-            for h in n.node_type.wgsl_helpers() {
+                }
+            })?;
+            for h in helpers_of(n) {
                 if !helpers.contains(h) {
                     helpers.push(h);
                 }

@@ -3,7 +3,7 @@
 
 use super::emit::{UniformSpec, node_function, output_member, params_block};
 use super::{ShaderError, UniformLayout, WORKGROUP_SIZE, validate};
-use crate::node::NodeType;
+use crate::node::{NodeType, WgslChoice};
 use crate::types::SocketType;
 use std::fmt::Write;
 
@@ -29,12 +29,31 @@ pub struct HarnessModule {
 
 /// Builds the harness of `t` for generic type `generic` (ignored for non-generic nodes).
 pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, ShaderError> {
-    let f = node_function(t, generic).ok_or_else(|| ShaderError::MissingWgsl {
+    harness(t, generic, None)
+}
+
+/// Builds the harness of `t` with the WGSL of one of its literal choices (see
+/// [`WgslChoice`]): the function ignores that input, so feed it the choice.
+pub fn node_choice_harness(
+    t: &NodeType,
+    generic: SocketType,
+    choice: &WgslChoice,
+) -> Result<HarnessModule, ShaderError> {
+    harness(t, generic, Some(choice))
+}
+
+/// The harness of `t` with its general WGSL or `choice`'s.
+fn harness(
+    t: &NodeType,
+    generic: SocketType,
+    choice: Option<&WgslChoice>,
+) -> Result<HarnessModule, ShaderError> {
+    let f = node_function(t, generic, choice).ok_or_else(|| ShaderError::MissingWgsl {
         node: t.name().to_owned(),
         node_type: t.name().to_owned(),
     })?;
     let mut s = String::new();
-    for h in t.wgsl_helpers() {
+    for h in choice.map_or(t.wgsl_helpers(), |c| c.helpers) {
         s.push_str(h.trim());
         s.push_str("\n\n");
     }
@@ -43,8 +62,8 @@ pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, 
     s.push_str("@group(0) @binding(1) var<storage, read_write> mg_out: array<f32>;\n");
     s.push_str("struct MgDispatch {\n    count: u32,\n    row: u32,\n}\n");
     s.push_str("@group(0) @binding(2) var<uniform> mg_dispatch: MgDispatch;\n\n");
-    let tables: Vec<UniformSpec> = t
-        .wgsl_tables()
+    let tables: Vec<UniformSpec> = choice
+        .map_or(t.wgsl_tables(), |c| c.tables)
         .iter()
         .map(|&t| UniformSpec::table(t))
         .collect();
