@@ -349,6 +349,56 @@ fn a_literal_method_emits_only_that_method() {
     }
 }
 
+/// The render module evaluates what does not depend on the light once per fragment, before
+/// the light loop, and the rest once per light: no call is in both functions, every call
+/// reading `light` or `light_color` (or such a call) is in the lit one, and the library's
+/// `mg_material` is unchanged in shape.
+#[test]
+fn render_modules_hoist_light_independent_calls_out_of_the_light_loop() {
+    let graph = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pbr_gold.json"));
+    let options = WgslOptions {
+        plan: PlanOptions::default(),
+        entry: Entry::Render(matgraph::wgsl::TextureMode::Exact),
+    };
+    let m = generate(&graph, &options).unwrap();
+    let body = |name: &str| -> String {
+        let start = m
+            .source
+            .find(&format!("fn {name}("))
+            .unwrap_or_else(|| panic!("no {name}"));
+        let end = m.source[start..].find("\n}\n").unwrap();
+        m.source[start..start + end].to_owned()
+    };
+    let (unlit, lit) = (body("mg_material_unlit"), body("mg_material_lit"));
+    for f in [
+        "mg_env_specular(",
+        "mg_env_brdf(",
+        "mg_env_diffuse(",
+        "mg_reflect(",
+    ] {
+        assert!(
+            unlit.contains(f) && !lit.contains(f),
+            "{f} is light-independent"
+        );
+    }
+    assert!(lit.contains("mg_pbr_brdf(") && !unlit.contains("geom.light"));
+    let fragment = body("mg_fragment");
+    let hoist = fragment
+        .find("let u = mg_material_unlit(g);")
+        .expect("hoisted call");
+    let lo = fragment.find("for (var i = 0u;").unwrap();
+    assert!(hoist < lo, "the unlit part runs before the loop");
+    assert_eq!(
+        fragment.matches("mg_material_lit(g, u)").count(),
+        2,
+        "{fragment}"
+    );
+    assert!(!fragment.contains("mg_material(g)"), "{fragment}");
+    // A compute module is not split.
+    let c = generate(&graph, &WgslOptions::default()).unwrap();
+    assert!(!c.source.contains("mg_material_unlit"));
+}
+
 /// No node's WGSL declares a large array constant: naga's SPIR-V backend stores a `const`
 /// array into a temporary at every run-time index, and lavapipe took 263 s to compile one
 /// loop over a 471-entry one (thin_film's former table; tables are `WgslTable`s now).

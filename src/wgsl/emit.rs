@@ -624,8 +624,13 @@ impl<'a> Emitter<'a> {
             });
         }
         let calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
+        let mut hoisted = false;
         if calls.len() > SPLIT_CALLS {
             self.split_material(&calls, &functions, &attributes, &outputs);
+        } else if matches!(self.entry, Entry::Render(_))
+            && self.hoisted_material(&calls, &functions, &outputs)
+        {
+            hoisted = true;
         } else {
             let arg = if attributes.is_empty() {
                 ""
@@ -662,6 +667,7 @@ impl<'a> Emitter<'a> {
                 &attributes,
                 &shader_outputs,
                 &mut bindings,
+                hoisted,
             ),
         }
         if !self.plan.textures().is_empty()
@@ -986,6 +992,109 @@ impl<'a> Emitter<'a> {
         self.context = Context::Material;
         self.emit_return(outputs);
         self.context = Context::Whole;
+    }
+
+    /// The calls that depend on the light: those reading the `light` or `light_color`
+    /// attribute, and those reading such a call.
+    fn light_dependent(&self, calls: &[NodeIndex]) -> HashSet<NodeIndex> {
+        let nodes = self.graph.nodes();
+        let is_light = |r: &OutputRef| match nodes[r.node].node_type.evaluation() {
+            Evaluation::Attributes(attrs) => matches!(
+                attrs.get(r.output),
+                Some(Attribute::Light | Attribute::LightColor)
+            ),
+            _ => false,
+        };
+        let mut lit = HashSet::new();
+        // Calls are in dependency order: a call's sources come before it.
+        for &i in calls {
+            let reads_light = nodes[i].inputs.iter().any(|src| match src {
+                InputSource::Link(r, _) => {
+                    self.plan.folded(*r).is_none() && (is_light(r) || lit.contains(&r.node))
+                }
+                _ => false,
+            });
+            if reads_light {
+                lit.insert(i);
+            }
+        }
+        lit
+    }
+
+    /// The material function of a render module, hoisted out of the fragment's light loop:
+    /// `mg_material_unlit` computes the calls that do not depend on the light (once per
+    /// fragment), `mg_material_lit` the rest from its result (once per light), and
+    /// `mg_material` is the two in turn (the library's function, unchanged in value).
+    /// Returns false, having emitted nothing, when there is nothing to split.
+    fn hoisted_material(
+        &mut self,
+        calls: &[NodeIndex],
+        functions: &[(String, NodeFunction, String)],
+        outputs: &[(String, SocketType, OutputRef)],
+    ) -> bool {
+        let lit = self.light_dependent(calls);
+        let (unlit, lit_calls): (Vec<NodeIndex>, Vec<NodeIndex>) =
+            calls.iter().partition(|i| !lit.contains(i));
+        if unlit.is_empty() || lit_calls.is_empty() {
+            return false;
+        }
+        // The unlit values the lit calls or the outputs read, in call order.
+        let nodes = self.graph.nodes();
+        let read: HashSet<NodeIndex> = lit_calls
+            .iter()
+            .flat_map(|&i| nodes[i].inputs.iter())
+            .filter_map(|src| match src {
+                InputSource::Link(r, _) => Some(r.node),
+                _ => None,
+            })
+            .chain(outputs.iter().map(|(_, _, r)| r.node))
+            .collect();
+        let carried: Vec<(String, String)> = unlit
+            .iter()
+            .filter(|i| read.contains(i))
+            .map(|&i| {
+                let var = self.var(i);
+                let ty = match &functions[var.function].1.out_struct {
+                    Some(s) => s.clone(),
+                    None => wgsl_type(nodes[i].output_type(0)).to_owned(),
+                };
+                (var.name.clone(), ty)
+            })
+            .collect();
+        self.out.push_str("struct MgUnlit {\n");
+        for (name, ty) in &carried {
+            let _ = writeln!(self.out, "    {name}: {ty},");
+        }
+        if carried.is_empty() {
+            self.out.push_str("    unused: f32,\n");
+        }
+        self.out.push_str("}\n\n");
+        self.out
+            .push_str("fn mg_material_unlit(geom: MgGeometry) -> MgUnlit {\n");
+        for &i in &unlit {
+            self.emit_call(i, functions);
+        }
+        let values: Vec<&str> = carried.iter().map(|(n, _)| n.as_str()).collect();
+        let values = if values.is_empty() {
+            "0.0".to_owned()
+        } else {
+            values.join(", ")
+        };
+        let _ = writeln!(self.out, "    return MgUnlit({values});\n}}\n");
+        self.out
+            .push_str("fn mg_material_lit(geom: MgGeometry, u: MgUnlit) -> MgOutputs {\n");
+        for (name, _) in &carried {
+            let _ = writeln!(self.out, "    let {name} = u.{name};");
+        }
+        for &i in &lit_calls {
+            self.emit_call(i, functions);
+        }
+        self.emit_return(outputs);
+        self.out.push_str(
+            "fn mg_material(geom: MgGeometry) -> MgOutputs {\n    \
+             return mg_material_lit(geom, mg_material_unlit(geom));\n}\n\n",
+        );
+        true
     }
 
     /// The material function's `return MgOutputs(...)` and closing brace.

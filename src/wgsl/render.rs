@@ -174,6 +174,7 @@ pub(super) fn emit_entries(
     attributes: &[Attribute],
     outputs: &[ShaderOutput],
     bindings: &mut Vec<(u32, Binding)>,
+    hoisted: bool,
 ) {
     let roles = roles(outputs.iter().map(|o| o.name.as_str()));
     let has = |a: Attribute| attributes.contains(&a);
@@ -322,7 +323,19 @@ pub(super) fn emit_entries(
     out.push_str("    var radiance = vec3<f32>(0.0);\n");
     if let Some(c) = roles.color {
         // Per light, summed; emission and alpha from the last light's evaluation, as on the CPU.
-        let _ = writeln!(out, "    var o = {call};");
+        // One evaluation per light, and one without any (the unlit outputs): not one more
+        // before the loop, which doubled the material's cost under one light. Hoisted, the
+        // calls that do not read the light run once, before the loop.
+        let call = if hoisted {
+            out.push_str("    let u = mg_material_unlit(g);\n");
+            "mg_material_lit(g, u)"
+        } else {
+            call
+        };
+        let _ = writeln!(
+            out,
+            "    var o: MgOutputs;\n    if (count == 0u) {{\n        o = {call};\n    }}"
+        );
         out.push_str("    for (var i = 0u; i < count; i += 1u) {\n");
         set_light(out, "i");
         let _ = writeln!(out, "        o = {call};");
