@@ -1,7 +1,9 @@
 //! Image-based lighting by the split sum (Karis 2013, "Real Shading in Unreal Engine 4"):
 //! the scene's environment prefiltered for GGX (`env_specular`), the BRDF integration table
 //! (`env_brdf`) and the irradiance in spherical harmonics (`env_diffuse`, Ramamoorthi &
-//! Hanrahan 2001). The tables are made by `scene::ibl` (docs/models/ibl.md); these nodes
+//! Hanrahan 2001), and the split sum's reference `env_ggx_monte_carlo`: the same GGX
+//! integral over the raw `scene:environment` by importance-sampled Monte Carlo with filtered
+//! lookups (Colbert & Křivánek 2007). The tables are made by `scene::ibl` (docs/models/ibl.md); these nodes
 //! read them as the textures named by their `texture` field: `scene:environment_ggx`,
 //! `scene:brdf_lut` and `scene:environment_sh`.
 //!
@@ -489,8 +491,11 @@ pub fn all() -> Vec<NodeType> {
              error is a fixed structured bias, not noise. Replaces env_specular·env_brdf.single \
              (keep env_brdf.multiple·env_diffuse). Normal and view are normalised (a zero one \
              gives 0); n·v is clamped to [1e-30, 1] in V (a view past the silhouette is shaded \
-             as grazing); f0 clamped to [0, 1]; samples to [1, 1024]. Cost: N texture reads \
-             (two mip levels each) per sample.",
+             as grazing); f0 clamped to [0, 1]; samples to [1, 1024]. Measured against an \
+             f64 brute force (tests/ibl.rs): worst relative error 13 % at N = 64, 6.4 % at 256, \
+             4.1 % at 1024 (the split sum: 37.5 %), too dark where it errs (rough, grazing). \
+             Cost: N texture reads (two mip levels each) per sample, about 63 ns per GGX \
+             sample on the report's CPU (docs/report/pbr.md).",
         )
         .input(In::vec3("normal", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Surface normal (normalised here)."))
         .input(In::vec3("view", [0.0, 0.0, 1.0]).range(-1.0, 1.0).doc("Direction to the eye (normalised here)."))
