@@ -289,8 +289,9 @@ fn $fn(tex: u32, normal: vec3<f32>) -> vec3<f32> {
 }
 "#;
 
-/// WGSL helpers of [`env_ggx_monte_carlo`]: [`hammersley`] and [`ggx_half_vector`]
-/// (`(h, sin² θh)` packed in a vec4).
+/// WGSL helpers of [`env_ggx_monte_carlo`]: [`hammersley`], [`ggx_half_vector`]
+/// (`(h, sin² θh)` packed in a vec4) and [`filtered_lod`] (512 × 256 = the
+/// `MC_MAP_WIDTH` map).
 const MC_HELPERS_WGSL: &str = r#"
 fn mg_ibl_hammersley(i: u32, n: u32) -> vec2<f32> {
     return vec2<f32>(f32(i) / f32(n), f32(reverseBits(i)) * 2.3283064365386963e-10);
