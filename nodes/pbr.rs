@@ -37,7 +37,7 @@ pub const MIN_COS: f32 = 1e-30;
 
 /// `α² = roughness⁴` with roughness clamped to [[`MIN_ROUGHNESS`], 1].
 #[inline]
-fn alpha2(roughness: f32) -> f32 {
+pub(crate) fn alpha2(roughness: f32) -> f32 {
     let r = roughness.clamp(MIN_ROUGHNESS, 1.0);
     let a = r * r;
     a * a
@@ -94,7 +94,7 @@ pub fn smith_visibility(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
 /// `V · N·L` of [`smith_visibility`] for cosines in [[`MIN_COS`], 1]:
 /// `0.5 / (√((N·V)²(1 − α²) + α²) + (N·V/N·L) √((N·L)²(1 − α²) + α²))`, at most `0.5/α`.
 #[inline]
-fn smith_visibility_n_dot_l(nv: f32, nl: f32, a2: f32) -> f32 {
+pub(crate) fn smith_visibility_n_dot_l(nv: f32, nl: f32, a2: f32) -> f32 {
     let gv = (nv * nv * (1.0 - a2) + a2).sqrt();
     let gl = (nv / nl) * (nl * nl * (1.0 - a2) + a2).sqrt();
     0.5 / (gv + gl)
@@ -121,7 +121,7 @@ pub const FRESNEL_NAMES: &[&str] = &["schlick", "exact"];
 /// dielectric Fresnel from air into the index `f0_to_ior(F0)` (for a metal an approximation:
 /// the extinction coefficient is ignored; F0 = 1 gives R = 1).
 #[inline]
-fn fresnel(v_dot_h: f32, f0: f32, mode: i32) -> f32 {
+pub(crate) fn fresnel(v_dot_h: f32, f0: f32, mode: i32) -> f32 {
     if mode == FRESNEL_EXACT {
         fresnel_dielectric(v_dot_h, 1.0, f0_to_ior(f0)).0
     } else {
@@ -193,7 +193,7 @@ pub fn brdf(
 
 /// The helpers `pbr_brdf`'s WGSL is emitted with: the optics helpers its exact Fresnel option
 /// calls, the PBR helpers and its Fresnel choice.
-const BRDF_WGSL_USES: &[&str] = &[
+pub(crate) const BRDF_WGSL_USES: &[&str] = &[
     super::optics::COS2_T_WGSL,
     super::optics::FRESNEL_HELPER_WGSL,
     super::optics::F0_TO_IOR_HELPER_WGSL,

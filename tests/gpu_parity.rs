@@ -701,6 +701,71 @@ fn every_shipped_graph_matches_the_cpu_plan() {
     );
 }
 
+/// The Monte Carlo variant of pbr_glass (`ibl` = `monte_carlo`: env_ggx_monte_carlo's loop
+/// of 64 filtered environment reads), which the default-variant graph parity above leaves
+/// out, with either Fresnel, over a 512 × 256 stand-in environment (the renderer's size,
+/// so the filtered lookups use several mip levels) with structure at every scale.
+#[test]
+fn the_monte_carlo_variant_matches_the_cpu_plan() {
+    let Some(ctx) = context("the_monte_carlo_variant_matches_the_cpu_plan") else {
+        return;
+    };
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs/pbr_glass.json");
+    let text = std::fs::read_to_string(path).unwrap();
+    let image = matgraph::texture::Image::from_fn(512, 256, |x, y| {
+        let checker = ((x / 16 + y / 16) % 2) as f32;
+        [
+            0.2 + 0.6 * checker,
+            y as f32 / 255.0,
+            0.5 + 0.4 * (x as f32 * 0.05).sin(),
+            1.0,
+        ]
+    });
+    let env = matgraph::texture::Texture::new(image, true).unwrap();
+    let mut failures = Vec::new();
+    for fresnel in ["schlick", "exact"] {
+        let mut doc = matgraph::GraphDocument::parse(&text).unwrap();
+        for n in doc
+            .nodes
+            .iter_mut()
+            .filter(|n| n.id == "brdf" || n.id == "env_mc")
+        {
+            n.inputs.insert("fresnel".into(), fresnel.into());
+        }
+        let selection = [("ibl".to_owned(), "monte_carlo".to_owned())];
+        let graph = Graph::with_variants(&doc, Registry::builtin(), &selection).unwrap();
+        let options = PlanOptions::default();
+        let plan = Plan::compile(&graph, &options).unwrap();
+        let mut batch = grid_batch();
+        // Every scene texture the plan samples gets the stand-in.
+        let mut set = matgraph::texture::TextureSet::new();
+        for key in plan.textures() {
+            set.insert(key.clone(), env.clone()).unwrap();
+        }
+        batch.set_textures(std::sync::Arc::new(set));
+        let gpu = GpuPlan::compile(ctx, &graph, &options).unwrap();
+        let params = plan.default_parameters();
+        let want = plan.execute(&batch, &params).unwrap();
+        let got = gpu.execute(&batch, &params).unwrap();
+        let (errors, bad) = compare_batches_within(&want, &got, graph_bound(&graph));
+        for (output, e) in errors {
+            eprintln!(
+                "  pbr_glass ibl=monte_carlo fresnel={fresnel} {output:<10} {:>6} values  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound",
+                e.compared,
+                e.max_abs,
+                e.max_rel,
+                e.worst * 100.0
+            );
+        }
+        failures.extend(bad.into_iter().map(|b| format!("fresnel {fresnel}: {b}")));
+    }
+    assert!(
+        failures.is_empty(),
+        "Monte Carlo parity failed:\n{}",
+        failures.join("\n")
+    );
+}
+
 // ------------------------------------------------------------------------------------------
 // c) d) e) Runtime behaviour, on a graph of node types that had WGSL first
 // ------------------------------------------------------------------------------------------

@@ -174,6 +174,48 @@ fn every_bundled_graph_renders_alike_on_the_gpu_rasteriser() {
     }
 }
 
+/// pbr_glass with its declared variant `ibl` = `monte_carlo` (env_ggx_monte_carlo's 64
+/// filtered reads of the environment, which the bundled default leaves out), exact and
+/// hardware texture modes, within the same bounds as the bundled graphs.
+#[test]
+fn the_monte_carlo_variant_renders_alike_on_the_gpu_rasteriser() {
+    if gpu_context("the_monte_carlo_variant_renders_alike_on_the_gpu_rasteriser").is_none() {
+        return;
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pbr_glass.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let doc = matgraph::GraphDocument::parse(&text).unwrap();
+    let selection = [("ibl".to_owned(), "monte_carlo".to_owned())];
+    let graph = Graph::with_variants(&doc, Registry::builtin(), &selection).unwrap();
+    let scene = scene_of(&graph);
+    let mask = edge_mask(&scene, &scene.material_mesh());
+    let cpu = render_timed(
+        &graph,
+        &scene,
+        &options(&graph, Some(&path), 1, Backend::Cpu),
+    )
+    .unwrap()
+    .0;
+    let (gpu, t) = render_timed(
+        &graph,
+        &scene,
+        &options(&graph, Some(&path), 1, Backend::Gpu),
+    )
+    .unwrap();
+    assert_eq!(t.fallback, None, "fell back");
+    assert_parity("pbr_glass ibl=monte_carlo", 1, &cpu, &gpu, &mask);
+    let hw = options_in(&graph, Some(&path), 1, Backend::Gpu, TextureMode::Hardware);
+    let hw = render_timed(&graph, &scene, &hw).unwrap().0;
+    assert_parity_within(
+        "pbr_glass ibl=monte_carlo (hardware)",
+        1,
+        &cpu,
+        &hw,
+        &mask,
+        HARDWARE_BOUND,
+    );
+}
+
 /// A wobbly, lit graph: displacement `N · (p · (0.3, 0.2, 0.1)) · 0.5`, colour `N·L` per
 /// light (so the rebuilt normals and the light loop both show).
 const WOBBLE: &str = r#"{ "version": 1, "name": "wobble", "nodes": [

@@ -1,6 +1,6 @@
 //! Tint, the WGSL compiler of Chrome, Edge and every Dawn-based app (an implementation
 //! independent of naga), on every bundled graph's module for both entry points (parameters as
-//! uniforms and baked) and on every node type's parity harness (each generic type), through
+//! uniforms and baked; every non-default choice of its declared variants) and on every node type's parity harness (each generic type), through
 //! `tests/tint/check.mjs` (Dawn's node bindings, `npm ci --prefix tests/tint`). Without node or
 //! the package each test prints `SKIPPED ...`; with `MATGRAPH_REQUIRE_TOOLS` set (CI sets it)
 //! it fails instead.
@@ -62,6 +62,33 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
             let file = dir.path().join(name);
             std::fs::write(&file, &m.source).unwrap();
             files.push(file);
+        }
+        // Every other choice of each declared variant (the default is the graph above), for
+        // both entry points: the WGSL of nodes only a non-default choice reaches.
+        let doc = matgraph::GraphDocument::parse(&std::fs::read_to_string(&path).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
+        for (variant, decl) in &doc.variants {
+            for choice in decl.choices.iter().filter(|c| **c != decl.default) {
+                let selection = [(variant.clone(), choice.clone())];
+                let graph = matgraph::Graph::with_variants(&doc, Registry::builtin(), &selection)
+                    .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
+                for entry in [Entry::Compute, Entry::Fragment] {
+                    let options = WgslOptions {
+                        entry,
+                        plan: PlanOptions::default(),
+                    };
+                    let m = generate(&graph, &options)
+                        .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
+                    let name = format!(
+                        "{}.{variant}={choice}.{}.wgsl",
+                        graph.name,
+                        entry.function()
+                    );
+                    let file = dir.path().join(name);
+                    std::fs::write(&file, &m.source).unwrap();
+                    files.push(file);
+                }
+            }
         }
     }
     let found = errors(TEST, tint.check(&files).unwrap_or_else(|e| panic!("{e}")));

@@ -94,33 +94,44 @@ pub const FAMILIES: &[Family] = &[
         name: "pbr",
         title: "PBR glass (seed 003)",
         doc: "Glass (n = 1.52) in the metallic–roughness model (GGX, height-correlated Smith) \
-              on the material ball. Reference: the exact dielectric Fresnel equations in the \
-              BRDF.",
-        reference: "exact_fresnel",
+              on the material ball, its environment reflection by image-based lighting \
+              (docs/models/ibl.md). Reference: the exact dielectric Fresnel equations in the \
+              BRDF and the environment's specular reflection by Monte Carlo integration \
+              (env_ggx_monte_carlo, 64 GGX-importance-sampled directions over the raw map, the \
+              same exact Fresnel), the split sum's own reference.",
+        reference: "mc_exact",
         variants: &[
             plain(
                 "schlick",
                 "pbr_glass.json",
-                "Schlick's Fresnel approximation in pbr_brdf (as bundled)",
+                "Schlick's Fresnel in pbr_brdf, split-sum image-based lighting (as bundled)",
             ),
             VariantSpec {
                 name: "exact_fresnel",
                 graph: "pbr_glass.json",
                 choices: &[],
                 set: &[("brdf", "fresnel", "\"exact\"")],
-                doc: "the exact dielectric Fresnel equations in pbr_brdf",
+                doc: "the exact dielectric Fresnel equations in pbr_brdf, split-sum image-based lighting",
+            },
+            VariantSpec {
+                name: "mc_schlick",
+                graph: "pbr_glass.json",
+                choices: &[("ibl", "monte_carlo")],
+                set: &[],
+                doc: "Schlick's Fresnel, the environment's specular by env_ggx_monte_carlo (64 samples) instead of the split sum",
+            },
+            VariantSpec {
+                name: "mc_exact",
+                graph: "pbr_glass.json",
+                choices: &[("ibl", "monte_carlo")],
+                set: &[
+                    ("brdf", "fresnel", "\"exact\""),
+                    ("env_mc", "fresnel", "\"exact\""),
+                ],
+                doc: "exact Fresnel in pbr_brdf and env_ggx_monte_carlo (64 samples) for the environment's specular",
             },
         ],
-        pending: &[
-            (
-                "split_sum",
-                "image-based lighting by the split-sum approximation: the `ibl` helper's environment nodes, not on main yet",
-            ),
-            (
-                "monte_carlo",
-                "image-based lighting by Monte Carlo integration of the environment (the split sum's reference): the `ibl` helper's nodes, not on main yet",
-            ),
-        ],
+        pending: &[],
     },
     Family {
         name: "bubble",
