@@ -294,6 +294,32 @@ fn a_constant_environment_replaces_the_environment_lookups() {
     assert!(e <= 1e-6 * scale, "RMSE {e}");
 }
 
+/// Under a constant environment only plain lookups of it are replaced: the Monte Carlo
+/// reference of pbr_glass (`ibl` = `monte_carlo`) integrates the environment against the
+/// GGX BRDF, so its `color` (the radiance times F0·A + B, about 0.04 for glass seen head on)
+/// is not the environment's radiance and stays; it was replaced by the radiance before the
+/// rewrite looked at the node's kernel.
+#[test]
+fn a_constant_environment_keeps_what_integrates_it() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pbr_glass.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let doc = matgraph::GraphDocument::parse(&text).unwrap();
+    let selection = [("ibl".to_owned(), "monte_carlo".to_owned())];
+    let g = Graph::with_variants(&doc, Registry::builtin(), &selection).unwrap();
+    let grey = [0.35f32, 0.4, 0.45];
+    let info = SceneInfo {
+        environment: EnvironmentInfo::Constant(grey),
+        ..SceneInfo::nothing_fixed()
+    };
+    let s = spec(&g, &info, false);
+    assert!(
+        s.rewrites.iter().all(|r| r.node != "env_mc"),
+        "{}",
+        s.listing()
+    );
+    assert!(s.graph.nodes().iter().any(|n| n.id == "env_mc"));
+}
+
 /// The incoherent sum of a free film in f64, written independently of the rewrite: the
 /// general two-interface form `R = R12 + T12² R23/(1 − R12 R23)` per polarisation with the
 /// Fresnel reflectances of both faces at their own angles (Born & Wolf §1.5.3), averaged.

@@ -167,8 +167,11 @@ impl<'a> Specialiser<'a> {
                     }
                 }
                 Evaluation::Texture => {
-                    let env =
-                        n.texture.as_ref().and_then(|t| t.scene_name()) == Some("environment");
+                    // Only the plain sampler reads the radiance itself: a texture node with a
+                    // kernel of its own (env_ggx_monte_carlo integrates the environment
+                    // against a BRDF) is not the environment's value.
+                    let env = n.node_type.texture_kernel_fn().is_none()
+                        && n.texture.as_ref().and_then(|t| t.scene_name()) == Some("environment");
                     if let (true, EnvironmentInfo::Constant(c)) = (env, self.scene.environment) {
                         let reason = format!(
                             "the environment is constant: ({}, {}, {})",
