@@ -21,7 +21,8 @@ use std::f32::consts::PI;
 
 use super::image::equirect_uv_of;
 use super::pbr::{
-    BRDF_WGSL_USES, FRESNEL_NAMES, MIN_COS, alpha2, fresnel, ggx_d_sin2, safe_normalize,
+    BRDF_WGSL_USES, FRESNEL_NAMES, MIN_COS, PBR_FRESNEL_EXACT_WGSL, PBR_FRESNEL_SCHLICK_WGSL,
+    PBR_HELPERS_WGSL, alpha2, fresnel, fresnel_choices, ggx_d_sin2, safe_normalize,
     smith_visibility_n_dot_l,
 };
 
@@ -311,6 +312,28 @@ fn mg_ibl_filtered_lod(count: u32, pdf: f32) -> f32 {
 }
 "#;
 
+/// The Monte Carlo node's own helpers, after `pbr_brdf`'s.
+const MC_USES: &[&str] = &[EQUIRECT_WGSL, crate::texture::SAMPLE_WGSL, MC_HELPERS_WGSL];
+/// Its helpers at a literal `fresnel` schlick: `pbr_brdf`'s at schlick and its own.
+const MC_SCHLICK_USES: &[&str] = &[
+    PBR_HELPERS_WGSL,
+    PBR_FRESNEL_SCHLICK_WGSL,
+    EQUIRECT_WGSL,
+    crate::texture::SAMPLE_WGSL,
+    MC_HELPERS_WGSL,
+];
+/// Its helpers at a literal `fresnel` exact: `pbr_brdf`'s at exact and its own.
+const MC_EXACT_USES: &[&str] = &[
+    super::optics::COS2_T_WGSL,
+    super::optics::FRESNEL_HELPER_WGSL,
+    super::optics::F0_TO_IOR_HELPER_WGSL,
+    PBR_HELPERS_WGSL,
+    PBR_FRESNEL_EXACT_WGSL,
+    EQUIRECT_WGSL,
+    crate::texture::SAMPLE_WGSL,
+    MC_HELPERS_WGSL,
+];
+
 /// WGSL of [`env_ggx_monte_carlo`] (1024 = MC_MAX_SAMPLES; the frame of [`frame`] inline;
 /// wrap 1 clamp, filter 1 bilinear).
 const ENV_GGX_MONTE_CARLO_WGSL: &str = r#"
@@ -344,7 +367,7 @@ fn $fn(tex: u32, normal: vec3<f32>, view: vec3<f32>, roughness: f32, f0_in: vec3
         let pdf = mg_pbrh_ggx_d_sin2(nh, hs.w, a2) * nh / (4.0 * vh);
         let uv = mg_ibl_equirect_uv(l);
         let radiance = mg_sample_texture(tex, uv, mg_ibl_filtered_lod(count, pdf), 1u, 1u);
-        let f = vec3<f32>(mg_pbrh_fresnel(vh, f0.x, fresnel), mg_pbrh_fresnel(vh, f0.y, fresnel), mg_pbrh_fresnel(vh, f0.z, fresnel));
+        let f = vec3<f32>(mg_pbrh_fresnel${fresnel}(vh, f0.x, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.y, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.z, fresnel));
         let weight = 4.0 * mg_pbrh_smith_v_nl(nv, nl, a2) * vh / nh;
         sum += radiance.xyz * f * weight;
     }
@@ -507,7 +530,8 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::color("color").doc("Single-scattering specular radiance, linear RGB."))
         .wgsl(ENV_GGX_MONTE_CARLO_WGSL)
         .wgsl_uses(BRDF_WGSL_USES)
-        .wgsl_uses(&[EQUIRECT_WGSL, crate::texture::SAMPLE_WGSL, MC_HELPERS_WGSL])
+        .wgsl_uses(MC_USES)
+        .wgsl_per_choice(fresnel_choices(ENV_GGX_MONTE_CARLO_WGSL, MC_SCHLICK_USES, MC_EXACT_USES))
         .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4]))])
         .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])
         .hard_case("roughness 0, mirror", &[("roughness", f(0.0))])

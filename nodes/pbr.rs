@@ -14,7 +14,7 @@
 //! (as Filament does); the visibility is multiplied by N·L before D, so nothing overflows at
 //! grazing angles.
 
-use crate::node::{Category, In, NodeType, Out};
+use crate::node::{Category, In, NodeType, Out, WgslChoice};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -198,11 +198,49 @@ pub(crate) const BRDF_WGSL_USES: &[&str] = &[
     super::optics::FRESNEL_HELPER_WGSL,
     super::optics::F0_TO_IOR_HELPER_WGSL,
     PBR_HELPERS_WGSL,
+    PBR_FRESNEL_SCHLICK_WGSL,
+    PBR_FRESNEL_EXACT_WGSL,
     PBR_FRESNEL_WGSL,
 ];
+/// `pbr_brdf`'s helpers at a literal `fresnel` schlick: no optics helpers.
+pub(crate) const BRDF_SCHLICK_USES: &[&str] = &[PBR_HELPERS_WGSL, PBR_FRESNEL_SCHLICK_WGSL];
+/// `pbr_brdf`'s helpers at a literal `fresnel` exact.
+pub(crate) const BRDF_EXACT_USES: &[&str] = &[
+    super::optics::COS2_T_WGSL,
+    super::optics::FRESNEL_HELPER_WGSL,
+    super::optics::F0_TO_IOR_HELPER_WGSL,
+    PBR_HELPERS_WGSL,
+    PBR_FRESNEL_EXACT_WGSL,
+];
+
+/// The per-choice WGSL of a literal `fresnel` for a node whose template calls
+/// `mg_pbrh_fresnel${fresnel}` (`pbr_brdf`, `env_ggx_monte_carlo`): `schlick` and `exact`
+/// with their helpers.
+pub(crate) fn fresnel_choices(
+    template: &'static str,
+    schlick: &'static [&'static str],
+    exact: &'static [&'static str],
+) -> [WgslChoice; 2] {
+    [
+        WgslChoice {
+            input: "fresnel",
+            choice: "schlick",
+            template,
+            helpers: schlick,
+            tables: &[],
+        },
+        WgslChoice {
+            input: "fresnel",
+            choice: "exact",
+            template,
+            helpers: exact,
+            tables: &[],
+        },
+    ]
+}
 
 /// WGSL helpers shared by the PBR nodes: the same steps as the Rust above.
-const PBR_HELPERS_WGSL: &str = r#"
+pub(crate) const PBR_HELPERS_WGSL: &str = r#"
 fn mg_pbrh_alpha2(roughness: f32) -> f32 {
     let r = min(max(roughness, 0.02), 1.0);
     let a = r * r;
@@ -246,15 +284,29 @@ fn mg_pbrh_f0(metallic: f32, base_color: vec3<f32>, specular: f32) -> vec3<f32> 
 }
 "#;
 
-/// WGSL of [`fresnel`] (the BRDF's per-channel Fresnel choice).
-const PBR_FRESNEL_WGSL: &str = r#"
-fn mg_pbrh_fresnel(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
-    if (mode == 1) {
-        return mg_opth_fresnel(v_dot_h, 1.0, mg_opth_f0_to_ior(f0_in)).x;
-    }
+/// WGSL of [`fresnel`] at `mode` 0: Schlick (takes `mode` and ignores it).
+pub(crate) const PBR_FRESNEL_SCHLICK_WGSL: &str = r#"
+fn mg_pbrh_fresnel_schlick(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
     let m = max(1.0 - min(max(v_dot_h, 0.0), 1.0), 0.0);
     let m2 = m * m;
     return f0_in + (1.0 - f0_in) * (m2 * m2 * m);
+}
+"#;
+
+/// WGSL of [`fresnel`] at `mode` 1: the exact dielectric Fresnel with the IOR from F0.
+pub(crate) const PBR_FRESNEL_EXACT_WGSL: &str = r#"
+fn mg_pbrh_fresnel_exact(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
+    return mg_opth_fresnel(v_dot_h, 1.0, mg_opth_f0_to_ior(f0_in)).x;
+}
+"#;
+
+/// WGSL of [`fresnel`] (the BRDF's per-channel Fresnel choice, chosen at run time).
+const PBR_FRESNEL_WGSL: &str = r#"
+fn mg_pbrh_fresnel(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
+    if (mode == 1) {
+        return mg_pbrh_fresnel_exact(v_dot_h, f0_in, mode);
+    }
+    return mg_pbrh_fresnel_schlick(v_dot_h, f0_in, mode);
 }
 "#;
 
@@ -274,7 +326,7 @@ fn $fn(normal: vec3<f32>, view: vec3<f32>, light: vec3<f32>, base_color: vec3<f3
     let nh = dot(n, h);
     let vh = min(max(dot(v, h), 0.0), 1.0);
     let f0 = mg_pbrh_f0(metallic, base_color, specular);
-    let f = vec3<f32>(mg_pbrh_fresnel(vh, f0.x, fresnel), mg_pbrh_fresnel(vh, f0.y, fresnel), mg_pbrh_fresnel(vh, f0.z, fresnel));
+    let f = vec3<f32>(mg_pbrh_fresnel${fresnel}(vh, f0.x, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.y, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.z, fresnel));
     let a2 = mg_pbrh_alpha2(roughness);
     let nxh = cross(n, h);
     var d = 0.0;
@@ -283,8 +335,8 @@ fn $fn(normal: vec3<f32>, view: vec3<f32>, light: vec3<f32>, base_color: vec3<f3
     }
     let v_nl = mg_pbrh_smith_v_nl(max(nv, 1e-30), nl, a2);
     let m = min(max(metallic, 0.0), 1.0);
-    let t_l = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel(nl, f0.x, fresnel), mg_pbrh_fresnel(nl, f0.y, fresnel), mg_pbrh_fresnel(nl, f0.z, fresnel));
-    let t_v = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel(nv, f0.x, fresnel), mg_pbrh_fresnel(nv, f0.y, fresnel), mg_pbrh_fresnel(nv, f0.z, fresnel));
+    let t_l = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel${fresnel}(nl, f0.x, fresnel), mg_pbrh_fresnel${fresnel}(nl, f0.y, fresnel), mg_pbrh_fresnel${fresnel}(nl, f0.z, fresnel));
+    let t_v = vec3<f32>(1.0) - vec3<f32>(mg_pbrh_fresnel${fresnel}(nv, f0.x, fresnel), mg_pbrh_fresnel${fresnel}(nv, f0.y, fresnel), mg_pbrh_fresnel${fresnel}(nv, f0.z, fresnel));
     let diffuse = base_color * ((1.0 - m) / 3.14159265358979) * t_l * t_v * nl;
     let spec = f * (d * v_nl);
     return $out(diffuse + spec, diffuse, spec);
@@ -375,6 +427,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("specular").doc("The GGX term times N·L."))
             .wgsl(BRDF_WGSL)
             .wgsl_uses(BRDF_WGSL_USES)
+            .wgsl_per_choice(fresnel_choices(BRDF_WGSL, BRDF_SCHLICK_USES, BRDF_EXACT_USES))
             .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4])), ("light", v3([-0.6, 0.0, 0.8]))])
             .hard_case("grazing light", &[("light", v3([1.0, 0.0, 1e-4]))])
             .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])

@@ -11,7 +11,7 @@
 //! Errata of the paper's printed code, kept as functions so the tests can show them:
 //! [`hg_phase_printed`] (erratum 1) and [`fresnel_printed`] (erratum 2).
 
-use crate::node::{Category, In, NodeType, Out};
+use crate::node::{Category, In, NodeType, Out, WgslChoice};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -249,6 +249,75 @@ fn skin_hk_lobe(cos_theta: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: boo
 }
 "#;
 
+/// WGSL of [`skin_single_scattering`]'s lobes with `three_lobe` true: Pharr's three.
+const LOBES_TRUE_WGSL: &str = r#"
+fn skin_lobes_true(c: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool, three_lobe: bool) -> f32 {
+    var s = 0.0;
+    s = s + 0.8 * skin_hk_lobe(c, 0.8, mu_i, mu_o, d, pharr);
+    s = s + 0.5 * skin_hk_lobe(c, 0.3, mu_i, mu_o, d, pharr);
+    s = s + 0.4 * skin_hk_lobe(c, 0.0, mu_i, mu_o, d, pharr);
+    return s;
+}
+"#;
+
+/// WGSL of [`skin_single_scattering`]'s lobes with `three_lobe` false: the one `g` lobe.
+const LOBES_FALSE_WGSL: &str = r#"
+fn skin_lobes_false(c: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool, three_lobe: bool) -> f32 {
+    return skin_hk_lobe(c, g, mu_i, mu_o, d, pharr);
+}
+"#;
+
+/// WGSL of [`skin_single_scattering`]'s lobes, `three_lobe` chosen at run time.
+const LOBES_WGSL: &str = r#"
+fn skin_lobes(c: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool, three_lobe: bool) -> f32 {
+    if (three_lobe) {
+        return skin_lobes_true(c, g, mu_i, mu_o, d, pharr, three_lobe);
+    }
+    return skin_lobes_false(c, g, mu_i, mu_o, d, pharr, three_lobe);
+}
+"#;
+
+/// The helpers of [`skin_single_scattering`]'s WGSL: both lobe sets and the run-time choice.
+const SINGLE_USES: &[&str] = &[
+    ONE_MINUS_EXP_WGSL,
+    super::optics::HG_HELPER_WGSL,
+    HK_LOBE_WGSL,
+    LOBES_TRUE_WGSL,
+    LOBES_FALSE_WGSL,
+    LOBES_WGSL,
+];
+
+/// The per-choice WGSL of a literal `three_lobe`: only that lobe set.
+fn lobe_choices() -> [WgslChoice; 2] {
+    let lobe = |choice, helper| WgslChoice {
+        input: "three_lobe",
+        choice,
+        template: SINGLE_WGSL,
+        helpers: helper,
+        tables: &[],
+    };
+    [
+        lobe(
+            "true",
+            &[
+                ONE_MINUS_EXP_WGSL,
+                super::optics::HG_HELPER_WGSL,
+                HK_LOBE_WGSL,
+                LOBES_TRUE_WGSL,
+            ],
+        ),
+        lobe(
+            "false",
+            &[
+                ONE_MINUS_EXP_WGSL,
+                super::optics::HG_HELPER_WGSL,
+                HK_LOBE_WGSL,
+                LOBES_FALSE_WGSL,
+            ],
+        ),
+    ]
+}
+
 /// WGSL of [`skin_single_scattering`].
 const SINGLE_WGSL: &str = r#"
 fn $fn(t_light: vec3<f32>, t_view: vec3<f32>, n: vec3<f32>, g: f32, albedo: vec3<f32>, thickness: f32, phase_form: i32, three_lobe: bool) -> $out {
@@ -257,14 +326,7 @@ fn $fn(t_light: vec3<f32>, t_view: vec3<f32>, n: vec3<f32>, g: f32, albedo: vec3
     let c = -dot(t_light, t_view);
     let d = max(thickness, 0.0);
     let pharr = phase_form == 1;
-    var s = 0.0;
-    if (three_lobe) {
-        s = s + 0.8 * skin_hk_lobe(c, 0.8, mu_i, mu_o, d, pharr);
-        s = s + 0.5 * skin_hk_lobe(c, 0.3, mu_i, mu_o, d, pharr);
-        s = s + 0.4 * skin_hk_lobe(c, 0.0, mu_i, mu_o, d, pharr);
-    } else {
-        s = skin_hk_lobe(c, g, mu_i, mu_o, d, pharr);
-    }
+    let s = skin_lobes${three_lobe}(c, g, mu_i, mu_o, d, pharr, three_lobe);
     let f = albedo * s;
     return $out(f, f * mu_i);
 }
@@ -423,7 +485,8 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("brdf").unit("1/sr").doc("Single-scattering BRDF f (reciprocal)."))
             .output(Out::color("cos_weighted").unit("1/sr").doc("f · mu_i: bounded by albedo · p at grazing."))
             .wgsl(SINGLE_WGSL)
-            .wgsl_uses(&[ONE_MINUS_EXP_WGSL, super::optics::HG_HELPER_WGSL, HK_LOBE_WGSL])
+            .wgsl_uses(SINGLE_USES)
+            .wgsl_per_choice(lobe_choices())
             .hard_case("grazing", &[("t_light", v3([1.0, 0.0, -1e-5])), ("t_view", v3([-1.0, 0.0, -1e-5]))])
             .hard_case("thickness → 0", &[("thickness", f(1e-8))])
             .hard_case("very thick", &[("thickness", f(1e6))])

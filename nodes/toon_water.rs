@@ -12,7 +12,7 @@
 //! Conventions: world space is `y` up (the water plane is `y = 0`), depth is positive down,
 //! `n`, `l`, `v` are the normal, the direction to the light and to the eye.
 
-use crate::node::{Category, In, NodeType, Out};
+use crate::node::{Category, In, NodeType, Out, WgslChoice};
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::{LN_2, TAU};
@@ -78,21 +78,53 @@ pub fn depth_color(depth: f32, half_life: Vec3, model: i32) -> Vec3 {
 
 /// WGSL of [`depth_color`], the same steps.
 const DEPTH_COLOR_WGSL: &str = r#"
-fn mg_tw_depth_channel(d: f32, h: f32, model: i32) -> f32 {
-    if (model == 1) {
-        let k = 0.6931472 / h;
-        return exp(-k * d);
-    }
-    let k = 0.6931472 * 0.6931472 / h;
-    return exp(-sqrt(k * d));
-}
-
 fn $fn(depth: f32, half_life: vec3<f32>, model: i32) -> vec3<f32> {
     let d = max(depth, 0.0);
     let h = max(half_life, vec3<f32>(1e-3));
-    return vec3<f32>(mg_tw_depth_channel(d, h.x, model), mg_tw_depth_channel(d, h.y, model), mg_tw_depth_channel(d, h.z, model));
+    return vec3<f32>(mg_tw_depth_channel${model}(d, h.x, model), mg_tw_depth_channel${model}(d, h.y, model), mg_tw_depth_channel${model}(d, h.z, model));
 }
 "#;
+
+/// One channel of [`DEPTH_COLOR_WGSL`], `model` paper (it takes `model` and ignores it).
+const DEPTH_PAPER_WGSL: &str = r#"
+fn mg_tw_depth_channel_paper(d: f32, h: f32, model: i32) -> f32 {
+    let k = 0.6931472 * 0.6931472 / h;
+    return exp(-sqrt(k * d));
+}
+"#;
+
+/// One channel of [`DEPTH_COLOR_WGSL`], `model` beer_lambert.
+const DEPTH_BEER_LAMBERT_WGSL: &str = r#"
+fn mg_tw_depth_channel_beer_lambert(d: f32, h: f32, model: i32) -> f32 {
+    let k = 0.6931472 / h;
+    return exp(-k * d);
+}
+"#;
+
+/// One channel of [`DEPTH_COLOR_WGSL`], `model` chosen at run time.
+const DEPTH_CHANNEL_WGSL: &str = r#"
+fn mg_tw_depth_channel(d: f32, h: f32, model: i32) -> f32 {
+    if (model == 1) {
+        return mg_tw_depth_channel_beer_lambert(d, h, model);
+    }
+    return mg_tw_depth_channel_paper(d, h, model);
+}
+"#;
+
+/// The per-choice WGSL of a literal `model` of `toon_water_depth_color`.
+fn depth_model_choices() -> [WgslChoice; 2] {
+    let model = |choice, helpers| WgslChoice {
+        input: "model",
+        choice,
+        template: DEPTH_COLOR_WGSL,
+        helpers,
+        tables: &[],
+    };
+    [
+        model("paper", &[DEPTH_PAPER_WGSL]),
+        model("beer_lambert", &[DEPTH_BEER_LAMBERT_WGSL]),
+    ]
+}
 
 /// Seed 004 eq. 3, the light arriving through the atmosphere ("Lambert's absorption law" in
 /// the paper's words): `s = I0 · exp(−√(a · t))`, `a` the absorption coefficient, `t` the
@@ -570,6 +602,8 @@ pub fn all() -> Vec<NodeType> {
             .input(In::choice("model", DEPTH_MODELS, 0).doc("paper: exp(−√(k d)); beer_lambert: exp(−k d)."))
             .output(Out::color("color").doc("Colour factor per channel in (0, 1]."))
             .wgsl(DEPTH_COLOR_WGSL)
+            .wgsl_uses(&[DEPTH_PAPER_WGSL, DEPTH_BEER_LAMBERT_WGSL, DEPTH_CHANNEL_WGSL])
+            .wgsl_per_choice(depth_model_choices())
             .hard_case("surface", &[("depth", f(0.0))])
             .hard_case("abyss, short half-life", &[("depth", f(1e4)), ("half_life", v3([1e-3, 1e-3, 1e-3]))])
             .hard_case("Beer–Lambert at the paper's maximum depth", &[("depth", f(156.0)), ("model", i(1))])

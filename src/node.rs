@@ -484,19 +484,22 @@ pub struct WgslTable {
     pub rows: &'static [[f32; 4]],
 }
 
-/// A node's WGSL for one literal choice of one of its enum inputs, used instead of the
+/// A node's WGSL for one literal choice of one of its enum inputs ([`NodeType::wgsl_per_choice`]), used instead of the
 /// general template wherever that input is written as that choice (not linked): the module
 /// then holds only the chosen method's code, helpers and tables. naga keeps every branch of
 /// an `if (method == k)` on a function argument, so without it a constant choice would still
 /// compile (and count, and upload the tables of) every other method.
 ///
 /// The template has the general template's signature (it takes the enum input and ignores
-/// it), so the call is the same either way.
+/// it), so the call is the same either way. A template may also name a per-choice helper as
+/// `mg_name${input}(…)`: in the choice's function that reads `mg_name_<choice>`, in the
+/// general one `mg_name`, so one template serves every choice when only a helper differs.
+/// A bool input's choices are `"false"` and `"true"`.
 #[derive(Debug)]
 pub struct WgslChoice {
-    /// The enum input.
+    /// The enum (or bool) input.
     pub input: &'static str,
-    /// The choice, by name.
+    /// The choice, by name (`"false"` or `"true"` for a bool).
     pub choice: &'static str,
     /// The function template (as for [`NodeType::wgsl`]).
     pub template: &'static str,
@@ -639,22 +642,26 @@ impl NodeType {
         self.wgsl_tables.extend_from_slice(tables);
         self
     }
-    /// Adds the WGSL for one literal choice of an enum input (see [`WgslChoice`]).
+    /// Adds the WGSL for literal choices of an enum or bool input (see [`WgslChoice`]).
     ///
     /// # Panics
-    /// If the input is not an enum input of this node or has no such choice (a declaration
-    /// error, caught by the registry's tests).
-    pub fn wgsl_choice(mut self, choice: WgslChoice) -> NodeType {
-        let known = self
-            .inputs
-            .iter()
-            .any(|i| i.name == choice.input && i.choices.contains(&choice.choice));
-        assert!(
-            known,
-            "{}: wgsl_choice {}={} is not a declared choice",
-            self.name, choice.input, choice.choice
-        );
-        self.wgsl_choices.push(choice);
+    /// If an input is not an enum or bool input of this node or has no such choice (a
+    /// declaration error, caught by the registry's tests).
+    pub fn wgsl_per_choice(mut self, choices: impl IntoIterator<Item = WgslChoice>) -> NodeType {
+        for choice in choices {
+            let known = self.inputs.iter().any(|i| {
+                i.name == choice.input
+                    && (i.choices.contains(&choice.choice)
+                        || (i.ty == PortType::Fixed(SocketType::Bool)
+                            && matches!(choice.choice, "false" | "true")))
+            });
+            assert!(
+                known,
+                "{}: wgsl_per_choice {}={} is not a declared choice",
+                self.name, choice.input, choice.choice
+            );
+            self.wgsl_choices.push(choice);
+        }
         self
     }
 

@@ -948,9 +948,5 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("index-matched film", &[("film_ior", f(1.0))])
             .hard_case("film matched to the substrate", &[("film_ior", f(1.5)), ("substrate_ior", f(1.5))])
             .compute(thin_film);
-    vec![
-        method_choices()
-            .into_iter()
-            .fold(node, NodeType::wgsl_choice),
-    ]
+    vec![node.wgsl_per_choice(method_choices())]
 }

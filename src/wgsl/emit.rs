@@ -242,10 +242,16 @@ pub(super) fn literal_choice(n: &Node) -> Option<&WgslChoice> {
         let Some(k) = t.input_index(c.input) else {
             return false;
         };
-        let index = t.inputs()[k].choices.iter().position(|x| *x == c.choice);
+        let decl = &t.inputs()[k];
         match &n.inputs[k] {
             InputSource::Default(v) | InputSource::Value { value: v, .. } => {
-                usize::try_from(v.as_i32()).ok() == index
+                if decl.choices.is_empty() {
+                    // A bool input: choices "false" and "true".
+                    c.choice == if v.as_bool() { "true" } else { "false" }
+                } else {
+                    let index = decl.choices.iter().position(|x| *x == c.choice);
+                    usize::try_from(v.as_i32()).ok() == index
+                }
             }
             InputSource::Link(..) => false,
         }
@@ -300,8 +306,15 @@ pub(super) fn node_function(
         }
         let _ = writeln!(definition, "}}\n");
     }
+    // `${input}` names a per-choice helper: `_<choice>` in a choice's function, nothing in the
+    // general one (see `WgslChoice`).
+    let mut template = template.trim().to_owned();
+    for c in t.wgsl_choices() {
+        let chosen = choice.filter(|x| x.input == c.input);
+        let suffix = chosen.map_or(String::new(), |x| format!("_{}", x.choice));
+        template = template.replace(&format!("${{{}}}", c.input), &suffix);
+    }
     let body = template
-        .trim()
         .replace("$fn", &name)
         .replace("$out", out_struct.as_deref().unwrap_or("$out"))
         .replace("$T", wgsl_type(generic));
