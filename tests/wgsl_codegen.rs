@@ -351,8 +351,8 @@ fn a_literal_method_emits_only_that_method() {
 
 /// The render module evaluates what does not depend on the light once per fragment, before
 /// the light loop, and the rest once per light: no call is in both functions, every call
-/// reading `light` or `light_color` (or such a call) is in the lit one, and the library's
-/// `mg_material` is unchanged in shape.
+/// reading `light` or `light_color` (or such a call) is in the lit one; the library module
+/// has the same split.
 #[test]
 fn render_modules_hoist_light_independent_calls_out_of_the_light_loop() {
     let graph = load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pbr_gold.json"));
@@ -394,7 +394,20 @@ fn render_modules_hoist_light_independent_calls_out_of_the_light_loop() {
         "{fragment}"
     );
     assert!(!fragment.contains("mg_material(g)"), "{fragment}");
-    // A compute module is not split.
+    // The library module has the same split for an app's own light loop, and
+    // `mg_material`; a compute module (one evaluation per sample) is not split.
+    let library = WgslOptions {
+        plan: PlanOptions::default(),
+        entry: Entry::Library(matgraph::wgsl::TextureMode::Exact),
+    };
+    let l = generate(&graph, &library).unwrap();
+    for f in [
+        "fn mg_material_unlit(",
+        "fn mg_material_lit(",
+        "fn mg_material(",
+    ] {
+        assert!(l.source.contains(f), "library: no {f}");
+    }
     let c = generate(&graph, &WgslOptions::default()).unwrap();
     assert!(!c.source.contains("mg_material_unlit"));
 }

@@ -640,7 +640,7 @@ impl<'a> Emitter<'a> {
         let mut hoisted = false;
         if calls.len() > SPLIT_CALLS {
             self.split_material(&calls, &functions, &attributes, &outputs);
-        } else if matches!(self.entry, Entry::Render(_))
+        } else if matches!(self.entry, Entry::Render(_) | Entry::Library(_))
             && self.hoisted_material(&calls, &functions, &outputs)
         {
             hoisted = true;
@@ -1034,7 +1034,7 @@ impl<'a> Emitter<'a> {
         lit
     }
 
-    /// The material function of a render module, hoisted out of the fragment's light loop:
+    /// The material function of a render or library module, hoisted out of the light loop:
     /// `mg_material_unlit` computes the calls that do not depend on the light (once per
     /// fragment), `mg_material_lit` the rest from its result (once per light), and
     /// `mg_material` is the two in turn (the library's function, unchanged in value).
