@@ -95,6 +95,51 @@ fn frame_time(n: usize, frames: usize) {
     );
 }
 
+/// Frame time as in a window: the editor's egui pass on a plain `egui::Context` (no
+/// accessibility tree: eframe builds one only for a screen reader, where egui_kittest
+/// always does, at about a third of its frame) plus the tessellation of what it drew, for
+/// an `n`-node graph framed; the median of `frames`. Painting (the GPU's part) is left out.
+fn window_frame_time(n: usize, frames: usize) {
+    let mut state = EditorState::new(synthetic(n), None, Registry::builtin());
+    state.dialog = None;
+    state.preview.enabled = false;
+    let mut app = EditorApp::new(state);
+    let ctx = egui::Context::default();
+    let mut time = 0.0;
+    let mut frame = |app: &mut EditorApp| {
+        time += 1.0 / 60.0;
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(1400.0, 900.0),
+            )),
+            time: Some(time),
+            ..Default::default()
+        };
+        let out = ctx.run_ui(input, |ui| app.ui(ui));
+        std::hint::black_box(ctx.tessellate(out.shapes, out.pixels_per_point));
+    };
+    let start = Instant::now();
+    while !app.settled() {
+        assert!(start.elapsed() < Duration::from_secs(600), "not settled");
+        frame(&mut app);
+    }
+    for _ in 0..4 {
+        frame(&mut app);
+    }
+    let mut times = Vec::new();
+    for _ in 0..frames {
+        let t = Instant::now();
+        frame(&mut app);
+        times.push(ms(t.elapsed()));
+    }
+    println!(
+        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes framed: median {:.2} ms, max {:.2} ms ({frames} frames)",
+        median(times.clone()),
+        times.iter().copied().fold(0.0, f64::max)
+    );
+}
+
 /// The first numeric literal of a node that is not a `parameter`: (node, input, value).
 fn literals(doc: &GraphDocument) -> Vec<(String, String, f64)> {
     doc.nodes
@@ -228,12 +273,20 @@ fn main() {
     let only: Option<Vec<String>> =
         value("--graphs").map(|v| v.split(',').map(str::to_owned).collect());
     match (nodes, full) {
-        (Some(n), _) => frame_time(n, 20),
+        (Some(n), _) => {
+            frame_time(n, 20);
+            window_frame_time(n, 20);
+        }
         (None, true) => {
             frame_time(300, 60);
+            window_frame_time(300, 60);
             frame_time(40, 60);
+            window_frame_time(40, 60);
         }
-        (None, false) => frame_time(30, 3),
+        (None, false) => {
+            frame_time(30, 3);
+            window_frame_time(30, 3);
+        }
     }
     println!(
         "| graph | preview on | open → first preview | parameter change → preview (median) | structural edit → preview (median) |"

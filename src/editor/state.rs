@@ -222,7 +222,7 @@ impl EditorState {
 
     /// Whether the document differs from the file.
     pub fn dirty(&self) -> bool {
-        self.doc.canonical_json() != self.saved
+        self.doc.canonical() != self.saved
     }
 
     /// Applies `f` to the document as one undo step (`key`: consecutive edits with the same
