@@ -1051,7 +1051,7 @@ pub const SRGB_COS_LEN: usize = 2048;
 /// The cosine transform of [`SRGB_WEIGHTS`] at x = k · [`SRGB_COS_STEP_NM`] nm of optical path
 /// difference: `T_c(x) = Σ_λ w_c(λ) cos(2π x/λ)` per linear sRGB channel (f64 weights,
 /// exact sums, then rounded to f32), fourth component 0. `T_c(0) = 1`.
-pub const SRGB_COS: [[f32; 4]; SRGB_COS_LEN] = [
+pub static SRGB_COS: [[f32; 4]; SRGB_COS_LEN] = [
     [1.0e+00, 1.0e+00, 1.0e+00, 0.0],
     [9.9883306e-01, 9.9833757e-01, 9.974883e-01, 0.0],
     [9.953348e-01, 9.933557e-01, 9.8996586e-01, 0.0],

@@ -176,7 +176,7 @@ def main():
     out.append("/// The cosine transform of [`SRGB_WEIGHTS`] at x = k · [`SRGB_COS_STEP_NM`] nm of optical path")
     out.append("/// difference: `T_c(x) = Σ_λ w_c(λ) cos(2π x/λ)` per linear sRGB channel (f64 weights,")
     out.append("/// exact sums, then rounded to f32), fourth component 0. `T_c(0) = 1`.")
-    out.append("pub const SRGB_COS: [[f32; 4]; SRGB_COS_LEN] = [")
+    out.append("pub static SRGB_COS: [[f32; 4]; SRGB_COS_LEN] = [")
     for row in cos_rows:
         out.append("    [" + ", ".join(f32_rust(v) for v in row) + ", 0.0],")
     out.append("];")

@@ -435,7 +435,7 @@ pub fn belcour_barla(film: &Film) -> Vec3 {
 #[inline]
 fn srgb_cos(x: f32) -> Vec3 {
     let u = x / SRGB_COS_STEP_NM;
-    if !(u < (SRGB_COS_LEN - 1) as f32) {
+    if u.is_nan() || u >= (SRGB_COS_LEN - 1) as f32 {
         return Vec3::ZERO;
     }
     let i = u as usize;
