@@ -282,6 +282,49 @@ fn pack(t: &NodeType, generic: SocketType, s: &NodeSamples, width: usize) -> Vec
     packed
 }
 
+/// Runs `samples` through the CPU kernel and `harness` and compares every output component
+/// within `bound`; the first three misses are added to `failures` (as a failed run is).
+fn run_and_compare(
+    t: &NodeType,
+    generic: SocketType,
+    harness: &GpuHarness,
+    samples: &NodeSamples,
+    bound: (f64, f64),
+    label: &str,
+    failures: &mut Vec<String>,
+) -> Option<Errors> {
+    let cpu = run_cpu(t, generic, samples);
+    let gpu = match harness.run(&pack(t, generic, samples, harness.input_width()), samples.n) {
+        Ok(g) => g,
+        Err(e) => {
+            failures.push(format!("{label}: GPU run failed: {e}"));
+            return None;
+        }
+    };
+    let mut errors = Errors::default();
+    let mut shown = 0;
+    let ow = harness.output_width();
+    let mut at = 0;
+    for (k, d) in t.outputs().iter().enumerate() {
+        let w = d.ty.resolve(generic).width();
+        for i in 0..samples.n {
+            for c in 0..w {
+                let (a, b) = (cpu[k][c * samples.n + i], gpu[i * ow + at + c]);
+                if !errors.check(a, b, bound) && shown < 3 {
+                    shown += 1;
+                    failures.push(format!(
+                        "{label}: output {}[{c}] cpu {a:e} gpu {b:e} at {}",
+                        d.name,
+                        describe_inputs(t, generic, samples, i)
+                    ));
+                }
+            }
+        }
+        at += w;
+    }
+    Some(errors)
+}
+
 /// The inputs of sample `i`, for failure messages.
 fn describe_inputs(t: &NodeType, generic: SocketType, s: &NodeSamples, i: usize) -> String {
     t.inputs()
@@ -369,38 +412,11 @@ fn every_node_type_matches_its_cpu_kernel() {
                 t.name().to_owned()
             };
             let samples = node_samples(t, generic, 0x5eed_0000 + seed as u64 * 16 + generic as u64);
-            let cpu = run_cpu(t, generic, &samples);
-            let gpu = match harness.run(
-                &pack(t, generic, &samples, harness.input_width()),
-                samples.n,
-            ) {
-                Ok(g) => g,
-                Err(e) => {
-                    failures.push(format!("{label}: GPU run failed: {e}"));
-                    continue;
-                }
+            let Some(errors) =
+                run_and_compare(t, generic, harness, &samples, bound, &label, &mut failures)
+            else {
+                continue;
             };
-            let mut errors = Errors::default();
-            let mut shown = 0;
-            let ow = harness.output_width();
-            let mut at = 0;
-            for (k, d) in t.outputs().iter().enumerate() {
-                let w = d.ty.resolve(generic).width();
-                for i in 0..samples.n {
-                    for c in 0..w {
-                        let (a, b) = (cpu[k][c * samples.n + i], gpu[i * ow + at + c]);
-                        if !errors.check(a, b, bound) && shown < 3 {
-                            shown += 1;
-                            failures.push(format!(
-                                "{label}: output {}[{c}] cpu {a:e} gpu {b:e} at {}",
-                                d.name,
-                                describe_inputs(t, generic, &samples, i)
-                            ));
-                        }
-                    }
-                }
-                at += w;
-            }
             let _ = writeln!(
                 table,
                 "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound",
@@ -472,37 +488,12 @@ fn every_literal_choice_matches_its_cpu_kernel() {
             };
             let mut samples = node_samples(t, generic, 0x0c40_1ce0 + seed as u64);
             samples.columns[k].fill(value);
-            let cpu = run_cpu(t, generic, &samples);
-            let gpu = match harness.run(
-                &pack(t, generic, &samples, harness.input_width()),
-                samples.n,
-            ) {
-                Ok(g) => g,
-                Err(e) => {
-                    failures.push(format!("{label}: GPU run failed: {e}"));
-                    continue;
-                }
-            };
             let bound = bound_for(t.name());
-            let mut errors = Errors::default();
-            let ow = harness.output_width();
-            let mut at = 0;
-            for (o, d) in t.outputs().iter().enumerate() {
-                let w = d.ty.resolve(generic).width();
-                for i in 0..samples.n {
-                    for c in 0..w {
-                        let (a, b) = (cpu[o][c * samples.n + i], gpu[i * ow + at + c]);
-                        if !errors.check(a, b, bound) && failures.len() < 12 {
-                            failures.push(format!(
-                                "{label}: output {}[{c}] cpu {a:e} gpu {b:e} at {}",
-                                d.name,
-                                describe_inputs(t, generic, &samples, i)
-                            ));
-                        }
-                    }
-                }
-                at += w;
-            }
+            let Some(errors) =
+                run_and_compare(t, generic, &harness, &samples, bound, &label, &mut failures)
+            else {
+                continue;
+            };
             checked += 1;
             eprintln!(
                 "  {label:<40} {:>6} samples  max abs {:9.3e}  {:5.1}% of bound",
