@@ -484,9 +484,10 @@ pub struct WgslTable {
     pub rows: &'static [[f32; 4]],
 }
 
-/// A node's WGSL for one literal choice of one of its enum inputs ([`NodeType::wgsl_per_choice`]), used instead of the
-/// general template wherever that input is written as that choice (not linked): the module
-/// then holds only the chosen method's code, helpers and tables. naga keeps every branch of
+/// A node's WGSL for one literal choice of one of its enum inputs
+/// ([`NodeType::wgsl_per_choice`]), used instead of the general template wherever that input
+/// is written as that choice (not linked): the module then holds only the chosen method's
+/// code, helpers and tables. naga keeps every branch of
 /// an `if (method == k)` on a function argument, so without it a constant choice would still
 /// compile (and count, and upload the tables of) every other method.
 ///

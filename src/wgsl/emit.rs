@@ -268,11 +268,11 @@ fn tables_of(n: &Node) -> &[&'static WgslTable] {
     literal_choice(n).map_or(n.node_type.wgsl_tables(), |c| c.tables)
 }
 
-/// The emitted name of `n`'s function: [`function_name`], suffixed `_is_<choice>` for a
+/// The emitted name of `t`'s function: [`function_name`], suffixed `_is_<choice>` for a
 /// per-choice template.
-fn call_name(n: &Node) -> String {
-    let base = function_name(&n.node_type, n.generic);
-    match literal_choice(n) {
+fn emitted_name(t: &NodeType, generic: SocketType, choice: Option<&WgslChoice>) -> String {
+    let base = function_name(t, generic);
+    match choice {
         Some(c) => format!("{base}_is_{}", c.choice),
         None => base,
     }
@@ -285,13 +285,11 @@ pub(super) fn node_function(
     generic: SocketType,
     choice: Option<&WgslChoice>,
 ) -> Option<NodeFunction> {
-    let (template, name) = match choice {
-        Some(c) => (
-            c.template,
-            format!("{}_is_{}", function_name(t, generic), c.choice),
-        ),
-        None => (t.wgsl_for(generic)?, function_name(t, generic)),
+    let template = match choice {
+        Some(c) => c.template,
+        None => t.wgsl_for(generic)?,
     };
+    let name = emitted_name(t, generic, choice);
     let mut definition = String::new();
     let out_struct = (t.outputs().len() > 1).then(|| format!("{name}_out"));
     if let Some(s) = &out_struct {
@@ -527,7 +525,7 @@ impl<'a> Emitter<'a> {
                 continue;
             }
             // Keyed by the emitted name: vec3 and colour share one function.
-            let key = call_name(n);
+            let key = emitted_name(&n.node_type, n.generic, literal_choice(n));
             if let Some(&f) = function_index.get(&key) {
                 calls.push((i, f));
                 continue;
