@@ -21,9 +21,8 @@ use std::f32::consts::PI;
 
 use super::image::equirect_uv_of;
 use super::pbr::{
-    BRDF_WGSL_USES, FRESNEL_NAMES, MIN_COS, PBR_FRESNEL_EXACT_WGSL, PBR_FRESNEL_SCHLICK_WGSL,
-    PBR_HELPERS_WGSL, alpha2, fresnel, fresnel_choices, ggx_d_sin2, safe_normalize,
-    smith_visibility_n_dot_l,
+    FRESNEL_NAMES, MIN_COS, PBR_HELPERS_WGSL, alpha2, fresnel, ggx_d_sin2, safe_normalize,
+    smith_visibility_n_dot_l, with_fresnel_choices,
 };
 
 /// Reads a vec3 port at sample `i` of a tile (component `c` at `c · TILE + i`).
@@ -312,28 +311,6 @@ fn mg_ibl_filtered_lod(count: u32, pdf: f32) -> f32 {
 }
 "#;
 
-/// The Monte Carlo node's own helpers, after `pbr_brdf`'s.
-const MC_USES: &[&str] = &[EQUIRECT_WGSL, crate::texture::SAMPLE_WGSL, MC_HELPERS_WGSL];
-/// Its helpers at a literal `fresnel` schlick: `pbr_brdf`'s at schlick and its own.
-const MC_SCHLICK_USES: &[&str] = &[
-    PBR_HELPERS_WGSL,
-    PBR_FRESNEL_SCHLICK_WGSL,
-    EQUIRECT_WGSL,
-    crate::texture::SAMPLE_WGSL,
-    MC_HELPERS_WGSL,
-];
-/// Its helpers at a literal `fresnel` exact: `pbr_brdf`'s at exact and its own.
-const MC_EXACT_USES: &[&str] = &[
-    super::optics::COS2_T_WGSL,
-    super::optics::FRESNEL_HELPER_WGSL,
-    super::optics::F0_TO_IOR_HELPER_WGSL,
-    PBR_HELPERS_WGSL,
-    PBR_FRESNEL_EXACT_WGSL,
-    EQUIRECT_WGSL,
-    crate::texture::SAMPLE_WGSL,
-    MC_HELPERS_WGSL,
-];
-
 /// WGSL of [`env_ggx_monte_carlo`] (1024 = MC_MAX_SAMPLES; the frame of [`frame`] inline;
 /// wrap 1 clamp, filter 1 bilinear).
 const ENV_GGX_MONTE_CARLO_WGSL: &str = r#"
@@ -494,7 +471,7 @@ pub fn all() -> Vec<NodeType> {
         .hard_case("straight down", &[("normal", v3([0.0, -1.0, 0.0]))])
         .compute(|_n: Vec3| Vec3::ZERO)
         .texture_kernel(env_diffuse_tile),
-        NodeType::new(
+        with_fresnel_choices(NodeType::new(
             "env_ggx_monte_carlo",
             Category::Pbr,
             "GGX specular reflection of the scene's environment by importance-sampled Monte Carlo.",
@@ -529,9 +506,12 @@ pub fn all() -> Vec<NodeType> {
         .input(In::int("samples", 64).range(1.0, 256.0).hard(1.0, 1024.0).doc("GGX samples N (1–1024; error about 1/N, cost N texture reads)."))
         .output(Out::color("color").doc("Single-scattering specular radiance, linear RGB."))
         .wgsl(ENV_GGX_MONTE_CARLO_WGSL)
-        .wgsl_uses(BRDF_WGSL_USES)
-        .wgsl_uses(MC_USES)
-        .wgsl_per_choice(fresnel_choices(ENV_GGX_MONTE_CARLO_WGSL, MC_SCHLICK_USES, MC_EXACT_USES))
+        .wgsl_uses(&[
+            PBR_HELPERS_WGSL,
+            EQUIRECT_WGSL,
+            crate::texture::SAMPLE_WGSL,
+            MC_HELPERS_WGSL,
+        ])
         .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4]))])
         .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])
         .hard_case("roughness 0, mirror", &[("roughness", f(0.0))])
@@ -543,6 +523,6 @@ pub fn all() -> Vec<NodeType> {
         .hard_case("one sample", &[("samples", Value::int(1))])
         .hard_case("most samples, smooth", &[("samples", Value::int(1024)), ("roughness", f(0.02))])
         .compute(|_n: Vec3, _v: Vec3, _r: f32, _f0: Vec3, _m: i32, _s: i32| Vec3::ZERO)
-        .texture_kernel(env_ggx_monte_carlo_tile),
+        .texture_kernel(env_ggx_monte_carlo_tile)),
     ]
 }

@@ -191,52 +191,31 @@ pub fn brdf(
     (diffuse + spec, diffuse, spec)
 }
 
-/// The helpers `pbr_brdf`'s WGSL is emitted with: the optics helpers its exact Fresnel option
-/// calls, the PBR helpers and its Fresnel choice.
-pub(crate) const BRDF_WGSL_USES: &[&str] = &[
-    super::optics::COS2_T_WGSL,
-    super::optics::FRESNEL_HELPER_WGSL,
-    super::optics::F0_TO_IOR_HELPER_WGSL,
-    PBR_HELPERS_WGSL,
-    PBR_FRESNEL_SCHLICK_WGSL,
-    PBR_FRESNEL_EXACT_WGSL,
-    PBR_FRESNEL_WGSL,
-];
-/// `pbr_brdf`'s helpers at a literal `fresnel` schlick: no optics helpers.
-pub(crate) const BRDF_SCHLICK_USES: &[&str] = &[PBR_HELPERS_WGSL, PBR_FRESNEL_SCHLICK_WGSL];
-/// `pbr_brdf`'s helpers at a literal `fresnel` exact.
-pub(crate) const BRDF_EXACT_USES: &[&str] = &[
-    super::optics::COS2_T_WGSL,
-    super::optics::FRESNEL_HELPER_WGSL,
-    super::optics::F0_TO_IOR_HELPER_WGSL,
-    PBR_HELPERS_WGSL,
-    PBR_FRESNEL_EXACT_WGSL,
-];
-
-/// The per-choice WGSL of a literal `fresnel` for a node whose template calls
-/// `mg_pbrh_fresnel${fresnel}` (`pbr_brdf`, `env_ggx_monte_carlo`): `schlick` and `exact`
-/// with their helpers.
-pub(crate) fn fresnel_choices(
-    template: &'static str,
-    schlick: &'static [&'static str],
-    exact: &'static [&'static str],
-) -> [WgslChoice; 2] {
-    [
-        WgslChoice {
-            input: "fresnel",
-            choice: "schlick",
-            template,
-            helpers: schlick,
-            tables: &[],
-        },
-        WgslChoice {
-            input: "fresnel",
-            choice: "exact",
-            template,
-            helpers: exact,
-            tables: &[],
-        },
-    ]
+/// The Fresnel choices of a node whose template calls `mg_pbrh_fresnel${fresnel}(…, fresnel)`
+/// (`pbr_brdf`, `env_ggx_monte_carlo`): Schlick's helper, or the exact one with the optics
+/// helpers it calls; [`PBR_FRESNEL_WGSL`] picks one at run time.
+pub(crate) fn with_fresnel_choices(t: NodeType) -> NodeType {
+    t.wgsl_per_choice(
+        "fresnel",
+        &[PBR_FRESNEL_WGSL],
+        [
+            WgslChoice {
+                choice: "schlick",
+                helpers: &[PBR_FRESNEL_SCHLICK_WGSL],
+                tables: &[],
+            },
+            WgslChoice {
+                choice: "exact",
+                helpers: &[
+                    super::optics::COS2_T_WGSL,
+                    super::optics::FRESNEL_HELPER_WGSL,
+                    super::optics::F0_TO_IOR_HELPER_WGSL,
+                    PBR_FRESNEL_EXACT_WGSL,
+                ],
+                tables: &[],
+            },
+        ],
+    )
 }
 
 /// WGSL helpers shared by the PBR nodes: the same steps as the Rust above.
@@ -285,7 +264,7 @@ fn mg_pbrh_f0(metallic: f32, base_color: vec3<f32>, specular: f32) -> vec3<f32> 
 "#;
 
 /// WGSL of [`fresnel`] at `mode` 0: Schlick (takes `mode` and ignores it).
-pub(crate) const PBR_FRESNEL_SCHLICK_WGSL: &str = r#"
+const PBR_FRESNEL_SCHLICK_WGSL: &str = r#"
 fn mg_pbrh_fresnel_schlick(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
     let m = max(1.0 - min(max(v_dot_h, 0.0), 1.0), 0.0);
     let m2 = m * m;
@@ -294,7 +273,7 @@ fn mg_pbrh_fresnel_schlick(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
 "#;
 
 /// WGSL of [`fresnel`] at `mode` 1: the exact dielectric Fresnel with the IOR from F0.
-pub(crate) const PBR_FRESNEL_EXACT_WGSL: &str = r#"
+const PBR_FRESNEL_EXACT_WGSL: &str = r#"
 fn mg_pbrh_fresnel_exact(v_dot_h: f32, f0_in: f32, mode: i32) -> f32 {
     return mg_opth_fresnel(v_dot_h, 1.0, mg_opth_f0_to_ior(f0_in)).x;
 }
@@ -399,7 +378,7 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("diamond (specular 2.15)", &[("specular", f(2.15))])
             .hard_case("metal", &[("metallic", f(1.0))])
             .compute(f0),
-        NodeType::new("pbr_brdf", Category::Pbr, "Metallic–roughness BRDF (GGX, Smith, Fresnel, Lambert) times N·L.")
+        with_fresnel_choices(NodeType::new("pbr_brdf", Category::Pbr, "Metallic–roughness BRDF (GGX, Smith, Fresnel, Lambert) times N·L.")
             .source(
                 "color = (base (1 − metallic)(1 − F(N·L))(1 − F(N·V))/π + F(V·H) D V) · N·L: Lambert \
                  diffuse weighted by the Fresnel transmittance in and out (Shirley et al. 1997; \
@@ -426,8 +405,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("diffuse").doc("The Lambert term times N·L."))
             .output(Out::color("specular").doc("The GGX term times N·L."))
             .wgsl(BRDF_WGSL)
-            .wgsl_uses(BRDF_WGSL_USES)
-            .wgsl_per_choice(fresnel_choices(BRDF_WGSL, BRDF_SCHLICK_USES, BRDF_EXACT_USES))
+            .wgsl_uses(&[PBR_HELPERS_WGSL])
             .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4])), ("light", v3([-0.6, 0.0, 0.8]))])
             .hard_case("grazing light", &[("light", v3([1.0, 0.0, 1e-4]))])
             .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])
@@ -451,6 +429,6 @@ pub fn all() -> Vec<NodeType> {
                 ],
             )
             .hard_case("zero normal", &[("normal", v3([0.0, 0.0, 0.0]))])
-            .compute(brdf),
+            .compute(brdf)),
     ]
 }

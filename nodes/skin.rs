@@ -277,44 +277,19 @@ fn skin_lobes(c: f32, g: f32, mu_i: f32, mu_o: f32, d: f32, pharr: bool, three_l
 }
 "#;
 
-/// The helpers of [`skin_single_scattering`]'s WGSL: both lobe sets and the run-time choice.
-const SINGLE_USES: &[&str] = &[
-    ONE_MINUS_EXP_WGSL,
-    super::optics::HG_HELPER_WGSL,
-    HK_LOBE_WGSL,
-    LOBES_TRUE_WGSL,
-    LOBES_FALSE_WGSL,
-    LOBES_WGSL,
-];
-
-/// The per-choice WGSL of a literal `three_lobe`: only that lobe set.
+/// The lobe sets of a written `three_lobe`.
 fn lobe_choices() -> [WgslChoice; 2] {
-    let lobe = |choice, helper| WgslChoice {
-        input: "three_lobe",
-        choice,
-        template: SINGLE_WGSL,
-        helpers: helper,
-        tables: &[],
-    };
     [
-        lobe(
-            "true",
-            &[
-                ONE_MINUS_EXP_WGSL,
-                super::optics::HG_HELPER_WGSL,
-                HK_LOBE_WGSL,
-                LOBES_TRUE_WGSL,
-            ],
-        ),
-        lobe(
-            "false",
-            &[
-                ONE_MINUS_EXP_WGSL,
-                super::optics::HG_HELPER_WGSL,
-                HK_LOBE_WGSL,
-                LOBES_FALSE_WGSL,
-            ],
-        ),
+        WgslChoice {
+            choice: "true",
+            helpers: &[LOBES_TRUE_WGSL],
+            tables: &[],
+        },
+        WgslChoice {
+            choice: "false",
+            helpers: &[LOBES_FALSE_WGSL],
+            tables: &[],
+        },
     ]
 }
 
@@ -485,8 +460,8 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("brdf").unit("1/sr").doc("Single-scattering BRDF f (reciprocal)."))
             .output(Out::color("cos_weighted").unit("1/sr").doc("f · mu_i: bounded by albedo · p at grazing."))
             .wgsl(SINGLE_WGSL)
-            .wgsl_uses(SINGLE_USES)
-            .wgsl_per_choice(lobe_choices())
+            .wgsl_uses(&[ONE_MINUS_EXP_WGSL, super::optics::HG_HELPER_WGSL, HK_LOBE_WGSL])
+            .wgsl_per_choice("three_lobe", &[LOBES_WGSL], lobe_choices())
             .hard_case("grazing", &[("t_light", v3([1.0, 0.0, -1e-5])), ("t_view", v3([-1.0, 0.0, -1e-5]))])
             .hard_case("thickness → 0", &[("thickness", f(1e-8))])
             .hard_case("very thick", &[("thickness", f(1e6))])

@@ -111,18 +111,19 @@ fn mg_tw_depth_channel(d: f32, h: f32, model: i32) -> f32 {
 }
 "#;
 
-/// The per-choice WGSL of a literal `model` of `toon_water_depth_color`.
+/// The channel of a written `model` of `toon_water_depth_color`.
 fn depth_model_choices() -> [WgslChoice; 2] {
-    let model = |choice, helpers| WgslChoice {
-        input: "model",
-        choice,
-        template: DEPTH_COLOR_WGSL,
-        helpers,
-        tables: &[],
-    };
     [
-        model("paper", &[DEPTH_PAPER_WGSL]),
-        model("beer_lambert", &[DEPTH_BEER_LAMBERT_WGSL]),
+        WgslChoice {
+            choice: "paper",
+            helpers: &[DEPTH_PAPER_WGSL],
+            tables: &[],
+        },
+        WgslChoice {
+            choice: "beer_lambert",
+            helpers: &[DEPTH_BEER_LAMBERT_WGSL],
+            tables: &[],
+        },
     ]
 }
 
@@ -602,8 +603,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::choice("model", DEPTH_MODELS, 0).doc("paper: exp(−√(k d)); beer_lambert: exp(−k d)."))
             .output(Out::color("color").doc("Colour factor per channel in (0, 1]."))
             .wgsl(DEPTH_COLOR_WGSL)
-            .wgsl_uses(&[DEPTH_PAPER_WGSL, DEPTH_BEER_LAMBERT_WGSL, DEPTH_CHANNEL_WGSL])
-            .wgsl_per_choice(depth_model_choices())
+            .wgsl_per_choice("model", &[DEPTH_CHANNEL_WGSL], depth_model_choices())
             .hard_case("surface", &[("depth", f(0.0))])
             .hard_case("abyss, short half-life", &[("depth", f(1e4)), ("half_life", v3([1e-3, 1e-3, 1e-3]))])
             .hard_case("Beer–Lambert at the paper's maximum depth", &[("depth", f(156.0)), ("model", i(1))])

@@ -484,29 +484,35 @@ pub struct WgslTable {
     pub rows: &'static [[f32; 4]],
 }
 
-/// A node's WGSL for one literal choice of one of its enum inputs
-/// ([`NodeType::wgsl_per_choice`]), used instead of the general template wherever that input
-/// is written as that choice (not linked): the module then holds only the chosen method's
-/// code, helpers and tables. naga keeps every branch of
-/// an `if (method == k)` on a function argument, so without it a constant choice would still
-/// compile (and count, and upload the tables of) every other method.
+/// The per-choice WGSL of one enum or bool input ([`NodeType::wgsl_per_choice`]): where the
+/// input is written in the file (not linked), the module holds only that choice's helpers
+/// and tables. naga keeps every branch of an `if (method == k)` on a function argument, so
+/// without it a constant choice would still compile (and count, and upload the tables of)
+/// every other one.
 ///
-/// The template has the general template's signature (it takes the enum input and ignores
-/// it), so the call is the same either way. A template may also name a per-choice helper as
-/// `mg_name${input}(…)`: in the choice's function that reads `mg_name_<choice>`, in the
-/// general one `mg_name`, so one template serves every choice when only a helper differs.
-/// A bool input's choices are `"false"` and `"true"`.
+/// The node's template names the per-choice helper as `mg_name${input}(…, input)`: at a
+/// written choice that reads `mg_name_<choice>`, defined by the choice's helpers; otherwise
+/// `mg_name`, defined by [`WgslChoices::dispatch`], which calls the choice's function at run
+/// time. A bool input's choices are `"false"` and `"true"`.
 #[derive(Debug)]
-pub struct WgslChoice {
+pub struct WgslChoices {
     /// The enum (or bool) input.
     pub input: &'static str,
+    /// The helpers that pick a choice at run time, emitted only where the input is not
+    /// written (with every choice's helpers).
+    pub dispatch: &'static [&'static str],
+    /// The choices that have WGSL of their own.
+    pub choices: Vec<WgslChoice>,
+}
+
+/// One choice of [`WgslChoices`]: what it adds to the node's own helpers and tables.
+#[derive(Debug)]
+pub struct WgslChoice {
     /// The choice, by name (`"false"` or `"true"` for a bool).
     pub choice: &'static str,
-    /// The function template (as for [`NodeType::wgsl`]).
-    pub template: &'static str,
-    /// The helpers it calls, replacing the node's [`NodeType::wgsl_uses`].
+    /// Its helpers, besides the node's [`NodeType::wgsl_uses`].
     pub helpers: &'static [&'static str],
-    /// The tables it reads, replacing the node's [`NodeType::wgsl_uses_tables`].
+    /// Its tables, besides the node's [`NodeType::wgsl_uses_tables`].
     pub tables: &'static [&'static WgslTable],
 }
 
@@ -526,7 +532,7 @@ pub struct NodeType {
     wgsl_variants: Vec<(SocketType, &'static str)>,
     wgsl_helpers: Vec<&'static str>,
     wgsl_tables: Vec<&'static WgslTable>,
-    wgsl_choices: Vec<WgslChoice>,
+    wgsl_choices: Option<WgslChoices>,
     texture_kernel: Option<TextureKernel>,
 }
 
@@ -547,7 +553,7 @@ impl NodeType {
             wgsl_variants: Vec::new(),
             wgsl_helpers: Vec::new(),
             wgsl_tables: Vec::new(),
-            wgsl_choices: Vec::new(),
+            wgsl_choices: None,
             texture_kernel: None,
         }
     }
@@ -643,26 +649,41 @@ impl NodeType {
         self.wgsl_tables.extend_from_slice(tables);
         self
     }
-    /// Adds the WGSL for literal choices of an enum or bool input (see [`WgslChoice`]).
+    /// Declares the per-choice WGSL of the enum or bool input `input` (see [`WgslChoices`]).
     ///
     /// # Panics
-    /// If an input is not an enum or bool input of this node or has no such choice (a
-    /// declaration error, caught by the registry's tests).
-    pub fn wgsl_per_choice(mut self, choices: impl IntoIterator<Item = WgslChoice>) -> NodeType {
-        for choice in choices {
-            let known = self.inputs.iter().any(|i| {
-                i.name == choice.input
-                    && (i.choices.contains(&choice.choice)
-                        || (i.ty == PortType::Fixed(SocketType::Bool)
-                            && matches!(choice.choice, "false" | "true")))
+    /// If the node already has per-choice WGSL, or `input` is not an enum or bool input of it
+    /// with those choices (a declaration error, caught by the registry's tests).
+    pub fn wgsl_per_choice(
+        mut self,
+        input: &'static str,
+        dispatch: &'static [&'static str],
+        choices: impl IntoIterator<Item = WgslChoice>,
+    ) -> NodeType {
+        assert!(
+            self.wgsl_choices.is_none(),
+            "{}: one wgsl_per_choice",
+            self.name
+        );
+        let decl = self.inputs.iter().find(|i| i.name == input);
+        let choices: Vec<WgslChoice> = choices.into_iter().collect();
+        for c in &choices {
+            let known = decl.is_some_and(|i| {
+                i.choices.contains(&c.choice)
+                    || (i.ty == PortType::Fixed(SocketType::Bool)
+                        && matches!(c.choice, "false" | "true"))
             });
             assert!(
                 known,
-                "{}: wgsl_per_choice {}={} is not a declared choice",
-                self.name, choice.input, choice.choice
+                "{}: wgsl_per_choice {input}={} is not a declared choice",
+                self.name, c.choice
             );
-            self.wgsl_choices.push(choice);
         }
+        self.wgsl_choices = Some(WgslChoices {
+            input,
+            dispatch,
+            choices,
+        });
         self
     }
 
@@ -719,17 +740,70 @@ impl NodeType {
             .map(|(_, s)| *s)
             .or(self.wgsl)
     }
-    /// WGSL helper functions the template calls.
+    /// The WGSL helper functions every form of the template calls (see [`NodeType::wgsl_helpers_for`]).
     pub fn wgsl_helpers(&self) -> &[&'static str] {
         &self.wgsl_helpers
     }
-    /// Constant tables the WGSL reads from `MgParams`.
+    /// The constant tables every form of the WGSL reads from `MgParams` (see [`NodeType::wgsl_tables_for`]).
     pub fn wgsl_tables(&self) -> &[&'static WgslTable] {
         &self.wgsl_tables
     }
-    /// The per-choice WGSL (see [`WgslChoice`]).
-    pub fn wgsl_choices(&self) -> &[WgslChoice] {
-        &self.wgsl_choices
+    /// The per-choice WGSL (see [`WgslChoices`]).
+    pub fn wgsl_choices(&self) -> Option<&WgslChoices> {
+        self.wgsl_choices.as_ref()
+    }
+    /// The per-choice WGSL of the choice input's literal `value` (an enum's index, a bool).
+    pub fn wgsl_choice_at(&self, value: Value) -> Option<&WgslChoice> {
+        let cs = self.wgsl_choices.as_ref()?;
+        let decl = &self.inputs[self.input_index(cs.input)?];
+        let name = if decl.choices.is_empty() {
+            if value.as_bool() { "true" } else { "false" }
+        } else {
+            decl.choices.get(usize::try_from(value.as_i32()).ok()?)?
+        };
+        cs.choices.iter().find(|c| c.choice == name)
+    }
+    /// Every helper the node's function calls, in order without repeats: its own
+    /// ([`NodeType::wgsl_uses`]), then `choice`'s, or (`None`: the choice made at run time)
+    /// every choice's and the dispatch.
+    pub fn wgsl_helpers_for(&self, choice: Option<&WgslChoice>) -> Vec<&'static str> {
+        let mut out: Vec<&'static str> = self.wgsl_helpers.clone();
+        let extra: Vec<&'static str> = match (choice, &self.wgsl_choices) {
+            (Some(c), _) => c.helpers.to_vec(),
+            (None, Some(cs)) => cs
+                .choices
+                .iter()
+                .flat_map(|c| c.helpers.iter().copied())
+                .chain(cs.dispatch.iter().copied())
+                .collect(),
+            (None, None) => Vec::new(),
+        };
+        for h in extra {
+            if !out.contains(&h) {
+                out.push(h);
+            }
+        }
+        out
+    }
+    /// Every table the node's function reads, without repeats: its own, then `choice`'s, or
+    /// (`None`) every choice's.
+    pub fn wgsl_tables_for(&self, choice: Option<&WgslChoice>) -> Vec<&'static WgslTable> {
+        let mut out: Vec<&'static WgslTable> = self.wgsl_tables.clone();
+        let extra: Vec<&'static WgslTable> = match (choice, &self.wgsl_choices) {
+            (Some(c), _) => c.tables.to_vec(),
+            (None, Some(cs)) => cs
+                .choices
+                .iter()
+                .flat_map(|c| c.tables.iter().copied())
+                .collect(),
+            (None, None) => Vec::new(),
+        };
+        for t in extra {
+            if !out.iter().any(|x| std::ptr::eq(*x, t)) {
+                out.push(t);
+            }
+        }
+        out
     }
     /// Index of the input called `name`.
     pub fn input_index(&self, name: &str) -> Option<usize> {

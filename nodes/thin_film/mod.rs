@@ -655,7 +655,7 @@ fn mg_tf_series(r12: vec2<f32>, r23: vec2<f32>) -> MgTfSeries {
 "#;
 
 /// WGSL of [`table`] and [`srgb_cos`] (the `MgParams` table `mg_tf_cos`): the same steps and
-/// constants.
+/// constants; `mg_tf_method_table` is the node's method at `table`.
 const TABLE_WGSL: &str = r#"
 fn mg_tf_cos_at(x: f32) -> vec3<f32> {
     let u = x / 5.0;
@@ -693,9 +693,14 @@ fn mg_tf_table(f: MgTfFilm) -> vec3<f32> {
     }
     return rgb;
 }
+fn mg_tf_method_table(f: MgTfFilm, method: i32) -> MgTfRt {
+    let r = mg_tf_table(f);
+    return MgTfRt(r, vec3<f32>(1.0) - r);
+}
 "#;
 
-/// WGSL of [`belcour_barla`] and its sensitivity: the same steps and constants.
+/// WGSL of [`belcour_barla`] and its sensitivity: the same steps and constants;
+/// `mg_tf_method_belcour_barla` is the node's method at `belcour_barla`.
 const BELCOUR_BARLA_WGSL: &str = r#"
 struct MgTfBbS {
     s0: vec3<f32>,
@@ -748,11 +753,15 @@ fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
         dot(vec3<f32>(0.061217755, -0.22420866, 1.1617086), xyz),
     );
 }
+fn mg_tf_method_belcour_barla(f: MgTfFilm, method: i32) -> MgTfRt {
+    let r = mg_tf_belcour_barla(f);
+    return MgTfRt(r, vec3<f32>(1.0) - r);
+}
 "#;
 
-/// WGSL of [`spectral`]: `(R, T)` as `MgTfRt`.
+/// WGSL of [`spectral`], the node's method at `spectral`: `(R, T)` as `MgTfRt`.
 const SPECTRAL_WGSL: &str = r#"
-fn mg_tf_spectral(f: MgTfFilm) -> MgTfRt {
+fn mg_tf_method_spectral(f: MgTfFilm, method: i32) -> MgTfRt {
     var r = vec3<f32>(0.0);
     var t = vec3<f32>(0.0);
     for (var k = 0u; k < 471u; k++) {
@@ -765,9 +774,9 @@ fn mg_tf_spectral(f: MgTfFilm) -> MgTfRt {
 }
 "#;
 
-/// WGSL of [`rgb3`]: `(R, T)` as `MgTfRt`.
+/// WGSL of [`rgb3`], the node's method at `rgb3`: `(R, T)` as `MgTfRt`.
 const RGB3_FN_WGSL: &str = r#"
-fn mg_tf_rgb3(f: MgTfFilm) -> MgTfRt {
+fn mg_tf_method_rgb3(f: MgTfFilm, method: i32) -> MgTfRt {
     let a = mg_tf_at(f, MG_TF_RGB3_INV.x);
     let b = mg_tf_at(f, MG_TF_RGB3_INV.y);
     let c = mg_tf_at(f, MG_TF_RGB3_INV.z);
@@ -775,79 +784,34 @@ fn mg_tf_rgb3(f: MgTfFilm) -> MgTfRt {
 }
 "#;
 
-/// A template of [`thin_film`] (the node): the film, exactly grazing light, then `$body`.
-macro_rules! thin_film_template {
-    ($body:literal) => {
-        concat!(
-            "fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32, method: i32) -> $out {\n",
-            "    let f = mg_tf_film(cos_theta, thickness_nm, film_ior, outside_ior, substrate_ior);\n",
-            "    if (f.grazing) {\n",
-            "        return $out(vec3<f32>(1.0), vec3<f32>(0.0));\n",
-            "    }\n",
-            $body,
-            "}\n"
-        )
-    };
+/// WGSL of [`thin_film`] (the node): the film, exactly grazing light, then the method
+/// (`mg_tf_method_<choice>` where `method` is written, else [`METHOD_WGSL`]'s pick).
+const THIN_FILM_WGSL: &str = r#"
+fn $fn(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32, method: i32) -> $out {
+    let f = mg_tf_film(cos_theta, thickness_nm, film_ior, outside_ior, substrate_ior);
+    if (f.grazing) {
+        return $out(vec3<f32>(1.0), vec3<f32>(0.0));
+    }
+    let rt = mg_tf_method${method}(f, method);
+    return $out(rt.r, rt.t);
 }
+"#;
 
-/// WGSL of [`thin_film`] for a linked `method`: every method, chosen at run time.
-const THIN_FILM_WGSL: &str = thin_film_template!(
-    "    if (method == 1) {
-        let r = mg_tf_belcour_barla(f);
-        return $out(r, vec3<f32>(1.0) - r);
+/// WGSL of the `method` chosen at run time (any other value is spectral, as on the CPU).
+const METHOD_WGSL: &str = r#"
+fn mg_tf_method(f: MgTfFilm, method: i32) -> MgTfRt {
+    if (method == 1) {
+        return mg_tf_method_belcour_barla(f, method);
     }
     if (method == 2) {
-        let rt = mg_tf_rgb3(f);
-        return $out(rt.r, rt.t);
+        return mg_tf_method_rgb3(f, method);
     }
     if (method == 3) {
-        let r = mg_tf_table(f);
-        return $out(r, vec3<f32>(1.0) - r);
+        return mg_tf_method_table(f, method);
     }
-    let rt = mg_tf_spectral(f);
-    return $out(rt.r, rt.t);
-"
-);
-
-/// WGSL of [`thin_film`] at `method` spectral.
-const SPECTRAL_CHOICE_WGSL: &str = thin_film_template!(
-    "    let rt = mg_tf_spectral(f);
-    return $out(rt.r, rt.t);
-"
-);
-
-/// WGSL of [`thin_film`] at `method` rgb3.
-const RGB3_CHOICE_WGSL: &str = thin_film_template!(
-    "    let rt = mg_tf_rgb3(f);
-    return $out(rt.r, rt.t);
-"
-);
-
-/// WGSL of [`thin_film`] at `method` belcour_barla.
-const BELCOUR_BARLA_CHOICE_WGSL: &str = thin_film_template!(
-    "    let r = mg_tf_belcour_barla(f);
-    return $out(r, vec3<f32>(1.0) - r);
-"
-);
-
-/// WGSL of [`thin_film`] at `method` table.
-const TABLE_CHOICE_WGSL: &str = thin_film_template!(
-    "    let r = mg_tf_table(f);
-    return $out(r, vec3<f32>(1.0) - r);
-"
-);
-
-/// The helpers of every method.
-const ALL_HELPERS: &[&str] = &[
-    COS2_T_WGSL,
-    cie_tables::RGB3_WGSL,
-    FILM_WGSL,
-    SPECTRAL_WGSL,
-    RGB3_FN_WGSL,
-    SERIES_WGSL,
-    BELCOUR_BARLA_WGSL,
-    TABLE_WGSL,
-];
+    return mg_tf_method_spectral(f, method);
+}
+"#;
 
 /// [`SRGB_WEIGHTS`] as the `MgParams` table `mg_tf_w` that the spectral method's WGSL loop
 /// reads (a uniform array: as a WGSL `const` it took lavapipe minutes to compile).
@@ -862,40 +826,31 @@ pub static SRGB_COS_TABLE: WgslTable = WgslTable {
     rows: &SRGB_COS,
 };
 
-/// The tables of every method, of the spectral method, and of the table method.
-static ALL_TABLES: [&WgslTable; 2] = [&SRGB_WEIGHTS_TABLE, &SRGB_COS_TABLE];
+/// The tables of the spectral and of the table method.
 static SPECTRAL_TABLES: [&WgslTable; 1] = [&SRGB_WEIGHTS_TABLE];
 static TABLE_TABLES: [&WgslTable; 1] = [&SRGB_COS_TABLE];
 
-/// The per-method WGSL of a literal `method`: only that method's code, helpers and tables.
+/// Each method's helpers and tables, besides the film's.
 fn method_choices() -> [WgslChoice; 4] {
     [
         WgslChoice {
-            input: "method",
             choice: "spectral",
-            template: SPECTRAL_CHOICE_WGSL,
-            helpers: &[COS2_T_WGSL, FILM_WGSL, SPECTRAL_WGSL],
+            helpers: &[SPECTRAL_WGSL],
             tables: &SPECTRAL_TABLES,
         },
         WgslChoice {
-            input: "method",
             choice: "belcour_barla",
-            template: BELCOUR_BARLA_CHOICE_WGSL,
-            helpers: &[COS2_T_WGSL, FILM_WGSL, SERIES_WGSL, BELCOUR_BARLA_WGSL],
+            helpers: &[SERIES_WGSL, BELCOUR_BARLA_WGSL],
             tables: &[],
         },
         WgslChoice {
-            input: "method",
             choice: "rgb3",
-            template: RGB3_CHOICE_WGSL,
-            helpers: &[COS2_T_WGSL, cie_tables::RGB3_WGSL, FILM_WGSL, RGB3_FN_WGSL],
+            helpers: &[cie_tables::RGB3_WGSL, RGB3_FN_WGSL],
             tables: &[],
         },
         WgslChoice {
-            input: "method",
             choice: "table",
-            template: TABLE_CHOICE_WGSL,
-            helpers: &[COS2_T_WGSL, FILM_WGSL, SERIES_WGSL, TABLE_WGSL],
+            helpers: &[SERIES_WGSL, TABLE_WGSL],
             tables: &TABLE_TABLES,
         },
     ]
@@ -904,7 +859,7 @@ fn method_choices() -> [WgslChoice; 4] {
 /// The thin-film node type.
 pub fn all() -> Vec<NodeType> {
     let f = Value::float;
-    let node =
+    vec![
         NodeType::new("thin_film", Category::Optics, "Thin-film interference colour (soap bubbles, oil slicks, coatings).")
             .source(
                 "Airy summation of a dielectric film per polarisation with complex Fresnel amplitudes: \
@@ -934,8 +889,8 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("reflectance").doc("Reflected colour for white (D65) light, linear sRGB."))
             .output(Out::color("transmittance").doc("Transmitted colour for white (D65) light, linear sRGB."))
             .wgsl(THIN_FILM_WGSL)
-            .wgsl_uses(ALL_HELPERS)
-            .wgsl_uses_tables(&ALL_TABLES)
+            .wgsl_uses(&[COS2_T_WGSL, FILM_WGSL])
+            .wgsl_per_choice("method", &[METHOD_WGSL], method_choices())
             .hard_case("black film (d = 0)", &[("thickness_nm", f(0.0))])
             .hard_case("thickest film", &[("thickness_nm", f(THICKNESS_MAX_NM))])
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
@@ -947,6 +902,6 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("from the substrate side", &[("cos_theta", f(-0.7)), ("substrate_ior", f(1.5))])
             .hard_case("index-matched film", &[("film_ior", f(1.0))])
             .hard_case("film matched to the substrate", &[("film_ior", f(1.5)), ("substrate_ior", f(1.5))])
-            .compute(thin_film);
-    vec![node.wgsl_per_choice(method_choices())]
+            .compute(thin_film),
+    ]
 }

@@ -234,38 +234,15 @@ pub(super) fn function_name(t: &NodeType, generic: SocketType) -> String {
     }
 }
 
-/// The per-choice WGSL that replaces `n`'s general template: the first of its type's
-/// [`WgslChoice`]s whose enum input is written as that choice (not linked).
+/// The per-choice WGSL of `n`: its type's [`WgslChoice`] for the value its choice input is
+/// written with (none where that input is linked).
 pub(super) fn literal_choice(n: &Node) -> Option<&WgslChoice> {
     let t = &n.node_type;
-    t.wgsl_choices().iter().find(|c| {
-        let Some(k) = t.input_index(c.input) else {
-            return false;
-        };
-        let decl = &t.inputs()[k];
-        match &n.inputs[k] {
-            InputSource::Default(v) | InputSource::Value { value: v, .. } => {
-                if decl.choices.is_empty() {
-                    // A bool input: choices "false" and "true".
-                    c.choice == if v.as_bool() { "true" } else { "false" }
-                } else {
-                    let index = decl.choices.iter().position(|x| *x == c.choice);
-                    usize::try_from(v.as_i32()).ok() == index
-                }
-            }
-            InputSource::Link(..) => false,
-        }
-    })
-}
-
-/// The helpers `n`'s emitted function calls: its choice's, or its type's.
-fn helpers_of(n: &Node) -> &[&'static str] {
-    literal_choice(n).map_or(n.node_type.wgsl_helpers(), |c| c.helpers)
-}
-
-/// The tables `n`'s emitted function reads: its choice's, or its type's.
-fn tables_of(n: &Node) -> &[&'static WgslTable] {
-    literal_choice(n).map_or(n.node_type.wgsl_tables(), |c| c.tables)
+    let k = t.input_index(t.wgsl_choices()?.input)?;
+    match &n.inputs[k] {
+        InputSource::Default(v) | InputSource::Value { value: v, .. } => t.wgsl_choice_at(*v),
+        InputSource::Link(..) => None,
+    }
 }
 
 /// The emitted name of `t`'s function: [`function_name`], suffixed `_is_<choice>` for a
@@ -278,17 +255,14 @@ fn emitted_name(t: &NodeType, generic: SocketType, choice: Option<&WgslChoice>) 
     }
 }
 
-/// Builds the WGSL function of `t` for generic type `generic` from its template, or from
-/// `choice`'s when given.
+/// Builds the WGSL function of `t` for generic type `generic` from its template, at the
+/// written `choice` of its choice input when given.
 pub(super) fn node_function(
     t: &NodeType,
     generic: SocketType,
     choice: Option<&WgslChoice>,
 ) -> Option<NodeFunction> {
-    let template = match choice {
-        Some(c) => c.template,
-        None => t.wgsl_for(generic)?,
-    };
+    let template = t.wgsl_for(generic)?;
     let name = emitted_name(t, generic, choice);
     let mut definition = String::new();
     let out_struct = (t.outputs().len() > 1).then(|| format!("{name}_out"));
@@ -304,13 +278,12 @@ pub(super) fn node_function(
         }
         let _ = writeln!(definition, "}}\n");
     }
-    // `${input}` names a per-choice helper: `_<choice>` in a choice's function, nothing in the
-    // general one (see `WgslChoice`).
+    // `${input}` names a per-choice helper: `_<choice>` at a written choice, nothing where
+    // the dispatch picks it (see `WgslChoices`).
     let mut template = template.trim().to_owned();
-    for c in t.wgsl_choices() {
-        let chosen = choice.filter(|x| x.input == c.input);
-        let suffix = chosen.map_or(String::new(), |x| format!("_{}", x.choice));
-        template = template.replace(&format!("${{{}}}", c.input), &suffix);
+    if let Some(cs) = t.wgsl_choices() {
+        let suffix = choice.map_or(String::new(), |c| format!("_{}", c.choice));
+        template = template.replace(&format!("${{{}}}", cs.input), &suffix);
     }
     let body = template
         .replace("$fn", &name)
@@ -427,7 +400,7 @@ impl<'a> Emitter<'a> {
         for &i in &order {
             let n = &nodes[i];
             if emits_call(n.node_type.evaluation()) && !self.folded(i) {
-                for &t in tables_of(n) {
+                for t in n.node_type.wgsl_tables_for(literal_choice(n)) {
                     if !tables.iter().any(|x| std::ptr::eq(*x, t)) {
                         tables.push(t);
                         taken.insert(t.field.to_owned());
@@ -538,8 +511,8 @@ impl<'a> Emitter<'a> {
                     node_type: n.node_type.name().to_owned(),
                 }
             })?;
-            for h in helpers_of(n) {
-                if !helpers.contains(h) {
+            for h in n.node_type.wgsl_helpers_for(literal_choice(n)) {
+                if !helpers.contains(&h) {
                     helpers.push(h);
                 }
             }

@@ -32,8 +32,8 @@ pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, 
     harness(t, generic, None)
 }
 
-/// Builds the harness of `t` with the WGSL of one of its literal choices (see
-/// [`WgslChoice`]): the function ignores that input, so feed it the choice.
+/// Builds the harness of `t` at one written choice of its choice input (see
+/// [`crate::node::WgslChoices`]): the function ignores that input, so feed it the choice.
 pub fn node_choice_harness(
     t: &NodeType,
     generic: SocketType,
@@ -53,7 +53,7 @@ fn harness(
         node_type: t.name().to_owned(),
     })?;
     let mut s = String::new();
-    for h in choice.map_or(t.wgsl_helpers(), |c| c.helpers) {
+    for h in t.wgsl_helpers_for(choice) {
         s.push_str(h.trim());
         s.push_str("\n\n");
     }
@@ -62,10 +62,10 @@ fn harness(
     s.push_str("@group(0) @binding(1) var<storage, read_write> mg_out: array<f32>;\n");
     s.push_str("struct MgDispatch {\n    count: u32,\n    row: u32,\n}\n");
     s.push_str("@group(0) @binding(2) var<uniform> mg_dispatch: MgDispatch;\n\n");
-    let tables: Vec<UniformSpec> = choice
-        .map_or(t.wgsl_tables(), |c| c.tables)
-        .iter()
-        .map(|&t| UniformSpec::table(t))
+    let tables: Vec<UniformSpec> = t
+        .wgsl_tables_for(choice)
+        .into_iter()
+        .map(UniformSpec::table)
         .collect();
     if !tables.is_empty() {
         s.push_str(&params_block(&tables, 3));
