@@ -3,7 +3,8 @@
 //! GPU rasteriser (`--gpu`, per stage: compile, upload, draw, readback). Prints a Markdown
 //! table (best of `--runs`, default 3, and the GPU's first frame) for docs/benchmarks.md.
 //!
-//! `cargo run --release --example gpu_render_stages [-- --size 1024 --runs 3]`
+//! `cargo run --release --example gpu_render_stages [-- --size 1024 --runs 3 --graphs a,b]`
+//! (`--graphs`: only the bundled graphs of those names).
 
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, RenderTimings, render_timed};
@@ -21,6 +22,11 @@ fn main() {
             .unwrap_or(default)
     };
     let (size, runs) = (arg("--size", 1024), arg("--runs", 3).max(1));
+    let only: Option<Vec<String>> = args
+        .iter()
+        .position(|a| a == "--graphs")
+        .and_then(|i| args.get(i + 1))
+        .map(|v| v.split(',').map(str::to_owned).collect());
     let ctx = matgraph::gpu::GpuContext::shared().expect("a GPU adapter");
     println!(
         "{size}² at 1 spp on {}; best of {runs}; times in ms\n",
@@ -39,6 +45,12 @@ fn main() {
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .filter(|p| {
+            only.as_ref().is_none_or(|names| {
+                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+                names.iter().any(|n| *n == stem)
+            })
+        })
         .collect();
     files.sort();
     let ms = |d: Duration| d.as_secs_f64() * 1e3;

@@ -99,7 +99,7 @@ pub use kind::{
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
 pub use mesh::Mesh;
-pub(crate) use packed::{PackedScene, ScenePass, Viewport};
+pub(crate) use packed::{PackedScene, SceneFeatures, ScenePass, Viewport};
 pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
 pub use textures::SceneTextures;

@@ -66,6 +66,48 @@ pub(crate) struct PackedScene {
     pub backdrop_maps: bool,
     /// Whether the environment image is given (the scene texture after the maps).
     pub env_image: bool,
+    /// What the scene's shaders branch on ([`SceneFeatures::wgsl`]).
+    pub features: SceneFeatures,
+}
+
+/// What of `scene.wgsl` and `objects.wgsl` a scene uses: the code for the rest is left out
+/// of its shaders by the constants of [`SceneFeatures::wgsl`]. Lavapipe (llvmpipe) runs a
+/// shader on eight fragments at once and executes both sides of every branch under a
+/// mask, so a branch no fragment takes still costs its full price: the bubble backdrop's six
+/// texture reads cost the ball scene's built-in surfaces 60–70 ms of a 1024² frame
+/// (docs/benchmarks.md, "Scene features"). A real GPU skips such a branch, and either way the
+/// result is the same.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub(crate) struct SceneFeatures {
+    /// A built-in surface is the bubble backdrop (object kind 2).
+    pub backdrop: bool,
+    /// The environment is an image (frame `env.x` 2).
+    pub env_image: bool,
+    /// The water scene: its seabed depth and the clip planes of its scene passes.
+    pub water: bool,
+    /// A caster is a sphere (kind 0).
+    pub spheres: bool,
+    /// A caster is a box (kind 1).
+    pub boxes: bool,
+    /// A caster is a cylinder (kind 2).
+    pub cylinders: bool,
+}
+
+impl SceneFeatures {
+    /// The WGSL constants the scene shaders test (`MGR_HAS_*`), one per feature.
+    pub(crate) fn wgsl(&self) -> String {
+        [
+            ("MGR_HAS_BACKDROP", self.backdrop),
+            ("MGR_HAS_ENV_IMAGE", self.env_image),
+            ("MGR_HAS_WATER", self.water),
+            ("MGR_HAS_SPHERES", self.spheres),
+            ("MGR_HAS_BOXES", self.boxes),
+            ("MGR_HAS_CYLINDERS", self.cylinders),
+        ]
+        .iter()
+        .map(|(name, on)| format!("const {name}: bool = {on};\n"))
+        .collect()
+    }
 }
 
 /// The part of a frame one pass draws: a tile of `size` pixels from pixel `origin`, and in
@@ -161,6 +203,7 @@ impl Scene {
             backdrop: vec![0.0; 24],
             backdrop_maps: matches!(self.kind, SceneKind::Bubble(_)),
             env_image: matches!(env, Environment::Image(_)) && image.is_some(),
+            features: SceneFeatures::default(),
         };
         for (k, obj) in geometry.objects.iter().enumerate() {
             let base = packed.positions.len() as u32;
@@ -224,6 +267,15 @@ impl Scene {
             }
             packed.refracted = Some(drawn);
         }
+        let has = |kind: u32| packed.casters.chunks_exact(12).any(|c| c[0] == kind);
+        packed.features = SceneFeatures {
+            backdrop: packed.objects.chunks_exact(20).any(|o| o[0] == 2),
+            env_image: packed.env_image,
+            water: matches!(self.kind, SceneKind::Water(_)),
+            spheres: has(0),
+            boxes: has(1),
+            cylinders: has(2),
+        };
         packed
     }
 

@@ -14,8 +14,9 @@ use glam::{Mat4, Vec4};
 
 /// The scene's definitions of the contract's hooks, with `scene.wgsl` (group 1) that they
 /// read: a light is visible where none of the scene's own casters stands between
-/// (columns.rs light_at), and the `depth` attribute is the water depth.
-pub(super) fn hooks() -> String {
+/// (columns.rs light_at), and the `depth` attribute is the water depth; for a scene with
+/// `features`.
+pub(super) fn hooks(features: &crate::scene::SceneFeatures) -> String {
     format!(
         "{}\n\
          fn mg_light_visibility(index: u32, position: vec3<f32>, to_light: vec3<f32>, distance: f32) -> f32 {{\n\
@@ -28,7 +29,7 @@ pub(super) fn hooks() -> String {
          fn mg_surface_depth(position: vec3<f32>) -> f32 {{\n\
          \x20   return mgr_water_depth(position);\n\
          }}\n",
-        super::scene_source()
+        super::scene_source(features)
     )
 }
 

@@ -37,7 +37,7 @@ use crate::graph::Graph;
 use crate::material::{Material, MaterialError, MaterialOptions, VERTEX_STRIDE};
 use crate::memo::{Memo, Same};
 use crate::plan::{EvalError, ParamValues};
-use crate::scene::{Mesh, PackedScene, Scene, ScenePass, Viewport};
+use crate::scene::{Mesh, PackedScene, Scene, SceneFeatures, ScenePass, Viewport};
 use crate::texture::{Texture, TexturePack, TextureSet};
 use crate::wgsl::TextureMode;
 use std::cell::Cell;
@@ -508,17 +508,19 @@ struct ScenePipelines {
     sky: wgpu::RenderPipeline,
 }
 
-/// `scene.wgsl` with what it needs before it: the sampler of the scene textures
-/// (`texture.rs` SAMPLE_WGSL, its names prefixed `mgs_` so as not to meet the material's
-/// own `mg_` sampler) on group 1, bindings 3–5.
-pub(super) fn scene_source() -> String {
+/// `scene.wgsl` for a scene with `features`, with what it needs before it: the constants
+/// that leave out what the scene lacks ([`SceneFeatures::wgsl`]) and the sampler of the
+/// scene textures (`texture.rs` SAMPLE_WGSL, its names prefixed `mgs_` so as not to meet
+/// the material's own `mg_` sampler) on group 1, bindings 3–5.
+pub(super) fn scene_source(features: &SceneFeatures) -> String {
     let sampler = format!(
         "{}\n{}",
         crate::texture::sample_bindings_wgsl(1, 3),
         crate::texture::SAMPLE_WGSL
     );
     format!(
-        "{}\n{}",
+        "{}\n{}\n{}",
+        features.wgsl(),
         sampler.replace("mg_", "mgs_"),
         include_str!("scene.wgsl")
     )
@@ -542,7 +544,7 @@ fn scene_layout(s: &DeviceState) -> wgpu::BindGroupLayout {
 }
 
 impl ScenePipelines {
-    fn new(s: &DeviceState, spp: u32) -> ScenePipelines {
+    fn new(s: &DeviceState, spp: u32, features: &SceneFeatures) -> ScenePipelines {
         let scene_layout = scene_layout(s);
         let f = wgpu::ShaderStages::FRAGMENT;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
@@ -559,7 +561,7 @@ impl ScenePipelines {
         );
         let source = format!(
             "enable primitive_index;\n{}\n{}\n{}",
-            scene_source(),
+            scene_source(features),
             include_str!("backdrop.wgsl"),
             include_str!("objects.wgsl")
         );
@@ -627,7 +629,10 @@ impl SceneGpu {
             bytemuck::cast_slice(&packed.backdrop),
             96,
         );
-        let pipes = cached(s, &format!("scene/{spp}"), || ScenePipelines::new(s, spp));
+        let features = packed.features;
+        let pipes = cached(s, &format!("scene/{spp}/{features:?}"), || {
+            ScenePipelines::new(s, spp, &features)
+        });
         let lights = storage(s, "mgr lights", bytemuck::cast_slice(&packed.lights), 48);
         let casters = storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48);
         let positions = storage(
@@ -738,8 +743,6 @@ impl SceneGpu {
         };
         rp.set_bind_group(0, group, &[]);
         rp.set_bind_group(1, frame, &[]);
-        rp.set_pipeline(&self.pipes.sky);
-        rp.draw(0..3, 0..1);
         rp.set_pipeline(&self.pipes.objects);
         rp.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
         for (k, r) in self.packed.ranges.iter().enumerate() {
@@ -752,6 +755,11 @@ impl SceneGpu {
                 rp.draw_indexed(r.indices.clone(), 0, k as u32..k as u32 + 1);
             }
         }
+        // The sky last, at depth 0 under `GreaterEqual`: only where nothing was drawn (the
+        // depth still cleared), so that it is not shaded under the surfaces and the
+        // material (the same picture as drawing it first, each fragment shaded once).
+        rp.set_pipeline(&self.pipes.sky);
+        rp.draw(0..3, 0..1);
     }
 }
 
@@ -1012,7 +1020,7 @@ pub(crate) fn render_environment(
         let gpu = SceneGpu::new(s, scene, 1, environment)?;
         let packed = &gpu.packed;
         let c = wgpu::ShaderStages::COMPUTE;
-        let pipes = cached(s, "environment", || {
+        let pipes = cached(s, &format!("environment/{:?}", packed.features), || {
             let l = layout(
                 s,
                 "mgr environment",
@@ -1027,7 +1035,7 @@ pub(crate) fn render_environment(
             );
             let source = format!(
                 "enable primitive_index;\n{}\n{}\n{}\n{}",
-                scene_source(),
+                scene_source(&packed.features),
                 include_str!("backdrop.wgsl"),
                 include_str!("objects.wgsl"),
                 include_str!("envmap.wgsl")
@@ -1307,16 +1315,21 @@ pub(crate) fn render_frame(
         // CPU's sample and the CPU's uv derivatives. `screen_uv` is the frame's, through the
         // tile's offset (`mgr_screen_uv`).
         let rebuilt = spp > 1;
+        let gpu = SceneGpu::new(s, scene, ts, environment)?;
+        let features = gpu.packed.features;
         let made = cached(
             s,
-            &format!("material/{rebuilt}/{options:?}/{}", m.graph.to_json()),
+            &format!(
+                "material/{rebuilt}/{options:?}/{features:?}/{}",
+                m.graph.to_json()
+            ),
             || -> Result<(Material, String), MaterialError> {
                 let material = Material::new(m.graph, &options)?;
                 // The clip position `@invariant`: the depth pre-pass and the surface over
                 // it are two pipelines that must compute the same depth (the surface's
                 // test is `GreaterEqual` against the pre-pass).
                 let hooked = material
-                    .wgsl_with_hooks(&material::hooks())?
+                    .wgsl_with_hooks(&material::hooks(&features))?
                     .replace("v.clip.xy / mg_frame.viewport", "mgr_screen_uv(v.clip.xy)")
                     .replacen(
                         "@builtin(position) clip: vec4<f32>,",
@@ -1341,7 +1354,6 @@ pub(crate) fn render_frame(
             Ok((material, source)) => (material, source),
             Err(e) => return Err(material_err(e.clone())),
         };
-        let gpu = SceneGpu::new(s, scene, ts, environment)?;
         let pipes = cached(s, &format!("material pipeline/{ts}/{source}"), || {
             let mat_layout = s
                 .device
@@ -1374,12 +1386,17 @@ pub(crate) fn render_frame(
             (mat_layout, mesh_layout, surface, depth_only, over_prepass)
         });
         let (mat_layout, mesh_layout) = (&pipes.0, &pipes.1);
-        // An opaque material (no alpha) hides what lies behind it: its depth is drawn
-        // first, so that the scene pass shades only the samples the material leaves
-        // visible (the composite there is the material's radiance alone, as on the CPU,
-        // where alpha 1 weighs the background by 0).
-        let prepass = material.roles().alpha.is_none() && !m.mesh.indices.is_empty();
-        let surface = if prepass { &pipes.4 } else { &pipes.2 };
+        // The material's depth is drawn before its colour, so that the material pass shades
+        // one fragment per sample, the nearest, as the CPU's G-buffer does (the mesh is not
+        // culled: without it a sphere's back faces drawn before its front are shaded too,
+        // measured 1.2× the bubble's draw). An opaque material (no alpha) hides what lies
+        // behind it, so its depth is drawn first of all and the scene pass shades only the
+        // samples the material leaves visible (the composite there is the material's
+        // radiance alone, as on the CPU, where alpha 1 weighs the background by 0); a
+        // material with alpha draws its depth after the scene, which shows through it.
+        let has_mesh = !m.mesh.indices.is_empty();
+        let opaque = material.roles().alpha.is_none();
+        let surface = if has_mesh { &pipes.4 } else { &pipes.2 };
         t.compile = start.elapsed();
 
         // Buffers: group 0 of the contract (its frame per pass), the scene's group 1, the
@@ -1467,7 +1484,8 @@ pub(crate) fn render_frame(
                         &lights_buf,
                         &textures,
                     );
-                    if prepass {
+                    // The material's depth, over the scene's (`clear`: none yet).
+                    let material_depth = |enc: &mut wgpu::CommandEncoder, clear: bool| {
                         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                             label: Some("mgr material depth"),
                             color_attachments: &[],
@@ -1475,7 +1493,10 @@ pub(crate) fn render_frame(
                                 wgpu::RenderPassDepthStencilAttachment {
                                     view: &depth,
                                     depth_ops: Some(wgpu::Operations {
-                                        load: wgpu::LoadOp::Clear(0.0),
+                                        load: match clear {
+                                            true => wgpu::LoadOp::Clear(0.0),
+                                            false => wgpu::LoadOp::Load,
+                                        },
                                         store: wgpu::StoreOp::Store,
                                     }),
                                     stencil_ops: None,
@@ -1494,6 +1515,9 @@ pub(crate) fn render_frame(
                         rp.set_vertex_buffer(0, vertices.slice(..));
                         rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
                         rp.draw_indexed(0..tri_count, 0, 0..1);
+                    };
+                    if has_mesh && opaque {
+                        material_depth(&mut enc, true);
                     }
                     gpu.record(
                         &mut enc,
@@ -1501,8 +1525,11 @@ pub(crate) fn render_frame(
                         ScenePass::Background,
                         &color,
                         &depth,
-                        prepass,
+                        has_mesh && opaque,
                     );
+                    if has_mesh && !opaque {
+                        material_depth(&mut enc, false);
+                    }
                     {
                         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                             label: Some("mgr material"),

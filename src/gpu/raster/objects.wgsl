@@ -60,7 +60,7 @@ fn mgr_albedo(o: MgrObject, p: vec3<f32>) -> vec3<f32> {
 
 // Shading::surface: two-sided Lambert under the lights with hard shadows, plus ambient.
 fn mgr_surface(o: MgrObject, p: vec3<f32>, n0: vec3<f32>, eye: vec3<f32>) -> vec3<f32> {
-    if (o.kind.x == 2u) {
+    if (MGR_HAS_BACKDROP && o.kind.x == 2u) {
         return mgr_backdrop_radiance(p);
     }
     let albedo = mgr_albedo(o, p);
@@ -85,8 +85,10 @@ fn mgr_surface(o: MgrObject, p: vec3<f32>, n0: vec3<f32>, eye: vec3<f32>) -> vec
 fn mgr_object_fs(s: MgrSurface) -> @location(0) vec4<f32> {
     let f = mgr_frame;
     let o = mgr_objects[s.object];
-    // Clipping the drawn triangle to a world plane (raster.rs DrawItem clip), per sample.
-    if (f.counts.w != 0u && dot(f.clip.xyz, s.drawn) + f.clip.w < 0.0) {
+    // Clipping the drawn triangle to a world plane (raster.rs DrawItem clip), per sample:
+    // the water scene's passes only, so that elsewhere the shader has no `discard` and the
+    // depth test runs before it (no shading behind the material's depth pre-pass).
+    if (MGR_HAS_WATER && f.counts.w != 0u && dot(f.clip.xyz, s.drawn) + f.clip.w < 0.0) {
         discard;
     }
     // normalize_or(n0).
@@ -132,7 +134,7 @@ fn mgr_object_sample_fs(
     let p = p0 * b0 + p1 * bc.x + p2 * bc.y;
     // Clipping the drawn triangle to a world plane (raster.rs DrawItem clip), per sample.
     let drawn = d0 * b0 + d1 * bc.x + d2 * bc.y;
-    if (f.counts.w != 0u && dot(f.clip.xyz, drawn) + f.clip.w < 0.0) {
+    if (MGR_HAS_WATER && f.counts.w != 0u && dot(f.clip.xyz, drawn) + f.clip.w < 0.0) {
         discard;
     }
     let n0 = mgr_normals[i0].xyz;

@@ -72,6 +72,8 @@ struct MgrCaster {
 @group(1) @binding(0) var<uniform> mgr_frame: MgrFrame;
 @group(1) @binding(1) var<storage, read> mgr_lights: array<MgrLight>;
 @group(1) @binding(2) var<storage, read> mgr_casters: array<MgrCaster>;
+// The MGR_HAS_* constants (packed.rs SceneFeatures::wgsl) are prepended with the sampler:
+// each leaves out the code of a feature the scene does not have.
 // Bindings 3–5: the scene's textures (the bubble backdrop's maps, the environment image),
 // sampled by mgs_sample_texture (texture.rs SAMPLE_WGSL, prefixed mgs_), prepended by
 // mod.rs scene_source.
@@ -157,7 +159,7 @@ fn mgr_lerp(a: vec3<f32>, b: vec3<f32>, s: f32) -> vec3<f32> {
 // environment_lookup does (equirect_uv, bilinear, repeat, level 0).
 fn mgr_sky(d: vec3<f32>, with_sun: bool) -> vec3<f32> {
     let e = mgr_frame.env;
-    if (e.x == 2.0) {
+    if (MGR_HAS_ENV_IMAGE && e.x == 2.0) {
         // image_or_default: rotation about +y by −rotation_deg.
         let r = vec3<f32>(e.y * d.x + e.z * d.z, d.y, -e.z * d.x + e.y * d.z);
         let uv = vec2<f32>(0.5 + atan2(r.x, -r.z) / 6.2831855, acos(clamp(r.y, -1.0, 1.0)) / 3.1415927);
@@ -209,7 +211,7 @@ fn mgr_ambient(n: vec3<f32>) -> vec3<f32> {
 // Shape::occludes: whether the ray o + t d meets caster k for some t in (0, t_max).
 fn mgr_occludes(k: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
     let s = mgr_casters[k];
-    if (s.kind.x == 0u) {
+    if (MGR_HAS_SPHERES && s.kind.x == 0u) {
         let oc = o - s.a.xyz;
         let b = dot(oc, d);
         let c = dot(oc, oc) - s.a.w * s.a.w;
@@ -225,7 +227,7 @@ fn mgr_occludes(k: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
         let t1 = -b + q;
         return (t0 > 0.0 && t0 < t_max) || (t1 > 0.0 && t1 < t_max);
     }
-    if (s.kind.x == 1u) {
+    if (MGR_HAS_BOXES && s.kind.x == 1u) {
         let inv = 1.0 / d;
         let t0 = (s.a.xyz - o) * inv;
         let t1 = (s.b.xyz - o) * inv;
@@ -234,6 +236,9 @@ fn mgr_occludes(k: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
         let near = max(lo.x, max(lo.y, lo.z));
         let far = min(hi.x, min(hi.y, hi.z));
         return far >= max(near, 0.0) && near < t_max && far > 0.0;
+    }
+    if (!MGR_HAS_CYLINDERS) {
+        return false;
     }
     let r = s.a.z;
     let y0 = s.a.w;
@@ -339,7 +344,7 @@ fn mgr_seabed_depth(x: f32, z: f32) -> f32 {
 
 // Scene::water_depth: max(0, p.y + seabed_depth) in the water scene, 0 on the ball.
 fn mgr_water_depth(p: vec3<f32>) -> f32 {
-    if (mgr_frame.water == 0.0) {
+    if (!MGR_HAS_WATER || mgr_frame.water == 0.0) {
         return 0.0;
     }
     return max(p.y + mgr_seabed_depth(p.x, p.z), 0.0);
