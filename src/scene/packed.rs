@@ -373,3 +373,63 @@ impl Scene {
         bytemuck::cast_slice(&w).to_vec()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn features(preset: &str) -> SceneFeatures {
+        Scene::preset(preset)
+            .expect("a preset")
+            .packed(None)
+            .features
+    }
+
+    /// The ball casts with its sphere alone; the water has poles, boxes and a buoy over
+    /// its seabed; the bubble's backdrop is its maps. No preset has an image environment.
+    #[test]
+    fn each_preset_turns_on_what_it_holds() {
+        let none = SceneFeatures::default();
+        assert_eq!(
+            features("ball"),
+            SceneFeatures {
+                spheres: true,
+                ..none
+            }
+        );
+        assert_eq!(
+            features("water"),
+            SceneFeatures {
+                water: true,
+                spheres: true,
+                boxes: true,
+                cylinders: true,
+                ..none
+            }
+        );
+        let bubble = features("bubble");
+        assert!(bubble.backdrop && !bubble.water && !bubble.env_image);
+    }
+
+    #[test]
+    fn the_constants_name_every_feature_once() {
+        let wgsl = SceneFeatures {
+            boxes: true,
+            ..Default::default()
+        }
+        .wgsl();
+        assert_eq!(wgsl.lines().count(), 6);
+        assert!(wgsl.contains("const MGR_HAS_BOXES: bool = true;"));
+        assert!(wgsl.contains("const MGR_HAS_BACKDROP: bool = false;"));
+        for name in [
+            "BACKDROP",
+            "ENV_IMAGE",
+            "WATER",
+            "SPHERES",
+            "BOXES",
+            "CYLINDERS",
+        ] {
+            assert_eq!(wgsl.matches(&format!("MGR_HAS_{name}:")).count(), 1);
+        }
+    }
+}
