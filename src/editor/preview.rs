@@ -584,9 +584,9 @@ pub fn render_swatch(
 
 /// The mesh detail of a swatch `size` pixels wide: at [`SIZE`] or less the ball has half
 /// its segments and rings and the water half its grid cells each way (none below 16; a
-/// quadtree level of detail is left as it is); the bubble keeps its own. The scene's 256 × 128 ball puts about six
-/// triangles on each pixel of a 128² swatch, and on lavapipe their vertices and set-up,
-/// not the pixels, were most of a preview frame. Measured at 128² on the GPU path against
+/// quadtree level of detail is left as it is); the bubble keeps its own. The scene's
+/// 256 × 128 ball puts about six triangles on each pixel of a 128² swatch, and on lavapipe
+/// their vertices and set-up, not the pixels, were most of a preview frame. Measured at 128² on the GPU path against
 /// the full mesh (sRGB, 8 bits): fresnel_glass RMSE 0.14/255 (max 2/255 on the rim), 56 →
 /// 17 ms; pbr_gold 0.12/255, 43 → 15 ms; water_sunshine 0.008/255, 126 → 90 ms. Halving
 /// again moves silhouette pixels by up to 68/255, and the bubble's wobbling film by 175/255

@@ -61,12 +61,9 @@ pub(crate) struct PackedScene {
     pub ambient: AmbientCube,
     /// `MgrBackdrop` (24 floats): the bubble scene's backdrop and time, zero elsewhere.
     pub backdrop: Vec<f32>,
-    /// Whether the scene textures hold the bubble backdrop's maps (slots 0–5,
-    /// `BubbleMaps::named` order).
-    pub backdrop_maps: bool,
-    /// Whether the environment image is given (the scene texture after the maps).
-    pub env_image: bool,
-    /// What the scene's shaders branch on ([`SceneFeatures::wgsl`]).
+    /// What the scene's shaders branch on ([`SceneFeatures::wgsl`]), and so which scene
+    /// textures they read: the bubble backdrop's maps (slots 0–5, `BubbleMaps::named`
+    /// order) and the environment image (the scene texture after the maps).
     pub features: SceneFeatures,
 }
 
@@ -79,9 +76,10 @@ pub(crate) struct PackedScene {
 /// result is the same.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub(crate) struct SceneFeatures {
-    /// A built-in surface is the bubble backdrop (object kind 2).
+    /// A built-in surface is the bubble backdrop (object kind 2), whose maps are scene
+    /// textures.
     pub backdrop: bool,
-    /// The environment is an image (frame `env.x` 2).
+    /// The environment is an image, given (frame `env.x` 2).
     pub env_image: bool,
     /// The water scene: its seabed depth and the clip planes of its scene passes.
     pub water: bool,
@@ -201,9 +199,11 @@ impl Scene {
             objects: Vec::new(),
             ambient,
             backdrop: vec![0.0; 24],
-            backdrop_maps: matches!(self.kind, SceneKind::Bubble(_)),
-            env_image: matches!(env, Environment::Image(_)) && image.is_some(),
-            features: SceneFeatures::default(),
+            features: SceneFeatures {
+                env_image: matches!(env, Environment::Image(_)) && image.is_some(),
+                water: matches!(self.kind, SceneKind::Water(_)),
+                ..SceneFeatures::default()
+            },
         };
         for (k, obj) in geometry.objects.iter().enumerate() {
             let base = packed.positions.len() as u32;
@@ -270,11 +270,10 @@ impl Scene {
         let has = |kind: u32| packed.casters.chunks_exact(12).any(|c| c[0] == kind);
         packed.features = SceneFeatures {
             backdrop: packed.objects.chunks_exact(20).any(|o| o[0] == 2),
-            env_image: packed.env_image,
-            water: matches!(self.kind, SceneKind::Water(_)),
             spheres: has(0),
             boxes: has(1),
             cylinders: has(2),
+            ..packed.features
         };
         packed
     }
@@ -360,14 +359,14 @@ impl Scene {
         let (mode, turn, intensity) = match &self.environment {
             Environment::Sky(_) => (0.0, 0.0, 1.0),
             Environment::Image(img) => (
-                if packed.env_image { 2.0 } else { 1.0 },
+                if packed.features.env_image { 2.0 } else { 1.0 },
                 -img.rotation_deg.to_radians(),
                 img.intensity,
             ),
         };
         let (sin, cos) = turn.sin_cos();
         w.extend([mode, cos, sin, intensity]);
-        let slots = [if packed.backdrop_maps { 6u32 } else { 0 }, 0, 0, 0];
+        let slots = [if packed.features.backdrop { 6u32 } else { 0 }, 0, 0, 0];
         w.extend(slots.map(f32::from_bits));
         debug_assert_eq!(w.len(), 112);
         bytemuck::cast_slice(&w).to_vec()

@@ -465,13 +465,13 @@ fn scene_textures(
         ]
     };
     let mut set = TextureSet::new();
-    if packed.backdrop_maps {
+    if packed.features.backdrop {
         for (k, t) in backdrop_maps().iter().enumerate() {
             set.insert_shared(format!("backdrop {k}"), t.clone())
                 .map_err(|e| gpu_err("packing the scene textures", e))?;
         }
     }
-    match environment.filter(|_| packed.env_image) {
+    match environment.filter(|_| packed.features.env_image) {
         Some(env) => {
             set.insert_shared("environment", env.clone())
                 .map_err(|e| gpu_err("packing the scene textures", e))?;
@@ -482,7 +482,7 @@ fn scene_textures(
         }
         None => {
             // The maps alone (or nothing) pack the same every frame: once per device.
-            let key = format!("scene textures/{}", packed.backdrop_maps);
+            let key = format!("scene textures/{}", packed.features.backdrop);
             let mut failed = None;
             let made = cached(s, &key, || match set.pack() {
                 Ok(pack) => Some(buffers(&pack)),
