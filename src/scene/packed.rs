@@ -170,7 +170,8 @@ impl Scene {
         }
         let mut casters = Vec::new();
         let own = geometry.casters.len() as u32;
-        for s in geometry.casters.iter().chain(&geometry.material_caster) {
+        let shapes = || geometry.casters.iter().chain(&geometry.material_caster);
+        for s in shapes() {
             let (kind, a, b) = match *s {
                 Shape::Sphere { center, radius } => (0u32, center.extend(radius), Vec4::ZERO),
                 Shape::Aabb { min, max } => (1, min.extend(0.0), max.extend(0.0)),
@@ -200,9 +201,15 @@ impl Scene {
             ambient,
             backdrop: vec![0.0; 24],
             features: SceneFeatures {
+                backdrop: geometry
+                    .objects
+                    .iter()
+                    .any(|o| matches!(o.albedo, Albedo::Unlit(_))),
                 env_image: matches!(env, Environment::Image(_)) && image.is_some(),
                 water: matches!(self.kind, SceneKind::Water(_)),
-                ..SceneFeatures::default()
+                spheres: shapes().any(|s| matches!(s, Shape::Sphere { .. })),
+                boxes: shapes().any(|s| matches!(s, Shape::Aabb { .. })),
+                cylinders: shapes().any(|s| matches!(s, Shape::Cylinder { .. })),
             },
         };
         for (k, obj) in geometry.objects.iter().enumerate() {
@@ -267,14 +274,6 @@ impl Scene {
             }
             packed.refracted = Some(drawn);
         }
-        let has = |kind: u32| packed.casters.chunks_exact(12).any(|c| c[0] == kind);
-        packed.features = SceneFeatures {
-            backdrop: packed.objects.chunks_exact(20).any(|o| o[0] == 2),
-            spheres: has(0),
-            boxes: has(1),
-            cylinders: has(2),
-            ..packed.features
-        };
         packed
     }
 
