@@ -71,7 +71,7 @@ pub(crate) struct PackedScene {
 /// of its shaders by the constants of [`SceneFeatures::wgsl`]. Lavapipe (llvmpipe) runs a
 /// shader on eight fragments at once and executes both sides of every branch under a
 /// mask, so a branch no fragment takes still costs its full price: the bubble backdrop's six
-/// texture reads cost the ball scene's built-in surfaces 60–70 ms of a 1024² frame
+/// texture reads cost the ball scene's built-in surfaces 50–80 ms of a 1024² frame
 /// (docs/benchmarks.md, "Scene features"). A real GPU skips such a branch, and either way the
 /// result is the same.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
