@@ -567,6 +567,11 @@ impl TextureSet {
         self.entries.get(index as usize).map(|(_, t)| t.as_ref())
     }
 
+    /// The texture at `index`, shared.
+    pub fn shared(&self, index: u32) -> Option<&std::sync::Arc<Texture>> {
+        self.entries.get(index as usize).map(|(_, t)| t)
+    }
+
     /// The name of the texture at `index`.
     pub fn name(&self, index: u32) -> Option<&str> {
         self.entries.get(index as usize).map(|(n, _)| n.as_str())

@@ -91,6 +91,7 @@ impl GpuContext {
             lost,
             pipelines: AtomicUsize::new(0),
             cache: crate::memo::Memo::new(),
+            uploads: crate::memo::Memo::new(),
         });
         Ok(GpuContext {
             _instance: instance,

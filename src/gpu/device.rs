@@ -21,6 +21,28 @@ pub(super) struct DeviceState {
     /// nothing; bounded, so that an editing session that compiles a material per structural
     /// edit does not grow it without bound (see `raster::cached`).
     pub(super) cache: crate::memo::Memo<String, Arc<dyn std::any::Any + Send + Sync>, 64>,
+    /// The materials' textures as uploaded for the last few frames, so that frames with the
+    /// same textures (an animation, the editor's parameter changes) upload none; few, as
+    /// each can hold a frame-sized scene texture and its mips.
+    pub(super) uploads: crate::memo::Memo<UploadKey, Arc<crate::material::GpuTextures>, 4>,
+}
+
+/// What a material's uploaded textures were made from: the material (compared by identity,
+/// and kept so that its address is not reused), which of its modules (the render module or
+/// the library's), and each texture it binds, by identity.
+#[derive(Clone)]
+pub(super) struct UploadKey {
+    pub(super) material: Arc<dyn std::any::Any + Send + Sync>,
+    pub(super) library: bool,
+    pub(super) textures: Vec<crate::memo::Same<crate::texture::Texture>>,
+}
+
+impl PartialEq for UploadKey {
+    fn eq(&self, other: &UploadKey) -> bool {
+        Arc::ptr_eq(&self.material, &other.material)
+            && self.library == other.library
+            && self.textures == other.textures
+    }
 }
 
 pub(super) fn gpu_err(context: &str, e: impl std::fmt::Display) -> EvalError {

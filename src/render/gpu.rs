@@ -88,8 +88,14 @@ fn scene_textures(
         if !wanted.contains(&name) {
             continue;
         }
-        let rgb =
-            raster::render_scene_pass(ctx, scene, options.environment.as_ref(), tw, th, pass)?;
+        let rgb = raster::render_scene_pass(
+            ctx,
+            scene,
+            options.environment.as_ref(),
+            (tw, th),
+            pass,
+            options.texture_mode,
+        )?;
         let image = Image::new(
             tw,
             th,

@@ -2,8 +2,9 @@
 // camera blend of the maps with the underwater quad's shimmer over it, each step a port of
 // the node function it names (nodes/bubble.rs) and the maps sampled as the CPU samples them
 // (bilinear, level 0; base, layers and alpha clamped, the normal maps repeating). Needs
-// scene.wgsl (the maps are scene textures from slot mgr_frame.slots.y on, in
-// BubbleMaps::named order).
+// scene.wgsl and `mgr_backdrop_map(k, uv, wrap)`, map k in BubbleMaps::named order, from
+// backdrop_exact.wgsl (the scene textures' storage buffers, as the CPU samples) or
+// backdrop_hardware.wgsl (a texture array and the hardware's bilinear filter).
 
 // BubbleBackdrop and the time (bubble.rs; packed.rs backdrop_words).
 struct MgrBackdrop {
@@ -22,11 +23,6 @@ struct MgrBackdrop {
 }
 
 @group(1) @binding(6) var<storage, read> mgr_backdrop: MgrBackdrop;
-
-// A map of the backdrop at uv: level 0, bilinear, `wrap` (texture.rs Wrap index).
-fn mgr_backdrop_map(k: u32, uv: vec2<f32>, wrap: u32) -> vec4<f32> {
-    return mgs_sample_texture(mgr_frame.slots.y + k, uv, 0.0, wrap, 1u);
-}
 
 // nodes/bubble.rs safe_unit: v / |v|, or +z where |v| is 0 or not finite.
 fn mgr_backdrop_unit(v: vec3<f32>) -> vec3<f32> {
