@@ -92,6 +92,7 @@ impl GpuContext {
             pipelines: AtomicUsize::new(0),
             cache: crate::memo::Memo::new(),
             uploads: crate::memo::Memo::new(),
+            pool: Default::default(),
         });
         Ok(GpuContext {
             _instance: instance,

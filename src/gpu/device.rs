@@ -25,6 +25,8 @@ pub(super) struct DeviceState {
     /// same textures (an animation, the editor's parameter changes) upload none; few, as
     /// each can hold a frame-sized scene texture and its mips.
     pub(super) uploads: crate::memo::Memo<UploadKey, Arc<crate::material::GpuTextures>, 4>,
+    /// The frames' targets and read-back buffers, lent to one frame at a time.
+    pub(super) pool: super::pool::Pool,
 }
 
 /// What a material's uploaded textures were made from: the material (compared by identity,
@@ -141,6 +143,17 @@ impl DeviceState {
             });
         self.pipelines.fetch_add(1, Ordering::Relaxed);
         pipeline
+    }
+
+    /// A buffer of at least `size` bytes lent by the frame pool ([`DeviceState::pool`]).
+    pub(super) fn lend_buffer(
+        &self,
+        label: &str,
+        size: u64,
+        usage: wgpu::BufferUsages,
+    ) -> super::pool::Lent<'_, wgpu::Buffer> {
+        self.pool
+            .buffer(&self.device, label, aligned_size(size), usage)
     }
 
     pub(super) fn buffer(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {

@@ -11,6 +11,7 @@ mod context;
 mod device;
 mod harness;
 mod plan;
+mod pool;
 pub mod raster;
 
 pub use context::GpuContext;

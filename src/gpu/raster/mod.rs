@@ -36,6 +36,7 @@ mod material;
 
 use super::context::GpuContext;
 use super::device::{DeviceState, UploadKey, dispatch_shape, gpu_err};
+use super::pool::Lent;
 use crate::graph::Graph;
 use crate::material::{GpuTextures, Material, MaterialError, MaterialOptions, VERTEX_STRIDE};
 use crate::memo::{Memo, Same};
@@ -392,16 +393,32 @@ fn render_pipeline_depth(
         })
 }
 
-fn target(
-    s: &DeviceState,
+/// A render target of a frame, lent by the device's pool ([`crate::gpu::pool`]) until
+/// dropped; used as its view.
+struct Target<'a> {
+    view: wgpu::TextureView,
+    _texture: Lent<'a, wgpu::Texture>,
+}
+
+impl std::ops::Deref for Target<'_> {
+    type Target = wgpu::TextureView;
+    fn deref(&self) -> &wgpu::TextureView {
+        &self.view
+    }
+}
+
+/// A `w × h` target of `spp` samples in `format`, for drawing and then reading in a shader.
+fn target<'a>(
+    s: &'a DeviceState,
     label: &str,
     w: u32,
     h: u32,
     spp: u32,
     format: wgpu::TextureFormat,
-) -> wgpu::TextureView {
-    s.device
-        .create_texture(&wgpu::TextureDescriptor {
+) -> Target<'a> {
+    let texture = s.pool.texture(
+        &s.device,
+        &wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d {
                 width: w,
@@ -414,8 +431,12 @@ fn target(
             format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
             view_formats: &[],
-        })
-        .create_view(&Default::default())
+        },
+    );
+    Target {
+        view: texture.create_view(&Default::default()),
+        _texture: texture,
+    }
 }
 
 /// The scene on the device: its buffers, the bind group of `scene.wgsl` (group 1) and the
@@ -816,8 +837,25 @@ fn submit_and_wait(s: &DeviceState, enc: wgpu::CommandEncoder) -> Result<(), Eva
     Ok(())
 }
 
-/// Maps `staging` and returns its first `bytes` bytes as floats.
-fn read_back(s: &DeviceState, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<f32>, EvalError> {
+/// Maps `staging` and returns its first `bytes` bytes as floats; gives it back to the pool
+/// unmapped (and drops it where the mapping failed).
+fn read_back(
+    s: &DeviceState,
+    staging: Lent<'_, wgpu::Buffer>,
+    bytes: u64,
+) -> Result<Vec<f32>, EvalError> {
+    let data = map_and_read(s, &staging, bytes);
+    if data.is_err() {
+        staging.forget();
+    }
+    data
+}
+
+fn map_and_read(
+    s: &DeviceState,
+    staging: &wgpu::Buffer,
+    bytes: u64,
+) -> Result<Vec<f32>, EvalError> {
     let slice = staging.slice(0..bytes);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -837,23 +875,34 @@ fn read_back(s: &DeviceState, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<
     data
 }
 
-fn staging(s: &DeviceState, bytes: u64) -> wgpu::Buffer {
-    s.buffer(
+/// A buffer of `bytes` for a frame's resolved pixels, lent by the pool.
+fn pixels_buffer(s: &DeviceState, bytes: u64) -> Lent<'_, wgpu::Buffer> {
+    s.lend_buffer(
+        "mgr pixels",
+        bytes,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+    )
+}
+
+/// A read-back buffer of `bytes`, lent by the pool.
+fn staging(s: &DeviceState, bytes: u64) -> Lent<'_, wgpu::Buffer> {
+    s.lend_buffer(
         "mgr staging",
         bytes,
         wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
     )
 }
 
-/// The resolve pass: composite and average the samples of `scene` and `material` into a
-/// linear RGB storage buffer.
+/// The resolve pass: composite and average the samples of `scene` and `material` into
+/// `out`, linear RGB (`w × h × 3` floats).
 fn resolve(
     s: &DeviceState,
     enc: &mut wgpu::CommandEncoder,
     scene: &wgpu::TextureView,
     material: &wgpu::TextureView,
+    out: &wgpu::Buffer,
     (w, h, spp): (u32, u32, u32),
-) -> wgpu::Buffer {
+) {
     let ms = spp > 1;
     let texture = if ms {
         "texture_multisampled_2d<f32>"
@@ -889,11 +938,6 @@ fn resolve(
     words.extend(order);
     words.resize(20, 0);
     let u = uniform(s, "mgr resolve", bytemuck::cast_slice(&words));
-    let out = s.buffer(
-        "mgr pixels",
-        w as u64 * h as u64 * 12,
-        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-    );
     let g = bind(
         s,
         l,
@@ -908,8 +952,6 @@ fn resolve(
     cp.set_pipeline(p);
     cp.set_bind_group(0, &g, &[]);
     cp.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-    drop(cp);
-    out
 }
 
 /// One jittered pass of a frame: its sample (the composite of `scene` and `material`, one
@@ -1000,12 +1042,13 @@ pub(crate) fn render_scene_pass(
         let mut enc = s.device.create_command_encoder(&Default::default());
         gpu.record(&mut enc, &frame, pass, &color, &depth, false);
         clear(&mut enc, &material);
-        let out = resolve(s, &mut enc, &color, &material, (w, h, 1));
         let bytes = w as u64 * h as u64 * 12;
+        let out = pixels_buffer(s, bytes);
+        resolve(s, &mut enc, &color, &material, &out, (w, h, 1));
         let st = staging(s, bytes);
         enc.copy_buffer_to_buffer(&out, 0, &st, 0, bytes);
         submit_and_wait(s, enc)?;
-        let data = read_back(s, &st, bytes)?;
+        let data = read_back(s, st, bytes)?;
         Ok(data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
     })
 }
@@ -1139,7 +1182,7 @@ pub(crate) fn render_environment(
         let st = staging(s, bytes);
         enc.copy_buffer_to_buffer(&out, 0, &st, 0, bytes);
         submit_and_wait(s, enc)?;
-        let data = read_back(s, &st, bytes)?;
+        let data = read_back(s, st, bytes)?;
         Ok(data
             .chunks_exact(4)
             .map(|c| [c[0], c[1], c[2], c[3]])
@@ -1515,14 +1558,9 @@ pub(crate) fn render_frame(
                 let color = target(s, "mgr scene", cw, ch, ts, COLOR);
                 let depth = target(s, "mgr depth", cw, ch, ts, DEPTH);
                 let mat_target = target(s, "mgr material", cw, ch, ts, COLOR);
-                let sum = (!msaa).then(|| {
-                    s.buffer(
-                        "mgr pixels",
-                        cw as u64 * ch as u64 * 12,
-                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                    )
-                });
-                let mut out = None;
+                // The resolved pixels (jittered: the passes' sum).
+                let bytes = cw as u64 * ch as u64 * 12;
+                let out = pixels_buffer(s, bytes);
                 for pass in 0..passes {
                     let jitter = if msaa {
                         [0.0, 0.0]
@@ -1633,16 +1671,13 @@ pub(crate) fn render_frame(
                             rp.draw_indexed(0..tri_count, 0, 0..1);
                         }
                     }
-                    out = Some(match &sum {
-                        None => resolve(s, &mut enc, &color, &mat_target, (cw, ch, spp)),
-                        Some(sum) => {
-                            accumulate(s, &mut enc, &color, &mat_target, sum, (cw, ch, spp, pass));
-                            sum.clone()
+                    match msaa {
+                        true => resolve(s, &mut enc, &color, &mat_target, &out, (cw, ch, spp)),
+                        false => {
+                            accumulate(s, &mut enc, &color, &mat_target, &out, (cw, ch, spp, pass))
                         }
-                    });
+                    }
                 }
-                let out = out.expect("at least one pass");
-                let bytes = cw as u64 * ch as u64 * 12;
                 let st = staging(s, bytes);
                 enc.copy_buffer_to_buffer(&out, 0, &st, 0, bytes);
                 let done = std::mem::replace(
@@ -1651,7 +1686,7 @@ pub(crate) fn render_frame(
                 );
                 submit_and_wait(s, done)?;
                 let r = Instant::now();
-                let data = read_back(s, &st, bytes)?;
+                let data = read_back(s, st, bytes)?;
                 for (row, line) in data.chunks_exact(cw as usize * 3).enumerate() {
                     let first = (y0 as usize + row) * w as usize + x0 as usize;
                     for (k, c) in line.chunks_exact(3).enumerate() {
@@ -1767,7 +1802,7 @@ mod tests {
         let st = staging(s, spp as u64 * 16);
         enc.copy_buffer_to_buffer(&out, 0, &st, 0, spp as u64 * 16);
         submit_and_wait(s, enc).unwrap();
-        let d = read_back(s, &st, spp as u64 * 16).unwrap();
+        let d = read_back(s, st, spp as u64 * 16).unwrap();
         d.chunks_exact(4).map(|c| [c[0], c[1]]).collect()
     }
 
