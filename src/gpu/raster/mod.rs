@@ -1222,9 +1222,13 @@ fn uploaded(
     library: bool,
     set: &TextureSet,
 ) -> Result<Arc<GpuTextures>, EvalError> {
+    let library_infos;
     let infos = match library {
-        true => material.library_textures(),
-        false => material.textures().to_vec(),
+        true => {
+            library_infos = material.library_textures();
+            &library_infos
+        }
+        false => material.textures(),
     };
     let key = UploadKey {
         material: owner.clone(),
