@@ -297,8 +297,10 @@ struct MgrIncident {
 fn mgr_incident(i: u32, p: vec3<f32>) -> MgrIncident {
     let light = mgr_lights[i];
     if (light.kind.x == 0u) {
-        // f32::INFINITY, built at run time (a constant would overflow).
-        let inf = bitcast<f32>(0x7f800000u);
+        // f32::INFINITY, built at run time: a constant expression would overflow, and Tint
+        // rejects even the bitcast of a constant (naga folds it), so the bits are added to
+        // the light's kind, which is 0 here.
+        let inf = bitcast<f32>(0x7f800000u + light.kind.x);
         return MgrIncident(light.a.xyz, light.b.xyz, inf);
     }
     let to = light.a.xyz - p;
