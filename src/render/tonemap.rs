@@ -58,8 +58,51 @@ pub fn srgb_decode(v: f32) -> f32 {
 /// A display pixel from linear radiance: `2^exposure` scale, PBR Neutral, sRGB, 8 bits
 /// (rounded to nearest).
 pub fn to_srgb8(c: [f32; 3], exposure: f32) -> [u8; 3] {
-    let k = exposure.exp2();
-    pbr_neutral(c.map(|x| x * k)).map(|x| (srgb_encode(x) * 255.0).round() as u8)
+    scaled_to_srgb8(c, exposure.exp2())
+}
+
+/// [`to_srgb8`] with the exposure's scale `2^exposure` already computed (an image's pixels
+/// share it).
+pub(crate) fn scaled_to_srgb8(c: [f32; 3], scale: f32) -> [u8; 3] {
+    pbr_neutral(c.map(|x| x * scale)).map(srgb8_encode)
+}
+
+/// The 8-bit sRGB code of a linear value: `round(255 · srgb_encode(x))`, found in the table
+/// of the 255 linear values where the code steps up ([`srgb8_thresholds`]). The encode, the
+/// scale and the rounding are each monotone in `x`, so the code is the number of thresholds
+/// at or below `x`: the same byte as the formula for every `f32` (NaN and negatives give 0),
+/// at 8 comparisons instead of a `powf`.
+pub fn srgb8_encode(x: f32) -> u8 {
+    srgb8_thresholds().partition_point(|&t| t <= x) as u8
+}
+
+/// `round(255 · srgb_encode(x))` evaluated as written (the definition [`srgb8_encode`]
+/// tabulates).
+fn srgb8_formula(x: f32) -> u8 {
+    (srgb_encode(x) * 255.0).round() as u8
+}
+
+/// For each code `k` in 1..=255, the least `f32` in [0, 1] whose [`srgb8_formula`] code is
+/// at least `k`: bisection over the bit patterns of [0, 1], which order as the values do.
+/// Built once (255 × 30 evaluations).
+fn srgb8_thresholds() -> &'static [f32; 255] {
+    static TABLE: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| {
+        std::array::from_fn(|i| {
+            let k = i as u8 + 1;
+            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+            // Invariant: code(lo) < k ≤ code(hi) (code(0) = 0, code(1) = 255).
+            while hi - lo > 1 {
+                let mid = lo + (hi - lo) / 2;
+                if srgb8_formula(f32::from_bits(mid)) >= k {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            f32::from_bits(hi)
+        })
+    })
 }
 
 #[cfg(test)]
@@ -99,5 +142,72 @@ mod tests {
         // NaN and negative radiance show as black; a huge highlight desaturates to white.
         assert_eq!(to_srgb8([f32::NAN, -1.0, 0.0], 0.0), [0, 0, 0]);
         assert_eq!(to_srgb8([1e9, 0.0, 0.0], 0.0), [255, 255, 255]);
+    }
+
+    /// The sRGB curve in f64 (IEC 61966-2-1), the independent reference of the 8-bit table.
+    fn encode_f64(x: f64) -> f64 {
+        let x = x.clamp(0.0, 1.0);
+        if x <= 0.003_130_8 {
+            12.92 * x
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        }
+    }
+
+    #[test]
+    fn srgb8_table_gives_the_formulas_byte() {
+        // Each code's threshold and the float just below it, then seeded random f32 points
+        // in [0, 1] (bit patterns, so that small values are as dense as f32 makes them) and
+        // out of it.
+        let mut points: Vec<f32> = vec![0.0, -0.0, 1.0, -1.0, 2.0, f32::NAN, f32::INFINITY];
+        for &t in srgb8_thresholds() {
+            points.extend([t, f32::from_bits(t.to_bits() - 1)]);
+        }
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            points.push(f32::from_bits(
+                (state % (1.0f32.to_bits() as u64 + 1)) as u32,
+            ));
+            points.push((state >> 40) as f32 / (1u64 << 24) as f32);
+        }
+        for x in points {
+            assert_eq!(srgb8_encode(x), srgb8_formula(x), "x = {x:e}");
+        }
+    }
+
+    #[test]
+    fn srgb8_codes_match_the_f64_curve() {
+        // Against the curve in f64: the same code wherever the f64 value lies more than
+        // 1e-4 of a code from a rounding tie (f32's powf may round the other way there).
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut checked = 0;
+        for i in 0..100_000u64 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            let x = match i {
+                0..=255 => srgb_decode(i as f32 / 255.0),
+                _ => (state >> 40) as f32 / (1u64 << 24) as f32,
+            };
+            let v = encode_f64(x as f64) * 255.0;
+            if (v - v.floor() - 0.5).abs() < 1e-4 {
+                continue;
+            }
+            assert_eq!(
+                srgb8_encode(x) as f64,
+                v.round(),
+                "x = {x:e}, 255·encode = {v}"
+            );
+            checked += 1;
+        }
+        assert!(checked > 99_000);
+        // Code k's threshold decodes near (k − ½)/255.
+        for (i, &t) in srgb8_thresholds().iter().enumerate() {
+            let v = encode_f64(t as f64) * 255.0;
+            assert!((v - (i as f64 + 0.5)).abs() < 1e-3, "code {}: {v}", i + 1);
+        }
     }
 }
