@@ -93,6 +93,8 @@ impl GpuContext {
             cache: crate::memo::Memo::new(),
             uploads: crate::memo::Memo::new(),
             pool: Default::default(),
+            meshes: crate::memo::Memo::new(),
+            scenes: crate::memo::Memo::new(),
         });
         Ok(GpuContext {
             _instance: instance,

@@ -27,6 +27,19 @@ pub(super) struct DeviceState {
     pub(super) uploads: crate::memo::Memo<UploadKey, Arc<crate::material::GpuTextures>, 4>,
     /// The frames' targets and read-back buffers, lent to one frame at a time.
     pub(super) pool: super::pool::Pool,
+    /// The buffers of the last few material meshes, by mesh: frames of the same scene
+    /// (parameter changes, the editor's swatches) upload no mesh.
+    pub(super) meshes: crate::memo::Memo<
+        crate::memo::Same<crate::scene::Mesh>,
+        Arc<super::raster::MeshBuffers>,
+        4,
+    >,
+    /// The buffers of the last few packed scenes, by scene.
+    pub(super) scenes: crate::memo::Memo<
+        crate::memo::Same<crate::scene::PackedScene>,
+        Arc<super::raster::SceneBuffers>,
+        4,
+    >,
 }
 
 /// What a material's uploaded textures were made from: the material (compared by identity,

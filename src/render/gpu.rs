@@ -124,7 +124,12 @@ pub(super) fn render(
     let start = Instant::now();
     let set = textures(ctx, graph, scene, options)?;
     t.gbuffer = start.elapsed();
-    let mesh: Mesh = scene.material_mesh();
+    // Made once per scene (its camera and time included): frames that change only the
+    // material reuse the mesh, and the device its buffers.
+    static MESHES: Memo<String, Arc<Mesh>, 4> = Memo::new();
+    let mesh = MESHES.get_or(serde_json::to_string(scene).unwrap_or_default(), || {
+        Arc::new(scene.material_mesh())
+    });
     let input = MaterialInput {
         graph,
         texture_mode: options.texture_mode,

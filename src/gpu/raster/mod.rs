@@ -81,7 +81,7 @@ pub(crate) struct MaterialInput<'a> {
     /// Textures the graph samples (scene textures included).
     pub textures: &'a TextureSet,
     /// The material mesh.
-    pub mesh: &'a Mesh,
+    pub mesh: &'a Arc<Mesh>,
 }
 
 /// Whether the GPU rasteriser draws `spp` samples per pixel as MSAA on this device (else as
@@ -457,6 +457,106 @@ struct SceneGpu {
     backdrop: wgpu::Buffer,
 }
 
+/// A packed scene's buffers on the device (`DeviceState::scenes`), uploaded once per
+/// [`PackedScene`]: before, every frame uploaded them (a water scene's seabed and skirts,
+/// 3.6 MB).
+pub(in crate::gpu) struct SceneBuffers {
+    lights: wgpu::Buffer,
+    casters: wgpu::Buffer,
+    positions: wgpu::Buffer,
+    normals: wgpu::Buffer,
+    table: wgpu::Buffer,
+    index: wgpu::Buffer,
+    backdrop: wgpu::Buffer,
+    /// The Snell-refracted positions, when the scene has them.
+    refracted: Option<wgpu::Buffer>,
+}
+
+impl SceneBuffers {
+    fn new(s: &DeviceState, packed: &PackedScene) -> SceneBuffers {
+        SceneBuffers {
+            lights: storage(s, "mgr lights", bytemuck::cast_slice(&packed.lights), 48),
+            casters: storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48),
+            positions: storage(
+                s,
+                "mgr positions",
+                bytemuck::cast_slice(&packed.positions),
+                16,
+            ),
+            normals: storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16),
+            table: storage(
+                s,
+                "mgr object table",
+                bytemuck::cast_slice(&packed.objects),
+                80,
+            ),
+            index: index_buffer(s, &packed.indices),
+            backdrop: storage(
+                s,
+                "mgr backdrop",
+                bytemuck::cast_slice(&packed.backdrop),
+                96,
+            ),
+            refracted: packed
+                .refracted
+                .as_ref()
+                .map(|r| storage(s, "mgr refracted", bytemuck::cast_slice(r), 16)),
+        }
+    }
+}
+
+/// A material mesh's buffers on the device (`DeviceState::meshes`), made once per mesh:
+/// the indices, the vertices in the contract's layout (drawn as they are without
+/// displacement) and the displacement passes' inputs (position and uv, normal and uv) with
+/// the welded normals' adjacency, whose sort was most of a displaced frame's CPU time.
+pub(in crate::gpu) struct MeshBuffers {
+    index: wgpu::Buffer,
+    /// Indices drawn.
+    count: u32,
+    vertices: wgpu::Buffer,
+    displace_in: wgpu::Buffer,
+    /// `Mesh::normal_adjacency`: weld groups, their starts, their triangles.
+    adjacency: [wgpu::Buffer; 3],
+}
+
+impl MeshBuffers {
+    fn new(s: &DeviceState, mesh: &Mesh) -> MeshBuffers {
+        let idx: Vec<u32> = mesh.indices.iter().flatten().copied().collect();
+        let vertices = s
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("mgr material vertices"),
+                contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+            });
+        let displace_in: Vec<[f32; 4]> = (0..mesh.positions.len())
+            .flat_map(|i| {
+                let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
+                [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
+            })
+            .collect();
+        let (groups, starts, tris) = mesh.normal_adjacency();
+        MeshBuffers {
+            index: index_buffer(s, &idx),
+            count: idx.len() as u32,
+            vertices,
+            displace_in: storage(s, "mgr vertices", bytemuck::cast_slice(&displace_in), 16),
+            adjacency: [
+                storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16),
+                storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16),
+                storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16),
+            ],
+        }
+    }
+
+    /// The buffers of `mesh`, made on the first frame that draws it.
+    fn of(s: &DeviceState, mesh: &Arc<Mesh>) -> Arc<MeshBuffers> {
+        s.meshes.get_or(Same(Some(mesh.clone())), || {
+            Arc::new(MeshBuffers::new(s, mesh))
+        })
+    }
+}
+
 /// The bubble backdrop's maps, shared ([`crate::scene::bubble_maps`]).
 fn backdrop_maps() -> &'static [Arc<Texture>] {
     static MAPS: std::sync::OnceLock<Vec<Arc<Texture>>> = std::sync::OnceLock::new();
@@ -673,12 +773,6 @@ impl SceneGpu {
             Arc::new(scene.packed(lookup.as_ref().map(|f| f as &crate::scene::EnvLookup)))
         });
         let textures = scene_textures(s, &packed, environment)?;
-        let backdrop = storage(
-            s,
-            "mgr backdrop",
-            bytemuck::cast_slice(&packed.backdrop),
-            96,
-        );
         let features = packed.features;
         let map_textures = backdrop::uses_textures(features.backdrop, mode);
         let pipes = cached(
@@ -687,48 +781,32 @@ impl SceneGpu {
             || ScenePipelines::new(s, spp, &features, map_textures),
         );
         let maps = map_textures.then(|| backdrop::MapTextures::of(s));
-        let lights = storage(s, "mgr lights", bytemuck::cast_slice(&packed.lights), 48);
-        let casters = storage(s, "mgr casters", bytemuck::cast_slice(&packed.casters), 48);
-        let positions = storage(
-            s,
-            "mgr positions",
-            bytemuck::cast_slice(&packed.positions),
-            16,
-        );
-        let normals = storage(s, "mgr normals", bytemuck::cast_slice(&packed.normals), 16);
-        let table = storage(
-            s,
-            "mgr object table",
-            bytemuck::cast_slice(&packed.objects),
-            80,
-        );
-        let index = index_buffer(s, &packed.indices);
+        let b = s.scenes.get_or(Same(Some(packed.clone())), || {
+            Arc::new(SceneBuffers::new(s, &packed))
+        });
         let group = |drawn: &wgpu::Buffer| {
             let mut entries = vec![
-                (0, positions.as_entire_binding()),
-                (1, normals.as_entire_binding()),
-                (2, table.as_entire_binding()),
-                (3, index.as_entire_binding()),
+                (0, b.positions.as_entire_binding()),
+                (1, b.normals.as_entire_binding()),
+                (2, b.table.as_entire_binding()),
+                (3, b.index.as_entire_binding()),
                 (4, drawn.as_entire_binding()),
             ];
             entries.extend(maps.iter().flat_map(|m| m.entries()));
             bind_entries(s, &pipes.objects_layout, &entries)
         };
-        let objects_group = group(&positions);
-        let refracted_group = packed
-            .refracted
-            .as_ref()
-            .map(|r| group(&storage(s, "mgr refracted", bytemuck::cast_slice(r), 16)));
+        let objects_group = group(&b.positions);
+        let refracted_group = b.refracted.as_ref().map(group);
         Ok(SceneGpu {
             packed,
             pipes,
-            lights,
-            casters,
+            lights: b.lights.clone(),
+            casters: b.casters.clone(),
             objects_group,
             refracted_group,
-            index,
+            index: b.index.clone(),
             textures,
-            backdrop,
+            backdrop: b.backdrop.clone(),
         })
     }
 
@@ -1256,7 +1334,7 @@ fn displace(
     enc: &mut wgpu::CommandEncoder,
     (owner, material): (&Arc<dyn std::any::Any + Send + Sync>, &Material),
     m: &MaterialInput,
-    index: &wgpu::Buffer,
+    buffers: &MeshBuffers,
 ) -> Result<wgpu::Buffer, EvalError> {
     let s = &*ctx.state;
     let mesh = m.mesh;
@@ -1336,13 +1414,7 @@ fn displace(
     let params_buf = uniform(s, "mgr displacement params", &params.bytes());
     let textures = uploaded(s, owner, material, true, m.textures)?;
     let dg = material.library_bind_group(&s.device, dl, &params_buf, &textures);
-    let vertices: Vec<[f32; 4]> = (0..n as usize)
-        .flat_map(|i| {
-            let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
-            [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
-        })
-        .collect();
-    let vin = storage(s, "mgr vertices", bytemuck::cast_slice(&vertices), 16);
+    let vin = &buffers.displace_in;
     let displaced = s.buffer(
         "mgr displaced",
         n.max(1) as u64 * 16,
@@ -1360,10 +1432,7 @@ fn displace(
             count.as_entire_binding(),
         ],
     );
-    let (groups, starts, tris) = mesh.normal_adjacency();
-    let g_buf = storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16);
-    let s_buf = storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16);
-    let t_buf = storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16);
+    let [g_buf, s_buf, t_buf] = &buffers.adjacency;
     let out = s.buffer(
         "mgr displaced vertices",
         n.max(1) as u64 * VERTEX_STRIDE,
@@ -1375,7 +1444,7 @@ fn displace(
         &[
             displaced.as_entire_binding(),
             vin.as_entire_binding(),
-            index.as_entire_binding(),
+            buffers.index.as_entire_binding(),
             g_buf.as_entire_binding(),
             s_buf.as_entire_binding(),
             t_buf.as_entire_binding(),
@@ -1523,22 +1592,14 @@ pub(crate) fn render_frame(
         let lights_buf = storage(s, "mgr material lights", &lights_bytes, 32);
         let owner: Arc<dyn std::any::Any + Send + Sync> = made.clone();
         let textures = uploaded(s, &owner, material, false, m.textures)?;
-        let mesh = m.mesh;
-        let idx: Vec<u32> = mesh.indices.iter().flatten().copied().collect();
-        let tri_count = idx.len() as u32;
-        let index = index_buffer(s, &idx);
+        let mesh = MeshBuffers::of(s, m.mesh);
+        let (index, tri_count) = (&mesh.index, mesh.count);
         let mut enc = s.device.create_command_encoder(&Default::default());
 
         // 1. Displacement and normals, on the GPU.
         let vertices = match material.roles().displacement {
-            None => s
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("mgr material vertices"),
-                    contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
-                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
-                }),
-            Some(_) => displace(ctx, &mut enc, (&owner, material), m, &index)?,
+            None => mesh.vertices.clone(),
+            Some(_) => displace(ctx, &mut enc, (&owner, material), m, &mesh)?,
         };
         let mesh_group = bind(
             s,
