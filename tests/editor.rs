@@ -9,7 +9,7 @@ use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use matgraph::Registry;
-use matgraph::editor::{EditorApp, EditorState, files, state::Dialog};
+use matgraph::editor::{EditorApp, EditorState, files, preview, state::Dialog};
 use std::path::{Path, PathBuf};
 
 /// A harness without a renderer (logic and accessibility tree only), preview off.
@@ -602,15 +602,39 @@ fn a_parameter_change_re_renders_without_recompiling() {
         (p.compiles(), p.renders(), p.pixels().unwrap().to_vec())
     };
     assert_eq!(compiles, 1, "one program for the main swatch");
+    // A swatch slower than a 60 Hz frame (lavapipe, a debug build) drafts the edit first.
+    let slow = h.state().state.preview.latency().unwrap() > preview::FRAME;
+    let drafts = h.state().state.preview.drafts();
     matgraph::editor::preview_ui::set_parameter(
         &mut h.state_mut().state,
         "roughness",
         "roughness",
         serde_json::json!(0.9),
     );
+    // The first step whose swatch shows the new value: the draft, the full render queued.
+    h.step();
+    let start = std::time::Instant::now();
+    while !h.state().state.preview.current() && start.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        h.step();
+    }
+    {
+        let p = &h.state().state.preview;
+        assert!(p.current());
+        let side = p.texture().unwrap().size();
+        match slow {
+            true => {
+                assert_eq!(side, [preview::DRAFT_SIZE as usize; 2]);
+                assert!(!p.settled(), "the full swatch follows the draft");
+            }
+            false => assert_eq!(side, [preview::SIZE as usize; 2]),
+        }
+    }
     settle(&mut h);
     {
         let p = &h.state().state.preview;
+        assert_eq!(p.drafts(), drafts + slow as usize);
+        assert_eq!(p.texture().unwrap().size(), [preview::SIZE as usize; 2]);
         assert_eq!(
             p.compiles(),
             compiles,

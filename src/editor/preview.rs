@@ -13,6 +13,14 @@
 //!
 //! Besides the main swatch, any node can have a swatch of its own ([`Preview::toggle_node`],
 //! as in Blender): the graph cut at the node's first output ([`cut_at`]).
+//!
+//! **Drafts.** Where the main swatch's last render took longer than a 60 Hz frame
+//! ([`FRAME`]), an edit (a parameter, a value, a wire, the orbit) is first rendered as a
+//! draft, [`DRAFT_SIZE`]² at a quarter of the mesh detail ([`draft_detail`]), shown scaled
+//! up in the swatch, and the full swatch follows. While a slider is dragged each new value
+//! gets a draft, and the full render comes when the value rests, as Blender's viewport
+//! renders at a coarser pixel size while the view changes. Time alone (playing) does not
+//! draft.
 
 use crate::document::{GraphDocument, OutputDocument};
 use crate::gpu::{Backend, GpuContext};
@@ -35,6 +43,12 @@ pub const SIZE: u32 = 128;
 
 /// Side of a node's swatch in pixels.
 pub const NODE_SIZE: u32 = 64;
+
+/// Side of the main swatch's draft in pixels.
+pub const DRAFT_SIZE: u32 = 48;
+
+/// A frame at 60 Hz: a main swatch whose last full render took longer drafts its edits.
+pub const FRAME: Duration = Duration::from_micros(16_667);
 
 /// The graph output a node swatch shows: `color` (lit, summed over the scene's lights)
 /// when the cut graph reads `light` or `light_color`, else this name (shown unlit).
@@ -136,6 +150,8 @@ type Slot = Option<String>;
 struct Job {
     slot: Slot,
     request: Request,
+    /// Rendered as a draft ([`DRAFT_SIZE`], [`draft_detail`]).
+    draft: bool,
     graph: Arc<Graph>,
     file: Option<PathBuf>,
     cpu_only: bool,
@@ -146,6 +162,7 @@ struct Job {
 struct Done {
     slot: Slot,
     request: Request,
+    draft: bool,
     result: Result<Rendered, String>,
     latency: Duration,
 }
@@ -166,12 +183,19 @@ struct SlotState {
     running: Option<Request>,
     /// The request shown (rendered, or failed with `message`).
     shown: Option<Request>,
+    /// The request whose draft the texture shows, until its full render replaces it.
+    draft: Option<Request>,
+    /// The request last asked for.
+    wanted: Option<Request>,
     texture: Option<egui::TextureHandle>,
     /// The RGBA8 pixels of the texture.
     rgba: Vec<u8>,
     message: Option<String>,
     backend: String,
+    /// Request to pixels, the last full render.
     latency: Option<Duration>,
+    /// Request to pixels, the last draft.
+    draft_latency: Option<Duration>,
 }
 
 /// The preview's time: a slider, and play/pause.
@@ -215,8 +239,10 @@ pub struct Preview {
     slots: BTreeMap<Slot, SlotState>,
     /// Programs built so far (structure changes), all slots.
     compiles: usize,
-    /// Renders finished so far, all slots.
+    /// Full renders finished so far, all slots.
     renders: usize,
+    /// Drafts finished so far.
+    drafts: usize,
     jobs: Option<mpsc::Sender<Job>>,
     done: Arc<Mutex<Vec<Done>>>,
 }
@@ -233,6 +259,7 @@ impl Preview {
             slots: BTreeMap::new(),
             compiles: 0,
             renders: 0,
+            drafts: 0,
             jobs: None,
             done: Arc::new(Mutex::new(Vec::new())),
         }
@@ -258,9 +285,14 @@ impl Preview {
         self.compiles
     }
 
-    /// Renders finished so far.
+    /// Full renders finished so far (drafts not counted).
     pub fn renders(&self) -> usize {
         self.renders
+    }
+
+    /// Drafts finished so far.
+    pub fn drafts(&self) -> usize {
+        self.drafts
     }
 
     /// Turns node `id`'s swatch on or off.
@@ -311,9 +343,24 @@ impl Preview {
         self.slots.get(&None).map_or("", |s| s.backend.as_str())
     }
 
-    /// Time from the request to the pixels of the main swatch's last render.
+    /// Time from the request to the pixels of the main swatch's last full render.
     pub fn latency(&self) -> Option<Duration> {
         self.slots.get(&None)?.latency
+    }
+
+    /// Time from the request to the pixels of the main swatch's last draft.
+    pub fn draft_latency(&self) -> Option<Duration> {
+        self.slots.get(&None)?.draft_latency
+    }
+
+    /// Whether the main swatch shows the graph as last asked for, as a draft or in full
+    /// (the full render may still be due: see [`Preview::settled`]).
+    pub fn current(&self) -> bool {
+        !self.enabled
+            || self
+                .slots
+                .get(&None)
+                .is_some_and(|s| s.wanted.is_some() && (s.shown == s.wanted || s.draft == s.wanted))
     }
 
     /// Collects finished renders, and queues the renders due for `doc` (validated as
@@ -363,8 +410,10 @@ impl Preview {
                 },
             ));
         }
+        let playing = self.clock.playing;
         for (slot, request) in wanted {
             let state = self.slots.entry(slot.clone()).or_default();
+            state.wanted = Some(request.clone());
             if state.running.is_some() || state.shown.as_ref() == Some(&request) {
                 continue;
             }
@@ -392,9 +441,15 @@ impl Preview {
             let Some((_, program)) = &state.program else {
                 continue;
             };
+            // A draft first where a full render takes over a frame (module doc).
+            let draft = slot.is_none()
+                && !playing
+                && state.latency.is_some_and(|l| l > FRAME)
+                && state.draft.as_ref() != Some(&request);
             let job = Job {
                 slot,
                 request: request.clone(),
+                draft,
                 graph: program.clone(),
                 file: file.cloned(),
                 cpu_only: self.cpu_only,
@@ -418,13 +473,29 @@ impl Preview {
     fn collect(&mut self, ctx: &egui::Context) {
         let finished = std::mem::take(&mut *self.done.lock().unwrap_or_else(|p| p.into_inner()));
         for d in finished {
-            self.renders += 1;
+            match d.draft {
+                true => self.drafts += 1,
+                false => self.renders += 1,
+            }
             let Some(state) = self.slots.get_mut(&d.slot) else {
                 continue;
             };
             state.running = None;
+            if d.draft {
+                // Shown until its full render replaces it; a failed draft leaves the
+                // swatch as it was, and the full render reports the error.
+                state.draft_latency = Some(d.latency);
+                state.draft = Some(d.request);
+                if let (Ok(r), Some(t)) = (d.result, &mut state.texture) {
+                    let n = r.size as usize;
+                    let image = egui::ColorImage::from_rgba_unmultiplied([n, n], &r.rgba);
+                    t.set(image, egui::TextureOptions::LINEAR);
+                }
+                continue;
+            }
             state.latency = Some(d.latency);
             state.shown = Some(d.request);
+            state.draft = None;
             match d.result {
                 Ok(r) => {
                     let n = r.size as usize;
@@ -469,6 +540,7 @@ fn spawn_worker(ctx: &egui::Context, done: Arc<Mutex<Vec<Done>>>) -> mpsc::Sende
                 let d = Done {
                     slot: job.slot,
                     request: job.request,
+                    draft: job.draft,
                     result,
                     latency: job.queued.elapsed(),
                 };
@@ -491,11 +563,13 @@ fn render_job(job: &Job) -> Result<Rendered, String> {
         }
     };
     let r = &job.request;
+    let size = if job.draft { DRAFT_SIZE } else { r.size };
     let (pixels, fallback) = render_swatch(
         &job.graph,
         job.file.as_ref(),
         &SwatchOptions {
-            size: r.size,
+            size,
+            draft: job.draft,
             backend,
             orbit: r.orbit,
             time: r.time,
@@ -508,7 +582,7 @@ fn render_job(job: &Job) -> Result<Rendered, String> {
         .collect();
     Ok(Rendered {
         rgba,
-        size: r.size,
+        size,
         backend: match fallback {
             Some(why) => format!("{note}; {why}"),
             None => note,
@@ -521,6 +595,8 @@ fn render_job(job: &Job) -> Result<Rendered, String> {
 pub struct SwatchOptions {
     /// Side in pixels.
     pub size: u32,
+    /// A draft: the mesh at [`draft_detail`] instead of [`swatch_detail`].
+    pub draft: bool,
     /// Where the material is evaluated (`Gpu`: the GPU rasteriser).
     pub backend: Backend,
     /// The orbit camera.
@@ -535,6 +611,7 @@ impl Default for SwatchOptions {
     fn default() -> Self {
         SwatchOptions {
             size: SIZE,
+            draft: false,
             backend: Backend::Cpu,
             orbit: Orbit::default(),
             time: 0.0,
@@ -556,16 +633,12 @@ pub fn render_swatch(
         .or_else(|| Scene::preset("ball"))
         .ok_or("no scene")?;
     scene.camera = o.orbit.camera(&scene.camera);
-    swatch_detail(&mut scene, o.size);
+    match o.draft {
+        false => swatch_detail(&mut scene, o.size),
+        true => draft_detail(&mut scene),
+    }
     let textures = match file {
-        Some(f) => Some(Arc::new(
-            crate::image_io::load_graph_textures_with(
-                graph,
-                f,
-                crate::io::PathPolicy::InsideGraphFolder,
-            )
-            .map_err(|e| e.to_string())?,
-        )),
+        Some(f) => Some(graph_textures(graph, f)?),
         None => None,
     };
     let options = RenderOptions {
@@ -580,6 +653,56 @@ pub fn render_swatch(
     };
     let (hdr, t) = render_timed(graph, &scene, &options).map_err(|e| e.to_string())?;
     Ok((hdr.to_srgb8(1.0).pixels, t.fallback))
+}
+
+/// What a graph's images were loaded from: the graph file, and each texture's key with
+/// the length and modification time of each of its files (so that an image saved again is
+/// read again).
+type TextureStamp = (
+    PathBuf,
+    Vec<(String, Vec<Option<(u64, std::time::SystemTime)>>)>,
+);
+
+/// The images `graph`'s texture nodes name, next to `file`, loaded once per
+/// [`TextureStamp`]: a swatch reads and decodes them only when they change, and the GPU
+/// path, which keeps a material's uploads while its textures are the same `Arc`s, uploads
+/// them once. Measured at 128² on lavapipe, `water_sunshine`'s swatch (its wave maps): 80 →
+/// 45 ms.
+fn graph_textures(
+    graph: &Graph,
+    file: &PathBuf,
+) -> Result<Arc<crate::texture::TextureSet>, String> {
+    static LOADED: crate::memo::Memo<TextureStamp, Arc<crate::texture::TextureSet>, 4> =
+        crate::memo::Memo::new();
+    let folder = file.parent().unwrap_or(std::path::Path::new("."));
+    let mut sources: Vec<_> = graph
+        .nodes()
+        .iter()
+        .filter_map(|n| n.texture.as_ref())
+        .filter(|t| t.scene_name().is_none())
+        .map(|t| {
+            let stamps = t
+                .files()
+                .iter()
+                .map(|f| {
+                    let m = std::fs::metadata(folder.join(f)).ok()?;
+                    Some((m.len(), m.modified().ok()?))
+                })
+                .collect();
+            (t.key(), stamps)
+        })
+        .collect();
+    sources.sort();
+    sources.dedup();
+    LOADED.get_or_make((file.clone(), sources), || {
+        crate::image_io::load_graph_textures_with(
+            graph,
+            file,
+            crate::io::PathPolicy::InsideGraphFolder,
+        )
+        .map(Arc::new)
+        .map_err(|e| e.to_string())
+    })
 }
 
 /// The mesh detail of a swatch `size` pixels wide: at [`SIZE`] or less the ball has half
@@ -599,6 +722,23 @@ pub fn swatch_detail(scene: &mut Scene, size: u32) {
     match &mut scene.kind {
         SceneKind::Ball(b) => b.segments = b.segments.map(half),
         SceneKind::Water(w) => w.grid = w.grid.map(half),
+        SceneKind::Bubble(_) => {}
+    }
+}
+
+/// The mesh detail of a draft ([`DRAFT_SIZE`]): a quarter of the ball's segments and
+/// rings and of the water grid's and the seabed's cells each way (none below 16; the bubble
+/// keeps its own). Measured at 48² against the full mesh (`examples/swatch_stages.rs
+/// --compare`, docs/benchmarks.md): silhouettes move by a pixel and the seabed's shoreline
+/// by a few, which the full swatch corrects a render later.
+pub fn draft_detail(scene: &mut Scene) {
+    let quarter = |n: u32| n.min((n / 4).max(16));
+    match &mut scene.kind {
+        SceneKind::Ball(b) => b.segments = b.segments.map(quarter),
+        SceneKind::Water(w) => {
+            w.grid = w.grid.map(quarter);
+            w.seabed.grid = w.seabed.grid.map(quarter);
+        }
         SceneKind::Bubble(_) => {}
     }
 }
@@ -665,4 +805,53 @@ pub fn cut_at(doc: &GraphDocument, id: &str, registry: &Registry) -> Result<Grap
     }
     cut.outputs[0].name = crate::render::outputs::COLOR.into();
     build(&cut)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A swatch loads its images once, and again when a file changes on disk.
+    #[test]
+    fn graph_images_are_loaded_once_per_file_version() {
+        let dir = std::env::temp_dir().join(format!("matgraph-preview-{}", std::process::id()));
+        let images = dir.join("textures/sunshine");
+        std::fs::create_dir_all(&images).unwrap();
+        let from = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
+        for e in std::fs::read_dir(from.join("textures/sunshine")).unwrap() {
+            let e = e.unwrap();
+            std::fs::copy(e.path(), images.join(e.file_name())).unwrap();
+        }
+        let file = dir.join("water_sunshine.json");
+        std::fs::copy(from.join("water_sunshine.json"), &file).unwrap();
+        let graph = crate::io::load_graph(&file, Registry::builtin()).unwrap();
+        let texture = |set: &crate::texture::TextureSet, name: &str| {
+            set.get(set.index_of(name).unwrap()).unwrap().clone()
+        };
+        let first = graph_textures(&graph, &file).unwrap();
+        let again = graph_textures(&graph, &file).unwrap();
+        assert!(
+            Arc::ptr_eq(&first, &again),
+            "unchanged files are not read again"
+        );
+        let (wave1, wave2) = (
+            texture(&first, "textures/sunshine/wave1.png"),
+            texture(&first, "textures/sunshine/wave2.png"),
+        );
+        assert_ne!(wave1, wave2);
+        // wave1.png saved again with wave2's pixels (and a later time, as an editor's save).
+        let target = images.join("wave1.png");
+        std::fs::copy(images.join("wave2.png"), &target).unwrap();
+        let later = std::time::SystemTime::now() + Duration::from_secs(5);
+        std::fs::File::options()
+            .write(true)
+            .open(&target)
+            .unwrap()
+            .set_modified(later)
+            .unwrap();
+        let reloaded = graph_textures(&graph, &file).unwrap();
+        assert!(!Arc::ptr_eq(&first, &reloaded));
+        assert_eq!(texture(&reloaded, "textures/sunshine/wave1.png"), wave2);
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -24,9 +24,12 @@ pub fn preview_panel(ui: &mut Ui, state: &mut EditorState) {
             // The adapter's short name; the whole line and the last render's time on hover
             // (kept out of the panel so that snapshots do not depend on timing).
             let short = backend.split(" (").next().unwrap_or(backend);
-            let latency = p.latency().map_or(String::new(), |l| {
+            let mut latency = p.latency().map_or(String::new(), |l| {
                 format!("\nlast render {} ms", l.as_millis())
             });
+            if let Some(l) = p.draft_latency() {
+                latency += &format!("\nlast draft {} ms", l.as_millis());
+            }
             ui.weak(short).on_hover_text(format!("{backend}{latency}"));
         }
     });
