@@ -72,6 +72,13 @@ pub enum Swatch {
 /// Side of a node's swatch on the canvas, points (before the canvas zoom).
 pub const NODE_SWATCH_POINTS: f32 = 96.0;
 
+/// Below this canvas zoom the pins show neither their names nor their value editors, as
+/// Unreal's graph editor drops detail when zoomed out: the text would be under 7 px, and
+/// laying out the widgets of every node was most of the frame of a large graph framed
+/// whole (benches/editor.rs). The headers (the node's id and its error mark; not the
+/// preview toggle), pins and wires stay.
+pub const LOW_DETAIL_ZOOM: f32 = 0.5;
+
 /// The viewer of one frame.
 pub struct Viewer<'a> {
     /// The document (read only).
@@ -104,6 +111,11 @@ impl Viewer<'_> {
 
     fn id<'s>(&self, snarl: &'s Snarl<NodeView>, node: NodeId) -> &'s str {
         &snarl[node].id
+    }
+
+    /// Whether this frame's zoom is under [`LOW_DETAIL_ZOOM`].
+    fn low_detail(&self) -> bool {
+        self.to_screen.is_some_and(|t| t.scaling < LOW_DETAIL_ZOOM)
     }
 
     fn pin(&self, node: &str, port: PortType) -> PinInfo {
@@ -148,6 +160,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             if !errors.is_empty() {
                 ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
                     .on_hover_text(errors.join("\n"));
+            }
+            if self.low_detail() {
+                return;
             }
             let on = self.swatches.contains_key(&id);
             let toggle = ui
@@ -240,6 +255,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let ty = self.doc.port_type(&id, decl.ty);
         let ty_name = ty.map_or("T".to_owned(), |t| t.name().to_owned());
         let info = self.pin(&id, decl.ty);
+        if self.low_detail() {
+            return info;
+        }
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
@@ -274,6 +292,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             return PinInfo::default();
         };
         let decl = &t.outputs()[pin.id.output];
+        if self.low_detail() {
+            return self.pin(&id, decl.ty);
+        }
         let ty_name = self
             .doc
             .port_type(&id, decl.ty)
