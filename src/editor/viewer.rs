@@ -73,11 +73,11 @@ pub enum Swatch {
 pub const NODE_SWATCH_POINTS: f32 = 96.0;
 
 /// Below this canvas zoom the pins show neither their names nor their value editors, as
-/// Unreal's graph editor drops detail when zoomed out: the text would be under 7 px, and
+/// Unreal's graph editor drops detail when zoomed out: the text would be under 4 px, and
 /// laying out the widgets of every node was most of the frame of a large graph framed
 /// whole (benches/editor.rs). The headers (the node's id and its error mark; not the
 /// preview toggle), pins and wires stay.
-pub const LOW_DETAIL_ZOOM: f32 = 0.5;
+pub const LOW_DETAIL_ZOOM: f32 = 0.3;
 
 /// The viewer of one frame.
 pub struct Viewer<'a> {
