@@ -670,7 +670,7 @@ type TextureStamp = (
 /// decoded and uploaded per render before): 22–25 → 13–14 ms.
 fn graph_textures(
     graph: &Graph,
-    file: &PathBuf,
+    file: &std::path::Path,
 ) -> Result<Arc<crate::texture::TextureSet>, String> {
     static LOADED: crate::memo::Memo<TextureStamp, Arc<crate::texture::TextureSet>, 4> =
         crate::memo::Memo::new();
@@ -694,7 +694,7 @@ fn graph_textures(
         .collect();
     sources.sort();
     sources.dedup();
-    LOADED.get_or_make((file.clone(), sources), || {
+    LOADED.get_or_make((file.to_owned(), sources), || {
         crate::image_io::load_graph_textures_with(
             graph,
             file,
