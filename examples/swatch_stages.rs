@@ -11,6 +11,9 @@
 //!
 //! `cargo run --release --example swatch_stages [-- --size 128 --runs 12 --graphs a,b --draft --compare]`
 
+#[path = "common/bundled.rs"]
+mod bundled;
+
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, RenderTimings, render_timed};
 use matgraph::scene::Scene;
@@ -52,19 +55,7 @@ fn main() {
             println!("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |");
         }
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
-        .filter(|p| {
-            only.as_ref().is_none_or(|names| {
-                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
-                names.iter().any(|n| *n == stem)
-            })
-        })
-        .collect();
-    files.sort();
+    let files = bundled::graph_files(only.as_deref());
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for path in files {
         let graph = matgraph::io::load_graph(&path, matgraph::Registry::builtin()).unwrap();

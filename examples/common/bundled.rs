@@ -1,0 +1,22 @@
+//! The bundled graphs the timing examples run over.
+
+use std::path::PathBuf;
+
+/// The bundled graph files (`graphs/*.json`), sorted; with `only`, those whose file stem it
+/// names.
+pub fn graph_files(only: Option<&[String]>) -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .filter(|p| {
+            only.is_none_or(|names| {
+                let stem = p.file_stem().unwrap_or_default().to_string_lossy();
+                names.iter().any(|n| *n == stem)
+            })
+        })
+        .collect();
+    files.sort();
+    files
+}
