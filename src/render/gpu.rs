@@ -124,10 +124,10 @@ pub(super) fn render(
     let start = Instant::now();
     let set = textures(ctx, graph, scene, options)?;
     t.gbuffer = start.elapsed();
-    // Made once per scene (its camera and time included): frames that change only the
-    // material reuse the mesh, and the device its buffers.
+    // Made once per mesh (`Scene::material_mesh_key`): frames that change only the
+    // material or the camera reuse it, and the device its buffers.
     static MESHES: Memo<String, Arc<Mesh>, 4> = Memo::new();
-    let mesh = MESHES.get_or(serde_json::to_string(scene).unwrap_or_default(), || {
+    let mesh = MESHES.get_or(scene.material_mesh_key(), || {
         Arc::new(scene.material_mesh())
     });
     let input = MaterialInput {

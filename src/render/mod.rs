@@ -269,26 +269,20 @@ pub struct HdrImage {
 }
 
 impl HdrImage {
-    /// The tone-mapped 8-bit sRGB image (see [`tonemap::to_srgb8`]), rows in parallel
-    /// (the same bytes on any number of threads).
+    /// The tone-mapped 8-bit sRGB image (see [`tonemap::to_srgb8`]), in parallel (the same
+    /// bytes on any number of threads).
     pub fn to_srgb8(&self, exposure: f32) -> sheet::Rgb8Image {
         use rayon::prelude::*;
         let scale = exposure.exp2();
-        let row = (self.width as usize).max(1);
-        let mut pixels = vec![[0u8; 3]; self.pixels.len()];
-        pixels
-            .par_chunks_mut(row)
-            .zip(self.pixels.par_chunks(row))
-            .with_min_len(16)
-            .for_each(|(out, line)| {
-                for (o, &c) in out.iter_mut().zip(line) {
-                    *o = tonemap::scaled_to_srgb8(c, scale);
-                }
-            });
         sheet::Rgb8Image {
             width: self.width,
             height: self.height,
-            pixels,
+            pixels: self
+                .pixels
+                .par_iter()
+                .with_min_len(2048)
+                .map(|&c| tonemap::scaled_to_srgb8(c, scale))
+                .collect(),
         }
     }
 }

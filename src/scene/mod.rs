@@ -221,6 +221,19 @@ impl Scene {
         Environment::Sky(sky)
     }
 
+    /// What [`Scene::material_mesh`] is made from, as a key: the scene kind, and the
+    /// camera's position under a water level of detail or the time in the bubble scene
+    /// (the meshes that move with them); an orbit about a ball keeps its mesh.
+    pub fn material_mesh_key(&self) -> String {
+        let moving = match &self.kind {
+            SceneKind::Water(w) if w.lod.is_some() => format!("{:?}", self.camera.position),
+            SceneKind::Bubble(_) => format!("{:?}", self.time),
+            SceneKind::Water(_) | SceneKind::Ball(_) => String::new(),
+        };
+        let kind = serde_json::to_string(&self.kind).unwrap_or_default();
+        format!("{kind}/{moving}")
+    }
+
     /// The mesh that carries the material: the ball's UV sphere (`segments`), the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
     /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]), or

@@ -444,17 +444,13 @@ fn target<'a>(
 struct SceneGpu {
     packed: Arc<PackedScene>,
     pipes: Arc<ScenePipelines>,
-    lights: wgpu::Buffer,
-    casters: wgpu::Buffer,
+    buffers: Arc<SceneBuffers>,
     objects_group: wgpu::BindGroup,
     /// The refraction pass's group, drawing the Snell-refracted positions, when on.
     refracted_group: Option<wgpu::BindGroup>,
-    index: wgpu::Buffer,
     /// The scene textures (texels, levels, table): the bubble backdrop's maps, the
     /// environment image.
     textures: Arc<[wgpu::Buffer; 3]>,
-    /// `MgrBackdrop`.
-    backdrop: wgpu::Buffer,
 }
 
 /// A packed scene's buffers on the device (`DeviceState::scenes`), uploaded once per
@@ -467,6 +463,7 @@ pub(in crate::gpu) struct SceneBuffers {
     normals: wgpu::Buffer,
     table: wgpu::Buffer,
     index: wgpu::Buffer,
+    /// `MgrBackdrop`.
     backdrop: wgpu::Buffer,
     /// The Snell-refracted positions, when the scene has them.
     refracted: Option<wgpu::Buffer>,
@@ -507,15 +504,20 @@ impl SceneBuffers {
 
 /// A material mesh's buffers on the device (`DeviceState::meshes`), made once per mesh:
 /// the indices, the vertices in the contract's layout (drawn as they are without
-/// displacement) and the displacement passes' inputs (position and uv, normal and uv) with
-/// the welded normals' adjacency, whose sort was most of a displaced frame's CPU time.
+/// displacement) and, on the first displaced frame, the displacement passes' inputs.
 pub(in crate::gpu) struct MeshBuffers {
     index: wgpu::Buffer,
     /// Indices drawn.
     count: u32,
     vertices: wgpu::Buffer,
-    displace_in: wgpu::Buffer,
-    /// `Mesh::normal_adjacency`: weld groups, their starts, their triangles.
+    displacement: std::sync::OnceLock<DisplacementInputs>,
+}
+
+/// The inputs of the displacement and normal passes: position and uv, normal and uv per
+/// vertex, and the welded normals' adjacency (`Mesh::normal_adjacency`: weld groups, their
+/// starts, their triangles), whose sort was most of a displaced frame's CPU time.
+struct DisplacementInputs {
+    vertices: wgpu::Buffer,
     adjacency: [wgpu::Buffer; 3],
 }
 
@@ -529,24 +531,34 @@ impl MeshBuffers {
                 contents: bytemuck::cast_slice(&vertex_bytes(mesh)),
                 usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
             });
-        let displace_in: Vec<[f32; 4]> = (0..mesh.positions.len())
-            .flat_map(|i| {
-                let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
-                [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
-            })
-            .collect();
-        let (groups, starts, tris) = mesh.normal_adjacency();
         MeshBuffers {
             index: index_buffer(s, &idx),
             count: idx.len() as u32,
             vertices,
-            displace_in: storage(s, "mgr vertices", bytemuck::cast_slice(&displace_in), 16),
-            adjacency: [
-                storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16),
-                storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16),
-                storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16),
-            ],
+            displacement: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The displacement passes' inputs of `mesh` (the mesh these buffers were made from),
+    /// made on the first displaced frame.
+    fn displacement(&self, s: &DeviceState, mesh: &Mesh) -> &DisplacementInputs {
+        self.displacement.get_or_init(|| {
+            let vertices: Vec<[f32; 4]> = (0..mesh.positions.len())
+                .flat_map(|i| {
+                    let (p, q, uv) = (mesh.positions[i], mesh.normals[i], mesh.uvs[i]);
+                    [p.extend(uv.x).to_array(), q.extend(uv.y).to_array()]
+                })
+                .collect();
+            let (groups, starts, tris) = mesh.normal_adjacency();
+            DisplacementInputs {
+                vertices: storage(s, "mgr vertices", bytemuck::cast_slice(&vertices), 16),
+                adjacency: [
+                    storage(s, "mgr groups", bytemuck::cast_slice(&groups), 16),
+                    storage(s, "mgr starts", bytemuck::cast_slice(&starts), 16),
+                    storage(s, "mgr adjacency", bytemuck::cast_slice(&tris), 16),
+                ],
+            }
+        })
     }
 
     /// The buffers of `mesh`, made on the first frame that draws it.
@@ -800,13 +812,10 @@ impl SceneGpu {
         Ok(SceneGpu {
             packed,
             pipes,
-            lights: b.lights.clone(),
-            casters: b.casters.clone(),
+            buffers: b,
             objects_group,
             refracted_group,
-            index: b.index.clone(),
             textures,
-            backdrop: b.backdrop.clone(),
         })
     }
 
@@ -818,12 +827,12 @@ impl SceneGpu {
             &self.pipes.scene_layout,
             &[
                 u.as_entire_binding(),
-                self.lights.as_entire_binding(),
-                self.casters.as_entire_binding(),
+                self.buffers.lights.as_entire_binding(),
+                self.buffers.casters.as_entire_binding(),
                 self.textures[0].as_entire_binding(),
                 self.textures[1].as_entire_binding(),
                 self.textures[2].as_entire_binding(),
-                self.backdrop.as_entire_binding(),
+                self.buffers.backdrop.as_entire_binding(),
             ],
         )
     }
@@ -874,7 +883,7 @@ impl SceneGpu {
         rp.set_bind_group(0, group, &[]);
         rp.set_bind_group(1, frame, &[]);
         rp.set_pipeline(&self.pipes.objects);
-        rp.set_index_buffer(self.index.slice(..), wgpu::IndexFormat::Uint32);
+        rp.set_index_buffer(self.buffers.index.slice(..), wgpu::IndexFormat::Uint32);
         for (k, r) in self.packed.ranges.iter().enumerate() {
             // The reflection shows what stands above the water only.
             if pass == ScenePass::Reflection && r.underwater {
@@ -1414,7 +1423,8 @@ fn displace(
     let params_buf = uniform(s, "mgr displacement params", &params.bytes());
     let textures = uploaded(s, owner, material, true, m.textures)?;
     let dg = material.library_bind_group(&s.device, dl, &params_buf, &textures);
-    let vin = &buffers.displace_in;
+    let inputs = buffers.displacement(s, mesh);
+    let vin = &inputs.vertices;
     let displaced = s.buffer(
         "mgr displaced",
         n.max(1) as u64 * 16,
@@ -1432,7 +1442,7 @@ fn displace(
             count.as_entire_binding(),
         ],
     );
-    let [g_buf, s_buf, t_buf] = &buffers.adjacency;
+    let [g_buf, s_buf, t_buf] = &inputs.adjacency;
     let out = s.buffer(
         "mgr displaced vertices",
         n.max(1) as u64 * VERTEX_STRIDE,
