@@ -11,8 +11,6 @@ mod bundled;
 
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, RenderTimings, render_timed};
-use matgraph::scene::Scene;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 fn main() {
@@ -46,11 +44,7 @@ fn main() {
     let files = bundled::graph_files(only.as_deref());
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for path in files {
-        let graph = matgraph::io::load_graph(&path, matgraph::Registry::builtin()).unwrap();
-        let scene = matgraph::render::graph_scene(&graph)
-            .unwrap()
-            .unwrap_or_else(|| Scene::preset("ball").unwrap());
-        let textures = Arc::new(matgraph::image_io::load_graph_textures(&graph, &path).unwrap());
+        let (graph, scene, textures) = bundled::load(&path);
         let options = |backend| RenderOptions {
             width: size,
             height: size,

@@ -17,7 +17,6 @@ mod bundled;
 use matgraph::gpu::Backend;
 use matgraph::render::{RenderOptions, RenderTimings, render_timed};
 use matgraph::scene::Scene;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 fn main() {
@@ -58,16 +57,12 @@ fn main() {
     let files = bundled::graph_files(only.as_deref());
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for path in files {
-        let graph = matgraph::io::load_graph(&path, matgraph::Registry::builtin()).unwrap();
-        let full = matgraph::render::graph_scene(&graph)
-            .unwrap()
-            .unwrap_or_else(|| Scene::preset("ball").unwrap());
+        let (graph, full, textures) = bundled::load(&path);
         let mut scene = full.clone();
         match draft {
             false => matgraph::editor::preview::swatch_detail(&mut scene, size),
             true => matgraph::editor::preview::draft_detail(&mut scene),
         }
-        let textures = Arc::new(matgraph::image_io::load_graph_textures(&graph, &path).unwrap());
         let options = RenderOptions {
             width: size,
             height: size,

@@ -1,6 +1,9 @@
 //! The bundled graphs the timing examples run over.
 
-use std::path::PathBuf;
+use matgraph::scene::Scene;
+use matgraph::texture::TextureSet;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The bundled graph files (`graphs/*.json`), sorted; with `only`, those whose file stem it
 /// names.
@@ -19,4 +22,14 @@ pub fn graph_files(only: Option<&[String]>) -> Vec<PathBuf> {
         .collect();
     files.sort();
     files
+}
+
+/// A bundled graph, its scene (the ball where it names none) and its images.
+pub fn load(path: &Path) -> (matgraph::Graph, Scene, Arc<TextureSet>) {
+    let graph = matgraph::io::load_graph(path, matgraph::Registry::builtin()).unwrap();
+    let scene = matgraph::render::graph_scene(&graph)
+        .unwrap()
+        .unwrap_or_else(|| Scene::preset("ball").unwrap());
+    let textures = Arc::new(matgraph::image_io::load_graph_textures(&graph, path).unwrap());
+    (graph, scene, textures)
 }

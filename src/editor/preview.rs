@@ -174,6 +174,14 @@ struct Rendered {
     backend: String,
 }
 
+impl Rendered {
+    /// The pixels as an egui image.
+    fn image(&self) -> egui::ColorImage {
+        let n = self.size as usize;
+        egui::ColorImage::from_rgba_unmultiplied([n, n], &self.rgba)
+    }
+}
+
 /// The state of one swatch.
 #[derive(Default)]
 struct SlotState {
@@ -487,9 +495,7 @@ impl Preview {
                 state.draft_latency = Some(d.latency);
                 state.draft = Some(d.request);
                 if let (Ok(r), Some(t)) = (d.result, &mut state.texture) {
-                    let n = r.size as usize;
-                    let image = egui::ColorImage::from_rgba_unmultiplied([n, n], &r.rgba);
-                    t.set(image, egui::TextureOptions::LINEAR);
+                    t.set(r.image(), egui::TextureOptions::LINEAR);
                 }
                 continue;
             }
@@ -498,8 +504,7 @@ impl Preview {
             state.draft = None;
             match d.result {
                 Ok(r) => {
-                    let n = r.size as usize;
-                    let image = egui::ColorImage::from_rgba_unmultiplied([n, n], &r.rgba);
+                    let image = r.image();
                     match &mut state.texture {
                         Some(t) => t.set(image, egui::TextureOptions::LINEAR),
                         None => {
