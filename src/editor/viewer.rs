@@ -253,7 +253,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         };
         let decl = &t.inputs()[pin.id.input];
         let ty = self.doc.port_type(&id, decl.ty);
-        let ty_name = ty.map_or("T".to_owned(), |t| t.name().to_owned());
+        let ty_name = ty.map_or("T", |t| t.name());
         let info = self.pin(&id, decl.ty);
         if self.low_detail() {
             return info;
@@ -262,8 +262,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
         ui.horizontal(|ui| {
-            ui.label(decl.name)
-                .on_hover_text(port_hover(&ty_name, decl.unit, decl.doc));
+            ui.label(decl.name).on_hover_ui(|ui| {
+                ui.label(port_hover(ty_name, decl.unit, decl.doc));
+            });
             if pin.remotes.is_empty() {
                 let written = self.doc.node(&id).and_then(|n| n.inputs.get(decl.name));
                 let ty = ty.unwrap_or(crate::types::SocketType::Float);
@@ -295,12 +296,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         if self.low_detail() {
             return self.pin(&id, decl.ty);
         }
-        let ty_name = self
-            .doc
-            .port_type(&id, decl.ty)
-            .map_or("T".to_owned(), |t| t.name().to_owned());
-        ui.label(decl.name)
-            .on_hover_text(port_hover(&ty_name, decl.unit, decl.doc));
+        let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
+        // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
+        ui.label(decl.name).on_hover_ui(|ui| {
+            ui.label(port_hover(ty_name, decl.unit, decl.doc));
+        });
         self.pin(&id, decl.ty)
     }
 
