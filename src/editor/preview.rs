@@ -16,8 +16,10 @@
 //!
 //! **Drafts.** Where the main swatch's last render took longer than a 60 Hz frame
 //! ([`FRAME`]), an edit (a parameter, a value, a wire, the orbit) is first rendered as a
-//! draft, [`DRAFT_SIZE`]² at a quarter of the mesh detail ([`draft_detail`]), shown scaled
-//! up in the swatch, and the full swatch follows. While a slider is dragged each new value
+//! draft at a quarter of the mesh detail ([`draft_detail`]), shown scaled up in the swatch,
+//! and the full swatch follows. The first draft is [`DRAFT_SIZE`]²; each later one is sized
+//! from the last ([`draft_side`]) to fit [`DRAFT_BUDGET`], down to [`MIN_DRAFT_SIZE`]², as a
+//! game's dynamic resolution follows its frame time. While a slider is dragged each new value
 //! gets a draft, and the full render comes when the value rests, as Blender's viewport
 //! renders at a coarser pixel size while the view changes. Time alone (playing) does not
 //! draft.
@@ -44,8 +46,16 @@ pub const SIZE: u32 = 128;
 /// Side of a node's swatch in pixels.
 pub const NODE_SIZE: u32 = 64;
 
-/// Side of the main swatch's draft in pixels.
+/// Side of the main swatch's first (and largest) draft in pixels.
 pub const DRAFT_SIZE: u32 = 48;
+
+/// Side of the smallest draft in pixels (2.7× the swatch's pixel size: a colour and shape
+/// still read).
+pub const MIN_DRAFT_SIZE: u32 = 24;
+
+/// Request-to-pixels time a draft is sized for: half a 60 Hz frame, the other half being
+/// the editor's frames that queue the draft and show it.
+pub const DRAFT_BUDGET: Duration = Duration::from_micros(8_333);
 
 /// A frame at 60 Hz: a main swatch whose last full render took longer drafts its edits.
 pub const FRAME: Duration = Duration::from_micros(16_667);
@@ -150,8 +160,10 @@ type Slot = Option<String>;
 struct Job {
     slot: Slot,
     request: Request,
-    /// Rendered as a draft ([`DRAFT_SIZE`], [`draft_detail`]).
+    /// Rendered as a draft ([`draft_detail`]).
     draft: bool,
+    /// Side in pixels: the request's, or the draft's ([`draft_side`]).
+    side: u32,
     graph: Arc<Graph>,
     file: Option<PathBuf>,
     cpu_only: bool,
@@ -163,6 +175,7 @@ struct Done {
     slot: Slot,
     request: Request,
     draft: bool,
+    side: u32,
     result: Result<Rendered, String>,
     latency: Duration,
 }
@@ -202,8 +215,8 @@ struct SlotState {
     backend: String,
     /// Request to pixels, the last full render.
     latency: Option<Duration>,
-    /// Request to pixels, the last draft.
-    draft_latency: Option<Duration>,
+    /// The last draft's side and request-to-pixels time.
+    last_draft: Option<(u32, Duration)>,
 }
 
 /// The preview's time: a slider, and play/pause.
@@ -358,7 +371,12 @@ impl Preview {
 
     /// Time from the request to the pixels of the main swatch's last draft.
     pub fn draft_latency(&self) -> Option<Duration> {
-        self.slots.get(&None)?.draft_latency
+        Some(self.slots.get(&None)?.last_draft?.1)
+    }
+
+    /// The side in pixels of the main swatch's last draft.
+    pub fn draft_size(&self) -> Option<u32> {
+        Some(self.slots.get(&None)?.last_draft?.0)
     }
 
     /// Whether the main swatch shows the graph as last asked for, as a draft or in full
@@ -454,10 +472,15 @@ impl Preview {
                 && !playing
                 && state.latency.is_some_and(|l| l > FRAME)
                 && state.draft.as_ref() != Some(&request);
+            let side = match draft {
+                true => draft_side(state.last_draft),
+                false => request.size,
+            };
             let job = Job {
                 slot,
                 request: request.clone(),
                 draft,
+                side,
                 graph: program.clone(),
                 file: file.cloned(),
                 cpu_only: self.cpu_only,
@@ -492,7 +515,7 @@ impl Preview {
             if d.draft {
                 // Shown until its full render replaces it; a failed draft leaves the
                 // swatch as it was, and the full render reports the error.
-                state.draft_latency = Some(d.latency);
+                state.last_draft = Some((d.side, d.latency));
                 state.draft = Some(d.request);
                 if let (Ok(r), Some(t)) = (d.result, &mut state.texture) {
                     t.set(r.image(), egui::TextureOptions::LINEAR);
@@ -546,6 +569,7 @@ fn spawn_worker(ctx: &egui::Context, done: Arc<Mutex<Vec<Done>>>) -> mpsc::Sende
                     slot: job.slot,
                     request: job.request,
                     draft: job.draft,
+                    side: job.side,
                     result,
                     latency: job.queued.elapsed(),
                 };
@@ -568,7 +592,7 @@ fn render_job(job: &Job) -> Result<Rendered, String> {
         }
     };
     let r = &job.request;
-    let size = if job.draft { DRAFT_SIZE } else { r.size };
+    let size = job.side;
     let (pixels, fallback) = render_swatch(
         &job.graph,
         job.file.as_ref(),
@@ -731,7 +755,23 @@ pub fn swatch_detail(scene: &mut Scene, size: u32) {
     }
 }
 
-/// The mesh detail of a draft ([`DRAFT_SIZE`]): a quarter of the ball's segments and
+/// The side of a draft after one of side `last.0` that took `last.1` from request to
+/// pixels: scaled by √([`DRAFT_BUDGET`] / time) (a draw's time grows with its pixels),
+/// rounded down to a multiple of 8 and kept within [[`MIN_DRAFT_SIZE`], [`DRAFT_SIZE`]];
+/// [`DRAFT_SIZE`] for the first. Lavapipe's fixed cost per frame (the scene's vertices,
+/// the passes) does not shrink with the side, so a heavy scene settles at the smallest
+/// draft. Measured at 48² → 24² (`swatch_stages --draft`, best of 5): `water_sunshine`
+/// 14.1 → 8.4 ms, `bubble_iridescent` 32.8 → 18.4 ms, `fresnel_glass` 8.2 → 4.2 ms.
+pub fn draft_side(last: Option<(u32, Duration)>) -> u32 {
+    let Some((side, took)) = last else {
+        return DRAFT_SIZE;
+    };
+    let ratio = DRAFT_BUDGET.as_secs_f64() / took.as_secs_f64().max(1e-6);
+    let scaled = (side as f64 * ratio.sqrt()).min(DRAFT_SIZE as f64) as u32;
+    (scaled / 8 * 8).clamp(MIN_DRAFT_SIZE, DRAFT_SIZE)
+}
+
+/// The mesh detail of a draft: a quarter of the ball's segments and
 /// rings and of the water grid's and the seabed's cells each way (none below 16; the bubble
 /// keeps its own). Measured at 48² on lavapipe against the full mesh at 48²
 /// (`examples/swatch_stages.rs --draft --size 48 --compare`, docs/benchmarks.md): 4–30 ms
@@ -741,13 +781,14 @@ pub fn swatch_detail(scene: &mut Scene, size: u32) {
 /// The full swatch replaces the draft one render later.
 pub fn draft_detail(scene: &mut Scene) {
     let quarter = |n: u32| n.min((n / 4).max(16));
+    let half = |n: u32| n.min((n / 2).max(16));
     match &mut scene.kind {
         SceneKind::Ball(b) => b.segments = b.segments.map(quarter),
         SceneKind::Water(w) => {
             w.grid = w.grid.map(quarter);
             w.seabed.grid = w.seabed.grid.map(quarter);
         }
-        SceneKind::Bubble(_) => {}
+        SceneKind::Bubble(b) => b.segments = b.segments.map(half),
     }
 }
 
@@ -818,6 +859,53 @@ pub fn cut_at(doc: &GraphDocument, id: &str, registry: &Registry) -> Result<Grap
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Drafts sized to the budget: hand-worked cases, then seeded random ones checked
+    /// against the quadratic cost model (the side is the largest multiple of 8 whose
+    /// predicted time, time × (new / old)², fits 8.333 ms) and the limits.
+    #[test]
+    fn drafts_are_sized_to_the_budget() {
+        let ms = |t: f64| Duration::from_secs_f64(t * 1e-3);
+        assert_eq!(draft_side(None), 48);
+        // 48 · √(8.333 / 33.332) = 24.
+        assert_eq!(draft_side(Some((48, ms(33.332)))), 24);
+        assert_eq!(draft_side(Some((48, ms(8.0)))), 48);
+        // 40 · √(8.333 / 10) = 36.5 → 32.
+        assert_eq!(draft_side(Some((40, ms(10.0)))), 32);
+        // 32 · √(8.333 / 4) = 46.2 → 40.
+        assert_eq!(draft_side(Some((32, ms(4.0)))), 40);
+        assert_eq!(draft_side(Some((24, ms(0.5)))), 48);
+        assert_eq!(draft_side(Some((24, ms(200.0)))), 24);
+        assert_eq!(draft_side(Some((48, Duration::ZERO))), 48);
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f64 / (1u64 << 24) as f64
+        };
+        for _ in 0..10_000 {
+            let side = 24 + 8 * (next() * 4.0) as u32;
+            let took = ms((0.5 + 60.0 * next()) as f32 as f64);
+            let r = draft_side(Some((side, took)));
+            assert!(
+                r % 8 == 0 && (24..=48).contains(&r),
+                "{side} {took:?} → {r}"
+            );
+            let predicted = |n: u32| took.as_secs_f64() * (n as f64 / side as f64).powi(2);
+            let budget = 8.333e-3 + 1e-12;
+            if r > 24 {
+                assert!(predicted(r) <= budget, "{side} {took:?} → {r} over budget");
+            }
+            if r < 48 {
+                assert!(
+                    predicted(r + 8) > budget,
+                    "{side} {took:?} → {r}, {} fits",
+                    r + 8
+                );
+            }
+        }
+    }
 
     /// A swatch loads its images once, and again when a file changes on disk.
     #[test]

@@ -35,16 +35,36 @@ fn textures(
         .collect();
     wanted.sort_unstable();
     wanted.dedup();
-    if !wanted.is_empty() {
+    let (environment, passes): (Vec<&str>, Vec<&str>) = wanted
+        .iter()
+        .partition(|w| super::is_environment_texture(w));
+    // The environment's textures (a map and its prefiltered tables, the same at every frame
+    // size) apart from the passes' (at the frame's size): the editor's drafts, whose side
+    // follows their time, redraw only the passes.
+    let scene_json = || serde_json::to_string(scene).unwrap_or_default();
+    if !environment.is_empty() {
         let key: SceneKey = (
-            serde_json::to_string(scene).unwrap_or_default(),
-            wanted.iter().map(|w| w.to_string()).collect(),
-            (options.width, options.height),
+            scene_json(),
+            environment.iter().map(|w| w.to_string()).collect(),
+            (0, 0),
             Same(options.environment.clone()),
         );
-        static SCENE_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
-        let made = SCENE_TEXTURES.get_or_make(key, || {
-            scene_textures(ctx, scene, options, &wanted).map(Arc::new)
+        static ENVIRONMENT_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+        let made = ENVIRONMENT_TEXTURES.get_or_make(key, || {
+            scene_textures(ctx, scene, options, &environment).map(Arc::new)
+        })?;
+        set.extend_shared(&made).map_err(texture_error)?;
+    }
+    if !passes.is_empty() {
+        let key: SceneKey = (
+            scene_json(),
+            passes.iter().map(|w| w.to_string()).collect(),
+            super::scene_texture_size(options.width, options.height),
+            Same(options.environment.clone()),
+        );
+        static PASS_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+        let made = PASS_TEXTURES.get_or_make(key, || {
+            scene_textures(ctx, scene, options, &passes).map(Arc::new)
         })?;
         set.extend_shared(&made).map_err(texture_error)?;
     }
@@ -52,8 +72,9 @@ fn textures(
 }
 
 /// What the scene textures of a frame depend on: the scene (its time included), the names the
-/// graph samples, the frame size and the environment image. A material's parameters are not
-/// in it, so a parameter change redraws no scene texture.
+/// graph samples, the scene textures' size (none for the environment's) and the environment
+/// image. A material's parameters are not in it, so a parameter change redraws no scene
+/// texture.
 type SceneKey = (String, Vec<String>, (u32, u32), Same<Texture>);
 
 /// The scene textures in `wanted` (`scene:` names), drawn on the GPU (their mip chains built
