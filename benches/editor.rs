@@ -2,13 +2,14 @@
 //! editor with a 300-node graph, the time from a parameter change to the new preview, and
 //! from a structural edit (a literal baked into the shader) to the new preview, for the
 //! bundled graphs: to the first pixels that show the edit (the draft, where the preview
-//! drafts: `editor::preview`'s module doc) and to the full swatch. `cargo bench --bench editor` measures; `cargo test` runs it once on a
-//! small graph and one bundled graph (a check that it still works, no figures).
+//! drafts: `editor::preview`'s module doc) and to the full swatch. `cargo bench --bench
+//! editor` measures; `cargo test` runs it once on a small graph and one bundled graph (a
+//! check that it still works, no figures).
 //!
-//! The editor runs in egui_kittest's harness without a renderer: a frame is egui's pass
-//! (layout of the panels and the canvas, the snarl viewer, the validation and code
-//! generation the frame asks for), without tessellation and painting. The preview renders
-//! on the process-wide GPU context (lavapipe here) as in the window.
+//! The editor runs as in a window ([`Window`]: egui's pass on a plain `egui::Context` and
+//! the tessellation of what it drew, without painting), and once more in egui_kittest's
+//! harness for the frame time with the accessibility tree that the harness always builds.
+//! The preview renders on the process-wide GPU context (lavapipe here) as in the window.
 
 use egui_kittest::Harness;
 use matgraph::Registry;
@@ -55,36 +56,83 @@ fn harness(state: EditorState) -> Harness<'static, EditorApp> {
         .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
 }
 
-/// Steps until `done` holds after a step; the wall time it took.
-fn step_until(
-    h: &mut Harness<'static, EditorApp>,
-    limit: Duration,
-    done: impl Fn(&EditorApp) -> bool,
-) -> Duration {
-    let start = Instant::now();
-    h.step();
-    while !done(h.state()) {
-        assert!(start.elapsed() < limit, "not done after {limit:?}");
-        std::thread::sleep(Duration::from_micros(500));
-        h.step();
+/// The editor as in a window: its egui pass on a plain `egui::Context` (no accessibility
+/// tree: eframe builds one only for a screen reader, where egui_kittest always does, at
+/// about a third of its frame) plus the tessellation of what it drew, 1400 × 900 points at
+/// 60 Hz of input time. Painting (the GPU's part) is left out.
+struct Window {
+    app: EditorApp,
+    ctx: egui::Context,
+    time: f64,
+}
+
+impl Window {
+    fn new(state: EditorState) -> Window {
+        Window {
+            app: EditorApp::new(state),
+            ctx: egui::Context::default(),
+            time: 0.0,
+        }
     }
-    start.elapsed()
+
+    /// One frame.
+    fn frame(&mut self) {
+        self.time += 1.0 / 60.0;
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(1400.0, 900.0),
+            )),
+            time: Some(self.time),
+            ..Default::default()
+        };
+        let app = &mut self.app;
+        let mut out = self.ctx.run_ui(input, |ui| app.ui(ui));
+        // No renderer takes the font atlas' updates (epaint asserts they are taken).
+        out.textures_delta.clear();
+        let shapes = std::mem::take(&mut out.shapes);
+        std::hint::black_box(self.ctx.tessellate(shapes, out.pixels_per_point));
+    }
+
+    /// Frames until `done` holds after one; the wall time it took. Between frames the
+    /// loop waits 0.5 ms (a window waits for its next event or vsync).
+    fn frames_until(&mut self, limit: Duration, done: impl Fn(&EditorApp) -> bool) -> Duration {
+        let start = Instant::now();
+        self.frame();
+        while !done(&self.app) {
+            assert!(start.elapsed() < limit, "not done after {limit:?}");
+            std::thread::sleep(Duration::from_micros(500));
+            self.frame();
+        }
+        start.elapsed()
+    }
+
+    /// Frames until the canvas and the preview are settled (the full swatch shown).
+    fn settle(&mut self, limit: Duration) -> Duration {
+        self.frames_until(limit, |a| a.state.preview.settled() && a.settled())
+    }
+
+    /// Frames until the swatch shows the edit (its draft, or the full swatch), then until
+    /// it is settled: (first pixels, full swatch) in ms.
+    fn edit_to_preview(&mut self, limit: Duration) -> (f64, f64) {
+        let first = self.frames_until(limit, |a| a.state.preview.current());
+        let rest = match self.app.state.preview.settled() && self.app.settled() {
+            true => Duration::ZERO,
+            false => self.settle(limit),
+        };
+        (ms(first), ms(first + rest))
+    }
 }
 
-/// Steps until the canvas and the preview are settled (the full swatch shown).
-fn settle(h: &mut Harness<'static, EditorApp>, limit: Duration) -> Duration {
-    step_until(h, limit, |a| a.state.preview.settled() && a.settled())
-}
-
-/// Steps until the swatch shows the edit (its draft, or the full swatch), then until it is
-/// settled: (first pixels, full swatch).
-fn edit_to_preview(h: &mut Harness<'static, EditorApp>, limit: Duration) -> (f64, f64) {
-    let first = step_until(h, limit, |a| a.state.preview.current());
-    let rest = match h.state().state.preview.settled() && h.state().settled() {
-        true => Duration::ZERO,
-        false => settle(h, limit),
-    };
-    (ms(first), ms(first + rest))
+/// The CPU time of this thread so far (user and system, in Linux's 10 ms clock ticks),
+/// where /proc has it: a sum over many frames that other work on the machine does not
+/// inflate as it does their wall time.
+fn thread_cpu_time() -> Option<Duration> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    // The fields after the command name: state is the first, utime the 12th, stime the 13th.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    Some(Duration::from_millis(ticks * 10))
 }
 
 fn ms(d: Duration) -> f64 {
@@ -102,7 +150,12 @@ fn frame_time(n: usize, frames: usize) {
     state.dialog = None;
     state.preview.enabled = false;
     let mut h = harness(state);
-    settle(&mut h, Duration::from_secs(600));
+    let start = Instant::now();
+    h.step();
+    while !(h.state().state.preview.settled() && h.state().settled()) {
+        assert!(start.elapsed() < Duration::from_secs(600), "not settled");
+        h.step();
+    }
     let mut times = Vec::new();
     for _ in 0..frames {
         let t = Instant::now();
@@ -116,49 +169,34 @@ fn frame_time(n: usize, frames: usize) {
     );
 }
 
-/// Frame time as in a window: the editor's egui pass on a plain `egui::Context` (no
-/// accessibility tree: eframe builds one only for a screen reader, where egui_kittest
-/// always does, at about a third of its frame) plus the tessellation of what it drew, for
-/// an `n`-node graph framed; the median of `frames`. Painting (the GPU's part) is left out.
+/// Frame time as in a window ([`Window`]) with an `n`-node graph framed: the median of
+/// `frames`.
 fn window_frame_time(n: usize, frames: usize) {
     let mut state = EditorState::new(synthetic(n), None, Registry::builtin());
     state.dialog = None;
     state.preview.enabled = false;
-    let mut app = EditorApp::new(state);
-    let ctx = egui::Context::default();
-    let mut time = 0.0;
-    let mut frame = |app: &mut EditorApp| {
-        time += 1.0 / 60.0;
-        let input = egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(
-                egui::Pos2::ZERO,
-                egui::vec2(1400.0, 900.0),
-            )),
-            time: Some(time),
-            ..Default::default()
-        };
-        let mut out = ctx.run_ui(input, |ui| app.ui(ui));
-        // No renderer takes the font atlas' updates (epaint asserts they are taken).
-        out.textures_delta.clear();
-        let shapes = std::mem::take(&mut out.shapes);
-        std::hint::black_box(ctx.tessellate(shapes, out.pixels_per_point));
-    };
-    let start = Instant::now();
-    while !app.settled() {
-        assert!(start.elapsed() < Duration::from_secs(600), "not settled");
-        frame(&mut app);
-    }
+    let mut w = Window::new(state);
+    let open = w.settle(Duration::from_secs(600));
+    println!(
+        "open as in a window, {n} nodes (shown one per frame, then framed): {:.0} ms",
+        ms(open)
+    );
     for _ in 0..4 {
-        frame(&mut app);
+        w.frame();
     }
     let mut times = Vec::new();
+    let cpu = thread_cpu_time();
     for _ in 0..frames {
         let t = Instant::now();
-        frame(&mut app);
+        w.frame();
         times.push(ms(t.elapsed()));
     }
+    let cpu = match (cpu, thread_cpu_time()) {
+        (Some(a), Some(b)) => format!(", CPU {:.2} ms per frame", ms(b - a) / frames as f64),
+        _ => String::new(),
+    };
     println!(
-        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes framed: median {:.2} ms, max {:.2} ms ({frames} frames)",
+        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes framed: median {:.2} ms, max {:.2} ms{cpu} ({frames} frames)",
         median(times.clone()),
         times.iter().copied().fold(0.0, f64::max)
     );
@@ -206,10 +244,10 @@ fn graph_edits(file: &Path, reps: usize) {
                 .collect()
         })
         .unwrap_or_default();
-    let mut h = harness(state);
-    let first = settle(&mut h, Duration::from_secs(600));
-    let backend = h.state().state.preview.backend().to_owned();
-    if let Some(m) = h.state().state.preview.message() {
+    let mut w = Window::new(state);
+    let first = w.settle(Duration::from_secs(600));
+    let backend = w.app.state.preview.backend().to_owned();
+    if let Some(m) = w.app.state.preview.message() {
         println!("{name}: preview failed: {m}");
         return;
     }
@@ -217,19 +255,14 @@ fn graph_edits(file: &Path, reps: usize) {
     let mut param = Vec::new();
     if let Some((pname, node, default)) = params.first() {
         let v = default.as_f64().unwrap_or(0.0);
-        let compiles = h.state().state.preview.compiles();
+        let compiles = w.app.state.preview.compiles();
         for r in 0..reps {
             let value = if r % 2 == 0 { v * 0.97 } else { v };
-            preview_ui::set_parameter(
-                &mut h.state_mut().state,
-                pname,
-                node,
-                serde_json::json!(value),
-            );
-            param.push(edit_to_preview(&mut h, Duration::from_secs(120)));
+            preview_ui::set_parameter(&mut w.app.state, pname, node, serde_json::json!(value));
+            param.push(w.edit_to_preview(Duration::from_secs(120)));
         }
         assert_eq!(
-            h.state().state.preview.compiles(),
+            w.app.state.preview.compiles(),
             compiles,
             "{name}: a parameter change recompiled"
         );
@@ -237,25 +270,25 @@ fn graph_edits(file: &Path, reps: usize) {
     // Structural edit → new pixels: a literal changed by 1 % (the first that keeps the
     // graph valid), a new program and pipeline.
     let mut structural = Vec::new();
-    let doc = h.state().state.doc.doc().clone();
+    let doc = w.app.state.doc.doc().clone();
     for (node, input, v) in literals(&doc) {
-        let compiles = h.state().state.preview.compiles();
-        h.state_mut()
+        let compiles = w.app.state.preview.compiles();
+        w.app
             .state
             .set_input(&node, &input, serde_json::json!(v * 0.99), None);
-        if h.state().state.doc.graph().is_none() {
-            h.state_mut().state.undo();
-            settle(&mut h, Duration::from_secs(120));
+        if w.app.state.doc.graph().is_none() {
+            w.app.state.undo();
+            w.settle(Duration::from_secs(120));
             continue;
         }
-        structural.push(edit_to_preview(&mut h, Duration::from_secs(120)));
-        assert!(h.state().state.preview.compiles() > compiles);
+        structural.push(w.edit_to_preview(Duration::from_secs(120)));
+        assert!(w.app.state.preview.compiles() > compiles);
         for r in 1..reps {
             let value = if r % 2 == 0 { v * 0.99 } else { v };
-            h.state_mut()
+            w.app
                 .state
                 .set_input(&node, &input, serde_json::json!(value), None);
-            structural.push(edit_to_preview(&mut h, Duration::from_secs(120)));
+            structural.push(w.edit_to_preview(Duration::from_secs(120)));
         }
         break;
     }
@@ -284,7 +317,8 @@ fn graph_edits(file: &Path, reps: usize) {
 
 fn main() {
     // `cargo bench` passes --bench; `cargo test` runs the quick check. `--nodes N` and
-    // `--graphs a,b` (file stems) narrow a run.
+    // `--graphs a,b` (file stems) narrow a run; `--nodes N --window-only` runs 400 window
+    // frames and nothing else (for a profiler).
     let args: Vec<String> = std::env::args().collect();
     let full = args.iter().any(|a| a == "--bench");
     let value = |flag: &str| {
@@ -296,6 +330,10 @@ fn main() {
     let only: Option<Vec<String>> =
         value("--graphs").map(|v| v.split(',').map(str::to_owned).collect());
     match (nodes, full) {
+        (Some(n), _) if args.iter().any(|a| a == "--window-only") => {
+            window_frame_time(n, 400);
+            return;
+        }
         (Some(n), _) => {
             frame_time(n, 20);
             window_frame_time(n, 20);
