@@ -760,8 +760,9 @@ pub fn swatch_detail(scene: &mut Scene, size: u32) {
 /// rounded down to a multiple of 8 and kept within [[`MIN_DRAFT_SIZE`], [`DRAFT_SIZE`]];
 /// [`DRAFT_SIZE`] for the first. Lavapipe's fixed cost per frame (the scene's vertices,
 /// the passes) does not shrink with the side, so a heavy scene settles at the smallest
-/// draft. Measured at 48² → 24² (`swatch_stages --draft`, best of 5): `water_sunshine`
-/// 14.1 → 8.4 ms, `bubble_iridescent` 32.8 → 18.4 ms, `fresnel_glass` 8.2 → 4.2 ms.
+/// draft. Measured at 48² → 24² (`swatch_stages --draft`, best of 10, one sitting):
+/// `water_sunshine` 7.5 → 6.0 ms, `pbr_gold` 4.8 → 3.6 ms, `water_toon_you` 12.0 → 9.0 ms,
+/// `bubble_iridescent` 20.5 → 7.7 ms.
 pub fn draft_side(last: Option<(u32, Duration)>) -> u32 {
     let Some((side, took)) = last else {
         return DRAFT_SIZE;
@@ -771,14 +772,16 @@ pub fn draft_side(last: Option<(u32, Duration)>) -> u32 {
     (scaled / 8 * 8).clamp(MIN_DRAFT_SIZE, DRAFT_SIZE)
 }
 
-/// The mesh detail of a draft: a quarter of the ball's segments and
-/// rings and of the water grid's and the seabed's cells each way (none below 16; the bubble
-/// keeps its own). Measured at 48² on lavapipe against the full mesh at 48²
+/// The mesh detail of a draft: a quarter of the ball's segments and rings and of the water
+/// grid's and the seabed's cells each way, half the bubble's segments and rings (none below
+/// 16). Measured at 48² on lavapipe against the full mesh at 48²
 /// (`examples/swatch_stages.rs --draft --size 48 --compare`, docs/benchmarks.md): 4–30 ms
 /// instead of 15–70 ms, RMSE 0–3.0/255 in 8-bit sRGB; the largest differences are
 /// `toon_ball`'s band edges (142/255 at a few pixels), the Sunshine waters' shoreline over
 /// the coarser seabed (139/255) and the faceted refraction of the PBR gems (RMSE up to 3.0).
-/// The full swatch replaces the draft one render later.
+/// The bubble at half: RMSE 0.14–0.22/255, max 8/255, its draw at 24² 7.4 → 1.0–1.9 ms
+/// (`bubble`) and 9.7 → 4.2–6.5 ms (`bubble_iridescent`); at a quarter its silhouette moved
+/// by up to 158/255. The full swatch replaces the draft one render later.
 pub fn draft_detail(scene: &mut Scene) {
     let quarter = |n: u32| n.min((n / 4).max(16));
     let half = |n: u32| n.min((n / 2).max(16));
