@@ -41,30 +41,24 @@ fn textures(
     // The environment's textures (a map and its prefiltered tables, the same at every frame
     // size) apart from the passes' (at the frame's size): the editor's drafts, whose side
     // follows their time, redraw only the passes.
-    let scene_json = || serde_json::to_string(scene).unwrap_or_default();
-    if !environment.is_empty() {
+    static ENVIRONMENT_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+    static PASS_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
+    let size = super::scene_texture_size(options.width, options.height);
+    for (memo, names, size) in [
+        (&ENVIRONMENT_TEXTURES, &environment, (0, 0)),
+        (&PASS_TEXTURES, &passes, size),
+    ] {
+        if names.is_empty() {
+            continue;
+        }
         let key: SceneKey = (
-            scene_json(),
-            environment.iter().map(|w| w.to_string()).collect(),
-            (0, 0),
+            serde_json::to_string(scene).unwrap_or_default(),
+            names.iter().map(|w| w.to_string()).collect(),
+            size,
             Same(options.environment.clone()),
         );
-        static ENVIRONMENT_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
-        let made = ENVIRONMENT_TEXTURES.get_or_make(key, || {
-            scene_textures(ctx, scene, options, &environment).map(Arc::new)
-        })?;
-        set.extend_shared(&made).map_err(texture_error)?;
-    }
-    if !passes.is_empty() {
-        let key: SceneKey = (
-            scene_json(),
-            passes.iter().map(|w| w.to_string()).collect(),
-            super::scene_texture_size(options.width, options.height),
-            Same(options.environment.clone()),
-        );
-        static PASS_TEXTURES: Memo<SceneKey, Arc<TextureSet>, 4> = Memo::new();
-        let made = PASS_TEXTURES.get_or_make(key, || {
-            scene_textures(ctx, scene, options, &passes).map(Arc::new)
+        let made = memo.get_or_make(key, || {
+            scene_textures(ctx, scene, options, names).map(Arc::new)
         })?;
         set.extend_shared(&made).map_err(texture_error)?;
     }
