@@ -615,7 +615,9 @@ fn sellmeier_indices_match_the_tables() {
         [0.005_279_926, 0.014_238_265, 325.017_82],
     );
     let diamond = ([0.3306, 4.3356, 0.0], [0.030_625, 0.011_236, 0.0]);
-    let cases: [(&str, ([f32; 3], [f32; 3]), &[(f32, f64, f64)]); 4] = [
+    // (glass, Sellmeier (B, C), [(wavelength nm, reference n, tolerance)]).
+    type Case<'a> = (&'a str, ([f32; 3], [f32; 3]), &'a [(f32, f64, f64)]);
+    let cases: [Case; 4] = [
         // SCHOTT N-BK7 data sheet: n_d, n_F, n_C (5 decimals).
         (
             "BK7",

@@ -892,7 +892,7 @@ mod tests {
             let took = ms((0.5 + 60.0 * next()) as f32 as f64);
             let r = draft_side(Some((side, took)));
             assert!(
-                r % 8 == 0 && (24..=48).contains(&r),
+                r.is_multiple_of(8) && (24..=48).contains(&r),
                 "{side} {took:?} → {r}"
             );
             let predicted = |n: u32| took.as_secs_f64() * (n as f64 / side as f64).powi(2);

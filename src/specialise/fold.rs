@@ -55,14 +55,14 @@ impl<'a> Specialiser<'a> {
             let Some(p) = param else {
                 return Err(SpecialiseError::Eval {
                     graph: graph.name.clone(),
-                    error: crate::plan::EvalError::UnknownParameter {
+                    error: Box::new(crate::plan::EvalError::UnknownParameter {
                         name: name.clone(),
                         suggestion: crate::registry::nearest(
                             name,
                             graph.parameters().iter().map(|p| p.name.as_str()),
                         )
                         .map(str::to_owned),
-                    },
+                    }),
                 });
             };
             let id = &graph.nodes()[p.node].id;
@@ -211,7 +211,7 @@ impl<'a> Specialiser<'a> {
         )
         .map_err(|error| SpecialiseError::Eval {
             graph: self.name.clone(),
-            error,
+            error: Box::new(error),
         })?;
         let mut out = HashMap::new();
         for (i, n) in g.nodes().iter().enumerate() {

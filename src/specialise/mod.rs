@@ -252,8 +252,8 @@ pub enum SpecialiseError {
     Eval {
         /// The graph's name.
         graph: String,
-        /// The plan's error.
-        error: EvalError,
+        /// The plan's error (boxed: it is large, and every `Result` of the specialiser would carry its size).
+        error: Box<EvalError>,
     },
 }
 
