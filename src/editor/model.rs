@@ -279,10 +279,17 @@ impl EditorDoc {
         }
     }
 
-    /// Moves node `id`.
-    pub fn set_position(&mut self, id: &str, position: [f32; 2]) {
-        if let Some(k) = self.index(id) {
-            self.doc.nodes[k].position = Some(position);
+    /// Moves nodes: `(id, position)` pairs, unknown ids skipped; one revalidation for all
+    /// (a box selection dragged, or a file's laid-out nodes placed at once).
+    pub fn set_positions(&mut self, moves: &[(String, [f32; 2])]) {
+        let mut moved = false;
+        for (id, position) in moves {
+            if let Some(k) = self.index(id) {
+                self.doc.nodes[k].position = Some(*position);
+                moved = true;
+            }
+        }
+        if moved {
             // The validated graph carries positions into the canonical form.
             self.revalidate();
         }

@@ -16,7 +16,7 @@
 //!
 //! **Drafts.** Where the main swatch's last render took longer than a 60 Hz frame
 //! ([`FRAME`]), an edit (a parameter, a value, a wire, the orbit) is first rendered as a
-//! draft at a quarter of the mesh detail ([`draft_detail`]), shown scaled up in the swatch,
+//! draft at a lower mesh detail ([`draft_detail`]), shown scaled up in the swatch,
 //! and the full swatch follows. The first draft is [`DRAFT_SIZE`]²; each later one is sized
 //! from the last ([`draft_side`]) to fit [`DRAFT_BUDGET`], down to [`MIN_DRAFT_SIZE`]², as a
 //! game's dynamic resolution follows its frame time. While a slider is dragged each new value
@@ -369,14 +369,9 @@ impl Preview {
         self.slots.get(&None)?.latency
     }
 
-    /// Time from the request to the pixels of the main swatch's last draft.
-    pub fn draft_latency(&self) -> Option<Duration> {
-        Some(self.slots.get(&None)?.last_draft?.1)
-    }
-
-    /// The side in pixels of the main swatch's last draft.
-    pub fn draft_size(&self) -> Option<u32> {
-        Some(self.slots.get(&None)?.last_draft?.0)
+    /// The main swatch's last draft: its side in pixels and its request-to-pixels time.
+    pub fn last_draft(&self) -> Option<(u32, Duration)> {
+        self.slots.get(&None)?.last_draft
     }
 
     /// Whether the main swatch shows the graph as last asked for, as a draft or in full

@@ -27,7 +27,7 @@ pub fn preview_panel(ui: &mut Ui, state: &mut EditorState) {
             let mut latency = p.latency().map_or(String::new(), |l| {
                 format!("\nlast render {} ms", l.as_millis())
             });
-            if let (Some(l), Some(side)) = (p.draft_latency(), p.draft_size()) {
+            if let Some((side, l)) = p.last_draft() {
                 latency += &format!("\nlast draft {} ms at {side}²", l.as_millis());
             }
             ui.weak(short).on_hover_text(format!("{backend}{latency}"));

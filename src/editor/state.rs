@@ -317,9 +317,7 @@ impl EditorState {
     /// Moves nodes (a drag: coalesced until [`History::seal`]).
     pub fn move_nodes(&mut self, moves: &[(String, [f32; 2])]) {
         let _ = self.edit(Some("move"), false, |d| {
-            for (id, p) in moves {
-                d.set_position(id, *p);
-            }
+            d.set_positions(moves);
             Ok(())
         });
     }
