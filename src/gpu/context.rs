@@ -95,6 +95,7 @@ impl GpuContext {
             pool: Default::default(),
             meshes: crate::memo::Memo::new(),
             scenes: crate::memo::Memo::new(),
+            drawn_scenes: crate::memo::Memo::new(),
         });
         Ok(GpuContext {
             _instance: instance,

@@ -40,6 +40,11 @@ pub(super) struct DeviceState {
         Arc<super::raster::SceneBuffers>,
         4,
     >,
+    /// The scene passes of the last few small frames, drawn ([`super::raster`]'s
+    /// `DrawnScene`): frames that change only the material (the editor's parameter changes
+    /// and structural edits) draw no scene.
+    pub(super) drawn_scenes:
+        crate::memo::Memo<super::raster::DrawnSceneKey, Arc<super::raster::DrawnScene>, 4>,
 }
 
 /// What a material's uploaded textures were made from: the material (compared by identity,

@@ -32,7 +32,10 @@
 //!   the read-back images, as for any texture.
 
 mod backdrop;
+mod drawn;
 mod material;
+
+pub(in crate::gpu) use drawn::{DrawnScene, DrawnSceneKey};
 
 use super::context::GpuContext;
 use super::device::{DeviceState, UploadKey, dispatch_shape, gpu_err};
@@ -397,7 +400,7 @@ fn render_pipeline_depth(
 /// dropped; used as its view.
 struct Target<'a> {
     view: wgpu::TextureView,
-    _texture: Lent<'a, wgpu::Texture>,
+    texture: Lent<'a, wgpu::Texture>,
 }
 
 impl std::ops::Deref for Target<'_> {
@@ -407,14 +410,14 @@ impl std::ops::Deref for Target<'_> {
     }
 }
 
-/// A `w × h` target of `spp` samples in `format`, for drawing and then reading in a shader.
+/// A `w × h` target of `spp` samples in `format`, for drawing and then reading in a shader
+/// (and copying into, as `more` usage says).
 fn target<'a>(
     s: &'a DeviceState,
     label: &str,
-    w: u32,
-    h: u32,
-    spp: u32,
+    (w, h, spp): (u32, u32, u32),
     format: wgpu::TextureFormat,
+    more: wgpu::TextureUsages,
 ) -> Target<'a> {
     let texture = s.pool.texture(
         &s.device,
@@ -429,13 +432,15 @@ fn target<'a>(
             sample_count: spp,
             dimension: wgpu::TextureDimension::D2,
             format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | more,
             view_formats: &[],
         },
     );
     Target {
         view: texture.create_view(&Default::default()),
-        _texture: texture,
+        texture,
     }
 }
 
@@ -444,6 +449,8 @@ fn target<'a>(
 struct SceneGpu {
     packed: Arc<PackedScene>,
     pipes: Arc<ScenePipelines>,
+    /// Whether the backdrop's maps are bound as textures ([`backdrop::uses_textures`]).
+    map_textures: bool,
     buffers: Arc<SceneBuffers>,
     objects_group: wgpu::BindGroup,
     /// The refraction pass's group, drawing the Snell-refracted positions, when on.
@@ -812,6 +819,7 @@ impl SceneGpu {
         Ok(SceneGpu {
             packed,
             pipes,
+            map_textures,
             buffers: b,
             objects_group,
             refracted_group,
@@ -1123,9 +1131,27 @@ pub(crate) fn render_scene_pass(
         let gpu = SceneGpu::new(s, scene, 1, environment, mode)?;
         let view = Viewport::whole(w, h);
         let frame = gpu.frame_group(s, &scene.frame_uniform(&gpu.packed, w, h, pass, &view));
-        let color = target(s, "mgr scene", w, h, 1, COLOR);
-        let depth = target(s, "mgr depth", w, h, 1, DEPTH);
-        let material = target(s, "mgr no material", w, h, 1, COLOR);
+        let color = target(
+            s,
+            "mgr scene",
+            (w, h, 1),
+            COLOR,
+            wgpu::TextureUsages::empty(),
+        );
+        let depth = target(
+            s,
+            "mgr depth",
+            (w, h, 1),
+            DEPTH,
+            wgpu::TextureUsages::empty(),
+        );
+        let material = target(
+            s,
+            "mgr no material",
+            (w, h, 1),
+            COLOR,
+            wgpu::TextureUsages::empty(),
+        );
         let mut enc = s.device.create_command_encoder(&Default::default());
         gpu.record(&mut enc, &frame, pass, &color, &depth, false);
         clear(&mut enc, &material);
@@ -1509,43 +1535,42 @@ pub(crate) fn render_frame(
         let rebuilt = spp > 1;
         let gpu = SceneGpu::new(s, scene, ts, environment, m.texture_mode)?;
         let features = gpu.packed.features;
-        let made = cached(
-            s,
-            &format!(
-                "material/{rebuilt}/{options:?}/{features:?}/{}",
-                m.graph.to_json()
-            ),
-            || -> Result<(Material, String), MaterialError> {
-                let material = Material::new(m.graph, &options)?;
-                // The clip position `@invariant`: the depth pre-pass and the surface over
-                // it are two pipelines that must compute the same depth (the surface's
-                // test is `GreaterEqual` against the pre-pass).
-                let hooked = material
-                    .wgsl_with_hooks(&material::hooks(&features))?
-                    .replace("v.clip.xy / mg_frame.viewport", "mgr_screen_uv(v.clip.xy)")
-                    .replacen(
-                        "@builtin(position) clip: vec4<f32>,",
-                        "@builtin(position) @invariant clip: vec4<f32>,",
-                        1,
-                    );
-                let source = match rebuilt {
-                    false => Some(hooked),
-                    true => material::sample_source(&hooked),
-                }
-                .ok_or_else(|| MaterialError::Shader {
-                    graph: m.graph.name.clone(),
-                    source: Box::new(crate::wgsl::ShaderError::Naga {
-                        node: None,
-                        message: "the render module has no mg_fragment entry".into(),
-                    }),
-                })?;
-                Ok((material, source))
-            },
+        let key = format!(
+            "material/{rebuilt}/{options:?}/{features:?}/{}",
+            m.graph.key()
         );
+        let made = cached(s, &key, || -> Result<(Material, String), MaterialError> {
+            let material = Material::new(m.graph, &options)?;
+            // The clip position `@invariant`: the depth pre-pass and the surface over
+            // it are two pipelines that must compute the same depth (the surface's
+            // test is `GreaterEqual` against the pre-pass).
+            let hooked = material
+                .wgsl_with_hooks(&material::hooks(&features))?
+                .replace("v.clip.xy / mg_frame.viewport", "mgr_screen_uv(v.clip.xy)")
+                .replacen(
+                    "@builtin(position) clip: vec4<f32>,",
+                    "@builtin(position) @invariant clip: vec4<f32>,",
+                    1,
+                );
+            let source = match rebuilt {
+                false => Some(hooked),
+                true => material::sample_source(&hooked),
+            }
+            .ok_or_else(|| MaterialError::Shader {
+                graph: m.graph.name.clone(),
+                source: Box::new(crate::wgsl::ShaderError::Naga {
+                    node: None,
+                    message: "the render module has no mg_fragment entry".into(),
+                }),
+            })?;
+            Ok((material, source))
+        });
         let (material, source) = match &*made {
             Ok((material, source)) => (material, source),
             Err(e) => return Err(material_err(e.clone())),
         };
+        // By the source: graphs that differ only in what the source does not show share
+        // their pipelines.
         let pipes = cached(s, &format!("material pipeline/{ts}/{source}"), || {
             let mat_layout = s
                 .device
@@ -1630,9 +1655,19 @@ pub(crate) fn render_frame(
             for x0 in (0..w).step_by(tw as usize) {
                 let size = [tw.min(w - x0), th.min(h - y0)];
                 let (cw, ch) = (size[0], size[1]);
-                let color = target(s, "mgr scene", cw, ch, ts, COLOR);
-                let depth = target(s, "mgr depth", cw, ch, ts, DEPTH);
-                let mat_target = target(s, "mgr material", cw, ch, ts, COLOR);
+                // A small frame in one pass keeps its scene pass ([`drawn`]); any other draws
+                // its own, under an opaque material's depth.
+                let kept = passes == 1
+                    && (cw, ch) == (w, h)
+                    && cw as u64 * ch as u64 * ts as u64 <= drawn::MAX_SAMPLES;
+                let none = wgpu::TextureUsages::empty();
+                let color = (!kept).then(|| target(s, "mgr scene", (cw, ch, ts), COLOR, none));
+                let depth = match kept {
+                    true => wgpu::TextureUsages::COPY_DST,
+                    false => none,
+                };
+                let depth = target(s, "mgr depth", (cw, ch, ts), DEPTH, depth);
+                let mat_target = target(s, "mgr material", (cw, ch, ts), COLOR, none);
                 // The resolved pixels (jittered: the passes' sum).
                 let bytes = cw as u64 * ch as u64 * 12;
                 let out = pixels_buffer(s, bytes);
@@ -1648,10 +1683,9 @@ pub(crate) fn render_frame(
                         size,
                         jitter,
                     };
-                    let frame = gpu.frame_group(
-                        s,
-                        &scene.frame_uniform(&gpu.packed, w, h, ScenePass::Background, &view),
-                    );
+                    let frame_bytes =
+                        scene.frame_uniform(&gpu.packed, w, h, ScenePass::Background, &view);
+                    let frame = gpu.frame_group(s, &frame_bytes);
                     let (frame_bytes, _) = material::frame_and_lights(scene, w, h, &view);
                     let frame_buf = uniform(s, "mgr material frame", &frame_bytes);
                     let mat_group = material.bind_group(
@@ -1694,20 +1728,36 @@ pub(crate) fn render_frame(
                         rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
                         rp.draw_indexed(0..tri_count, 0, 0..1);
                     };
-                    if has_mesh && opaque {
-                        material_depth(&mut enc, true);
-                    }
-                    gpu.record(
-                        &mut enc,
-                        &frame,
-                        ScenePass::Background,
-                        &color,
-                        &depth,
-                        has_mesh && opaque,
-                    );
-                    if has_mesh && !opaque {
-                        material_depth(&mut enc, false);
-                    }
+                    // The scene's colour: drawn here, or kept from an earlier frame.
+                    let kept_scene: Arc<DrawnScene>;
+                    let scene_color = match &color {
+                        Some(color) => {
+                            if has_mesh && opaque {
+                                material_depth(&mut enc, true);
+                            }
+                            gpu.record(
+                                &mut enc,
+                                &frame,
+                                ScenePass::Background,
+                                color,
+                                &depth,
+                                has_mesh && opaque,
+                            );
+                            if has_mesh && !opaque {
+                                material_depth(&mut enc, false);
+                            }
+                            &color.view
+                        }
+                        None => {
+                            kept_scene =
+                                DrawnScene::of(s, &gpu, (&frame_bytes, &frame), [cw, ch, ts]);
+                            kept_scene.copy_depth(&mut enc, &depth.texture);
+                            if has_mesh {
+                                material_depth(&mut enc, false);
+                            }
+                            &kept_scene.color
+                        }
+                    };
                     {
                         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                             label: Some("mgr material"),
@@ -1747,10 +1797,15 @@ pub(crate) fn render_frame(
                         }
                     }
                     match msaa {
-                        true => resolve(s, &mut enc, &color, &mat_target, &out, (cw, ch, spp)),
-                        false => {
-                            accumulate(s, &mut enc, &color, &mat_target, &out, (cw, ch, spp, pass))
-                        }
+                        true => resolve(s, &mut enc, scene_color, &mat_target, &out, (cw, ch, spp)),
+                        false => accumulate(
+                            s,
+                            &mut enc,
+                            scene_color,
+                            &mat_target,
+                            &out,
+                            (cw, ch, spp, pass),
+                        ),
                     }
                 }
                 let st = staging(s, bytes);
@@ -1823,8 +1878,8 @@ mod tests {
             ],
         );
         let cp = compute_pipeline(s, "probe", &m, "cs", &pipeline_layout(s, &[&l]));
-        let color = target(s, "probe", 1, 1, spp, COLOR);
-        let depth = target(s, "probe", 1, 1, spp, DEPTH);
+        let color = target(s, "probe", (1, 1, spp), COLOR, wgpu::TextureUsages::empty());
+        let depth = target(s, "probe", (1, 1, spp), DEPTH, wgpu::TextureUsages::empty());
         let out = s.buffer(
             "probe",
             spp as u64 * 16,
