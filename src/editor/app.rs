@@ -31,7 +31,7 @@ pub struct EditorApp {
     /// Frames until the view is fitted to the nodes (0: no fit pending).
     frame_in: u8,
     /// How many of the document's nodes the canvas shows yet (see
-    /// [`super::view::build_snarl_prefix`]).
+    /// [`super::view::reveal_until`]).
     revealed: usize,
     /// Whether the last frame drew (and measured) every node.
     nodes_measured: bool,
@@ -111,7 +111,7 @@ impl EditorApp {
         let now = ctx.input(|i| i.time);
         self.state.tick(now);
         if self.state.check_disk(now) {
-            // The reloaded file's nodes are shown one per frame again.
+            // The reloaded file's nodes are shown again, in steps ([`super::view::reveal_until`]).
             self.revealed = 0;
         }
         if self.state.path.is_some() {
@@ -124,9 +124,7 @@ impl EditorApp {
             ctx.request_repaint();
         }
         let s = &mut self.state;
-        let registry = s.doc.registry();
-        s.preview
-            .poll(&ctx, s.doc.doc(), s.doc.graph(), registry, s.path.as_ref());
+        s.preview.poll(&ctx, &s.doc, s.path.as_ref());
     }
 
     /// The window title: the graph's name, its file and a star when unsaved.
@@ -147,7 +145,9 @@ impl EditorApp {
     fn canvas(&mut self, ui: &mut Ui) -> Vec<Action> {
         let n = self.state.doc.doc().nodes.len();
         if self.revealed < n {
-            self.revealed += 1;
+            // egui-snarl's node frame is the window frame (its shadow).
+            let shadow = ui.style().visuals.window_shadow;
+            self.revealed = super::view::reveal_until(&self.state.doc, self.revealed, shadow);
             self.state.snarl = super::view::build_snarl_prefix(&self.state.doc, self.revealed);
             ui.ctx().request_repaint();
         } else {

@@ -22,6 +22,9 @@ pub struct EditorDoc {
     /// for it every frame (is the document dirty?), and serialising a 300-node graph took 19 %
     /// of the frame.
     canonical: OnceLock<String>,
+    /// [`EditorDoc::structure_key`], made on first use after each change: the preview asks
+    /// for it every frame.
+    structure: OnceLock<String>,
     /// The index of each node id in the document: the canvas looks nodes up by id for
     /// every header and pin, and a linear search took 10 % of a 300-node frame.
     ids: HashMap<String, usize>,
@@ -37,6 +40,7 @@ impl EditorDoc {
             validation,
             registry,
             canonical: OnceLock::new(),
+            structure: OnceLock::new(),
             ids,
         }
     }
@@ -84,9 +88,8 @@ impl EditorDoc {
     /// Replaces the whole document (undo, redo, recovery) and revalidates.
     pub fn replace(&mut self, doc: GraphDocument) {
         self.validation = Graph::from_document(&doc, self.registry);
-        self.ids = id_index(&doc);
         self.doc = doc;
-        self.canonical = OnceLock::new();
+        self.changed();
     }
 
     /// The canonical text `matgraph fmt` writes: the validated graph's form (literals
@@ -101,6 +104,12 @@ impl EditorDoc {
             Ok(g) => g.to_json(),
             Err(_) => self.doc.to_json_pretty(),
         })
+    }
+
+    /// The preview's key of the document's structure ([`super::preview::structure_key`]).
+    pub fn structure_key(&self) -> &str {
+        self.structure
+            .get_or_init(|| super::preview::structure_key(&self.doc))
     }
 
     /// The index of node `id` in the document.
@@ -317,14 +326,19 @@ impl EditorDoc {
         }
         self.doc = candidate;
         self.validation = result;
-        self.canonical = OnceLock::new();
-        self.ids = id_index(&self.doc);
+        self.changed();
         Ok(())
     }
 
     fn revalidate(&mut self) {
         self.validation = Graph::from_document(&self.doc, self.registry);
+        self.changed();
+    }
+
+    /// After the document changed: the id index rebuilt, the texts made from it dropped.
+    fn changed(&mut self) {
         self.canonical = OnceLock::new();
+        self.structure = OnceLock::new();
         self.ids = id_index(&self.doc);
     }
 }

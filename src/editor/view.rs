@@ -23,25 +23,73 @@ pub fn build_snarl(doc: &EditorDoc) -> Snarl<NodeView> {
     build_snarl_prefix(doc, usize::MAX)
 }
 
-/// The canvas of the first `count` nodes of `doc` and the links between them. Showing a
-/// file's nodes one more per frame fixes their stacking to file order (later nodes on top):
-/// egui-snarl 0.12 stacks nodes that appear in the same frame in `HashSet` order, which
-/// varies from run to run.
+/// Where the canvas puts each node of `doc`: at its position, or (nodes without one) in
+/// columns by link depth, each at the next row of its column ([`LAYOUT_STEP`]). A node's
+/// place depends on the nodes before it only.
+fn places(doc: &EditorDoc) -> Vec<[f32; 2]> {
+    let depth = depths(doc);
+    let mut rows = std::collections::HashMap::<usize, usize>::new();
+    doc.doc()
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            n.position.unwrap_or_else(|| {
+                let row = rows.entry(depth[k]).or_default();
+                *row += 1;
+                [
+                    depth[k] as f32 * LAYOUT_STEP[0],
+                    (*row - 1) as f32 * LAYOUT_STEP[1],
+                ]
+            })
+        })
+        .collect()
+}
+
+/// Canvas points around a node's estimated size ([`super::layout::node_size`]) that count
+/// as the node when nodes shown together are checked for overlap: room for the estimate's
+/// error (its frame's shadow is added to it).
+pub const REVEAL_MARGIN: f32 = 12.0;
+
+/// How many of `doc`'s nodes the canvas shows once the first `shown` are shown: the next
+/// ones, up to the first whose painted rect (its estimated size with [`REVEAL_MARGIN`], and
+/// the node frame's `shadow`) overlaps that of another node shown with it, and at least one
+/// more. egui-snarl 0.12 stacks the nodes
+/// that appear in the same frame in `HashSet` order, which varies from run to run; nodes
+/// that do not overlap look the same in any order. So a laid-out file (the editor arranges
+/// one whose nodes overlap, [`super::layout::needs_arranging`]) appears in one frame, and
+/// overlapping nodes one per frame in file order (later nodes on top).
+pub fn reveal_until(doc: &EditorDoc, shown: usize, shadow: egui::Shadow) -> usize {
+    let d = doc.doc();
+    let places = places(doc);
+    let rect = |k: usize| {
+        let (w, h) = super::layout::node_size(&d.nodes[k], doc.registry());
+        let [x, y] = places[k];
+        let r = egui::Rect::from_min_size(egui::pos2(x, y), egui::vec2(w, h)).expand(REVEAL_MARGIN);
+        let offset = egui::vec2(shadow.offset[0] as f32, shadow.offset[1] as f32);
+        r.union(
+            r.translate(offset)
+                .expand((shadow.blur + shadow.spread) as f32),
+        )
+    };
+    let mut batch: Vec<egui::Rect> = Vec::new();
+    for k in shown..d.nodes.len() {
+        let r = rect(k);
+        if batch.iter().any(|b| b.intersects(r)) {
+            return k;
+        }
+        batch.push(r);
+    }
+    d.nodes.len()
+}
+
+/// The canvas of the first `count` nodes of `doc` and the links between them (a file's
+/// nodes are shown in steps, [`reveal_until`]).
 pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
     let d = doc.doc();
     let count = count.min(d.nodes.len());
     let mut snarl = Snarl::new();
-    let depth = depths(doc);
-    let mut rows = std::collections::HashMap::<usize, usize>::new();
-    for (k, n) in d.nodes.iter().enumerate().take(count) {
-        let pos = n.position.unwrap_or_else(|| {
-            let row = rows.entry(depth[k]).or_default();
-            *row += 1;
-            [
-                depth[k] as f32 * LAYOUT_STEP[0],
-                (*row - 1) as f32 * LAYOUT_STEP[1],
-            ]
-        });
+    for (k, (n, pos)) in d.nodes.iter().zip(places(doc)).enumerate().take(count) {
         let id = snarl.insert_node(egui::pos2(pos[0], pos[1]), NodeView { id: n.id.clone() });
         debug_assert_eq!(id, NodeId(k));
     }
