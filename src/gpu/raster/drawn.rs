@@ -8,7 +8,7 @@
 //! depth equals the scene's exactly, the scene's surface is the nearer (the depth test is
 //! `Greater`), where the prepass order keeps the material's.
 
-use super::{COLOR, DEPTH, DeviceState, SceneGpu};
+use super::{COLOR, DEPTH, DeviceState, SceneGpu, target_descriptor};
 use crate::memo::Same;
 use crate::scene::{PackedScene, ScenePass};
 use std::sync::Arc;
@@ -57,23 +57,9 @@ impl DrawnScene {
             map_textures: gpu.map_textures,
         };
         s.drawn_scenes.get_or(key, || {
-            let texture = |label: &str, format, copy| {
-                s.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: w,
-                        height: h,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: spp,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING
-                        | copy,
-                    view_formats: &[],
-                })
+            let texture = |label, format, copy| {
+                s.device
+                    .create_texture(&target_descriptor(label, (w, h, spp), format, copy))
             };
             let color = texture("mgr kept scene", COLOR, wgpu::TextureUsages::empty());
             let depth = texture("mgr kept depth", DEPTH, wgpu::TextureUsages::COPY_SRC);

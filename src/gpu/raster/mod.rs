@@ -410,34 +410,42 @@ impl std::ops::Deref for Target<'_> {
     }
 }
 
+/// The descriptor of a `w × h` target of `spp` samples in `format`, drawn into and read in
+/// a shader (and `more`).
+fn target_descriptor(
+    label: &str,
+    (w, h, spp): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    more: wgpu::TextureUsages,
+) -> wgpu::TextureDescriptor<'_> {
+    wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: spp,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | more,
+        view_formats: &[],
+    }
+}
+
 /// A `w × h` target of `spp` samples in `format`, for drawing and then reading in a shader
 /// (and copying into, as `more` usage says).
 fn target<'a>(
     s: &'a DeviceState,
     label: &str,
-    (w, h, spp): (u32, u32, u32),
+    size: (u32, u32, u32),
     format: wgpu::TextureFormat,
     more: wgpu::TextureUsages,
 ) -> Target<'a> {
-    let texture = s.pool.texture(
-        &s.device,
-        &wgpu::TextureDescriptor {
-            label: Some(label),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: spp,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | more,
-            view_formats: &[],
-        },
-    );
+    let texture = s
+        .pool
+        .texture(&s.device, &target_descriptor(label, size, format, more));
     Target {
         view: texture.create_view(&Default::default()),
         texture,
