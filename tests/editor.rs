@@ -635,6 +635,9 @@ fn a_parameter_change_re_renders_without_recompiling() {
     {
         let p = &h.state().state.preview;
         assert_eq!(p.drafts(), drafts + slow as usize);
+        // A drafting swatch warmed its draft unseen before the edit, and not after it (the
+        // edit's draft was drawn at the same orbit and time).
+        assert_eq!(p.warmups(), slow as usize);
         assert_eq!(p.texture().unwrap().size(), [preview::SIZE as usize; 2]);
         assert_eq!(
             p.compiles(),

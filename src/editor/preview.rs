@@ -15,9 +15,9 @@
 //! as in Blender): the graph cut at the node's first output ([`cut_at`]).
 //!
 //! **Drafts.** Where the main swatch's last render took longer than fits in the frame after
-//! an edit ([`DRAFT_BUDGET`], half a 60 Hz frame), an edit (a parameter, a value, a wire, the orbit) is first rendered as a
-//! draft at a lower mesh detail ([`draft_detail`]), shown scaled up in the swatch,
-//! and the full swatch follows. The first draft is [`DRAFT_SIZE`]²; each later one is sized
+//! an edit ([`DRAFT_BUDGET`], half a 60 Hz frame), an edit (a parameter, a value, a wire,
+//! the orbit) is first rendered as a draft at a lower mesh detail ([`draft_detail`]), shown
+//! scaled up in the swatch, and the full swatch follows. The first draft is [`DRAFT_SIZE`]²; each later one is sized
 //! from the last ([`draft_side`]) to fit [`DRAFT_BUDGET`], down to [`MIN_DRAFT_SIZE`]², as a
 //! game's dynamic resolution follows its frame time. While a slider is dragged each new value
 //! gets a draft, and the full render comes when the value rests, as Blender's viewport
