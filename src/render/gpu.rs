@@ -51,8 +51,14 @@ fn textures(
         if names.is_empty() {
             continue;
         }
+        // The environment's key leaves out the camera and the mesh detail, which its map
+        // does not see: an orbit or a draft keeps its tables.
+        let scene_key = match size {
+            (0, 0) => scene.environment_key(),
+            _ => serde_json::to_string(scene).unwrap_or_default(),
+        };
         let key: SceneKey = (
-            serde_json::to_string(scene).unwrap_or_default(),
+            scene_key,
             names.iter().map(|w| w.to_string()).collect(),
             size,
             Same(options.environment.clone()),
@@ -65,8 +71,8 @@ fn textures(
     Ok(set)
 }
 
-/// What the scene textures of a frame depend on: the scene (its time included), the names the
-/// graph samples, the scene textures' size (none for the environment's) and the environment
+/// What the scene textures of a frame depend on: the scene (its time included; for the
+/// environment's, [`Scene::environment_key`]), the names the graph samples, the scene textures' size (none for the environment's) and the environment
 /// image. A material's parameters are not in it, so a parameter change redraws no scene
 /// texture.
 type SceneKey = (String, Vec<String>, (u32, u32), Same<Texture>);

@@ -71,6 +71,28 @@ pub(crate) fn ray_triangle(
 }
 
 impl Scene {
+    /// What the environment map ([`Scene::environment_map`]) and the tables made from it
+    /// depend on, as a memo key: the scene as JSON without its camera and its mesh detail
+    /// (the ball's and the bubble's segments, the water's and the seabed's grids and level
+    /// of detail). The map is seen from the ball's centre and shows the backdrop's
+    /// parallelograms, the lights and the environment, so an orbit or a draft's coarser
+    /// mesh keeps the map; `tests::environment_map_ignores_camera_and_mesh_detail` checks
+    /// it.
+    pub fn environment_key(&self) -> String {
+        let mut s = self.clone();
+        s.camera = Scene::default_camera(&s.kind);
+        match &mut s.kind {
+            SceneKind::Ball(b) => b.segments = [0, 0],
+            SceneKind::Water(w) => {
+                w.grid = [0, 0];
+                w.seabed.grid = [0, 0];
+                w.lod = None;
+            }
+            SceneKind::Bubble(b) => b.segments = [0, 0],
+        }
+        serde_json::to_string(&s).unwrap_or_default()
+    }
+
     /// Where the environment map is seen from: the ball's centre in a ball scene; `None`
     /// where the map is the environment alone (water, bubble).
     pub fn environment_origin(&self) -> Option<Vec3> {
@@ -135,4 +157,50 @@ fn nearest_hit(objects: &[&Object], o: Vec3, d: Vec3) -> Option<(usize, u32, [f3
         }
     }
     best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::WaterLod;
+
+    /// The environment key leaves out what the map does not see: for each preset scene,
+    /// another camera and another mesh detail give the same key and the same map texel for
+    /// texel, and a moved light gives another key and another map (in the ball's room,
+    /// where the floor and wall are lit by it).
+    #[test]
+    fn environment_map_ignores_camera_and_mesh_detail() {
+        for name in ["ball", "water", "bubble"] {
+            let base = Scene::preset(name).unwrap();
+            let mut other = base.clone();
+            other.camera.position = [2.5, 4.0, -7.0];
+            other.camera.fov_y_deg = 20.0;
+            match &mut other.kind {
+                SceneKind::Ball(b) => b.segments = [24, 12],
+                SceneKind::Water(w) => {
+                    w.grid = [16, 16];
+                    w.seabed.grid = [20, 12];
+                    w.lod = Some(WaterLod::default());
+                }
+                SceneKind::Bubble(b) => b.segments = [16, 16],
+            }
+            assert_eq!(base.environment_key(), other.environment_key(), "{name}");
+            assert_eq!(
+                base.environment_map(32, 16, None),
+                other.environment_map(32, 16, None),
+                "{name}: the map depends on what its key leaves out"
+            );
+        }
+        let base = Scene::preset("ball").unwrap();
+        let mut lit = base.clone();
+        match &mut lit.lights[0] {
+            crate::scene::Light::Directional(d) => d.direction = [0.6, 0.5, -0.6],
+            crate::scene::Light::Point(p) => p.position[0] += 1.0,
+        }
+        assert_ne!(base.environment_key(), lit.environment_key());
+        assert_ne!(
+            base.environment_map(32, 16, None),
+            lit.environment_map(32, 16, None)
+        );
+    }
 }
