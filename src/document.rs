@@ -214,6 +214,19 @@ pub fn json_schema() -> String {
 }
 
 impl GraphDocument {
+    /// Removes the `value` of each `parameter` node the graph exposes: what is left
+    /// compiles to the same shaders whatever those values (they reach a shader as
+    /// uniforms), so it keys what is compiled.
+    pub fn remove_parameter_values(&mut self) {
+        let exposed: std::collections::BTreeSet<&str> =
+            self.parameters.iter().map(|p| p.node.as_str()).collect();
+        for n in &mut self.nodes {
+            if n.node_type == "parameter" && exposed.contains(n.id.as_str()) {
+                n.inputs.remove("value");
+            }
+        }
+    }
+
     /// Parses a graph file's text. Errors carry line and column, and the node id when the
     /// problem is inside a node's entry. Never panics.
     pub fn parse(text: &str) -> Result<GraphDocument, Vec<GraphError>> {

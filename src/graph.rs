@@ -410,6 +410,16 @@ impl Graph {
     pub fn key(&self) -> String {
         serde_json::to_string(&self.to_document()).unwrap_or_default()
     }
+
+    /// [`Graph::key`] without the values of the exposed parameters
+    /// ([`GraphDocument::remove_parameter_values`]): equal for two graphs that compile to
+    /// the same shaders, as the key of a compiled material whose parameters are set per
+    /// frame.
+    pub fn structure_key(&self) -> String {
+        let mut d = self.to_document();
+        d.remove_parameter_values();
+        serde_json::to_string(&d).unwrap_or_default()
+    }
 }
 
 /// The JSON of a literal: enum choices by name, everything else by value.

@@ -92,6 +92,7 @@ impl GpuContext {
             pipelines: AtomicUsize::new(0),
             cache: crate::memo::Memo::new(),
             uploads: crate::memo::Memo::new(),
+            small_uploads: crate::memo::Memo::new(),
             pool: Default::default(),
             meshes: crate::memo::Memo::new(),
             scenes: crate::memo::Memo::new(),

@@ -25,6 +25,12 @@ pub(super) struct DeviceState {
     /// same textures (an animation, the editor's parameter changes) upload none; few, as
     /// each can hold a frame-sized scene texture and its mips.
     pub(super) uploads: crate::memo::Memo<UploadKey, Arc<crate::material::GpuTextures>, 4>,
+    /// [`DeviceState::uploads`] of materials whose textures are all small (at most
+    /// [`SMALL_UPLOAD_TEXELS`] each, as the editor's swatches bind): more of them, since an
+    /// editing session goes back and forth between a few structures at a few sizes (the
+    /// full swatch, its draft), and with four the edits of `bubble_iridescent` uploaded its
+    /// textures again each time (8–19 ms of a 24² draft on lavapipe).
+    pub(super) small_uploads: crate::memo::Memo<UploadKey, Arc<crate::material::GpuTextures>, 16>,
     /// The frames' targets and read-back buffers, lent to one frame at a time.
     pub(super) pool: super::pool::Pool,
     /// The buffers of the last few material meshes, by mesh: frames of the same scene
@@ -46,6 +52,10 @@ pub(super) struct DeviceState {
     pub(super) drawn_scenes:
         crate::memo::Memo<super::raster::DrawnSceneKey, Arc<super::raster::DrawnScene>, 4>,
 }
+
+/// Texels of the largest texture an upload kept in [`DeviceState::small_uploads`] may have
+/// (512², 4 MiB at RGBA32F: the environment map is 512 × 256).
+pub(super) const SMALL_UPLOAD_TEXELS: u64 = 512 * 512;
 
 /// What a material's uploaded textures were made from: the material (compared by identity,
 /// and kept so that its address is not reused), which of its modules (the render module or

@@ -38,7 +38,7 @@ mod material;
 pub(in crate::gpu) use drawn::{DrawnScene, DrawnSceneKey};
 
 use super::context::GpuContext;
-use super::device::{DeviceState, UploadKey, dispatch_shape, gpu_err};
+use super::device::{DeviceState, SMALL_UPLOAD_TEXELS, UploadKey, dispatch_shape, gpu_err};
 use super::pool::Lent;
 use crate::graph::Graph;
 use crate::material::{GpuTextures, Material, MaterialError, MaterialOptions, VERTEX_STRIDE};
@@ -1333,7 +1333,8 @@ fn vertex_bytes(mesh: &Mesh) -> Vec<[f32; 8]> {
 
 /// `material`'s textures from `set`, uploaded for its render module (or with `library` its
 /// library module), reused while the material (`owner`, the cached value holding it) and
-/// every texture it binds are the same ([`DeviceState::uploads`]): a frame that changes only
+/// every texture it binds are the same ([`DeviceState::uploads`], or [`DeviceState::small_uploads`]
+/// where every texture is small): a frame that changes only
 /// parameters, time or camera uploads no texel. Measured on lavapipe at 1024²:
 /// `bubble_iridescent`'s `scene:background` with its mips, 27 ms a frame before.
 fn uploaded(
@@ -1359,14 +1360,23 @@ fn uploaded(
             .map(|t| Same(set.index_of(&t.name).and_then(|i| set.shared(i)).cloned()))
             .collect(),
     };
-    s.uploads.get_or_make(key, || {
+    let small = infos.iter().all(|t| {
+        set.index_of(&t.name)
+            .and_then(|i| set.get(i))
+            .is_some_and(|t| t.width() as u64 * t.height() as u64 <= SMALL_UPLOAD_TEXELS)
+    });
+    let make = || {
         match library {
             true => material.upload_library_textures(&s.device, &s.queue, set),
             false => material.upload_textures(&s.device, &s.queue, set),
         }
         .map(Arc::new)
         .map_err(material_err)
-    })
+    };
+    match small {
+        true => s.small_uploads.get_or_make(key, make),
+        false => s.uploads.get_or_make(key, make),
+    }
 }
 
 /// The displacement and normal passes: the library module's `displacement` at every
@@ -1543,9 +1553,12 @@ pub(crate) fn render_frame(
         let rebuilt = spp > 1;
         let gpu = SceneGpu::new(s, scene, ts, environment, m.texture_mode)?;
         let features = gpu.packed.features;
+        // Keyed without the parameters' values, which `set_values` below replaces: the
+        // editor's program of a structure is built with the values of its moment (an edit
+        // back to a structure drawn before missed, and made its material again: 19 ms).
         let key = format!(
             "material/{rebuilt}/{options:?}/{features:?}/{}",
-            m.graph.key()
+            m.graph.structure_key()
         );
         let made = cached(s, &key, || -> Result<(Material, String), MaterialError> {
             let material = Material::new(m.graph, &options)?;
