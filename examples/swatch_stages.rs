@@ -6,10 +6,13 @@
 //!
 //! With `--draft`, the editor's draft instead: the mesh at
 //! [`matgraph::editor::preview::draft_detail`] (run it at `--size 48`, the draft's side).
+//! With `--cpu`, on the CPU renderer, as the editor's stand-ins draw a structure the GPU
+//! has not compiled (run it with `--draft --size 48`; its stages are then `gbuffer` and
+//! `shade`, in the `draw` column).
 //! With `--compare`, also the error of the swatch against the same frame at the scene's
 //! full mesh detail, in 8-bit sRGB: RMSE and largest difference over the RGB channels.
 //!
-//! `cargo run --release --example swatch_stages [-- --size 128 --runs 12 --graphs a,b --draft --compare]`
+//! `cargo run --release --example swatch_stages [-- --size 128 --runs 12 --graphs a,b --draft --cpu --compare]`
 
 #[path = "common/bundled.rs"]
 mod bundled;
@@ -36,11 +39,17 @@ fn main() {
         arg("--graphs").map(|v| v.split(',').map(str::to_owned).collect());
     let compare = args.iter().any(|a| a == "--compare");
     let draft = args.iter().any(|a| a == "--draft");
-    let ctx = matgraph::gpu::GpuContext::shared().expect("a GPU adapter");
+    let cpu = args.iter().any(|a| a == "--cpu");
+    let (backend, on) = match cpu {
+        true => (Backend::Cpu, "the CPU".to_owned()),
+        false => {
+            let ctx = matgraph::gpu::GpuContext::shared().expect("a GPU adapter");
+            (Backend::Gpu, ctx.describe())
+        }
+    };
     println!(
-        "{} {size}² at 1 spp on {}; best of {runs}; times in ms\n",
+        "{} {size}² at 1 spp on {on}; best of {runs}; times in ms\n",
         if draft { "draft" } else { "swatch" },
-        ctx.describe()
     );
     match compare {
         false => {
@@ -68,7 +77,7 @@ fn main() {
             height: size,
             samples: 1,
             time: Some(0.0),
-            backend: Backend::Gpu,
+            backend,
             textures: Some(textures),
             ..RenderOptions::default()
         };
@@ -109,7 +118,10 @@ fn main() {
             ms(frame + srgb),
             ms(t.compile),
             ms(t.upload),
-            ms(t.draw),
+            ms(match cpu {
+                true => t.gbuffer + t.shade + t.resolve,
+                false => t.draw,
+            }),
             ms(t.readback),
             ms(srgb),
             error.unwrap_or_default()

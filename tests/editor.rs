@@ -584,6 +584,52 @@ fn orbiting_rotates_the_camera_about_its_target() {
     assert!((e2 - 85.0).abs() < 1e-4, "{e2}");
 }
 
+/// A structure the GPU has not drawn (a new shader to compile) is drawn first on the CPU,
+/// once; a structure it has drawn is not. The full swatch replaces the stand-in.
+#[test]
+fn a_new_structure_is_drawn_first_on_the_cpu() {
+    let file = scratch("stand-in").join("pbr_gold.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let state = EditorState::open(&file, Registry::builtin()).unwrap();
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    let (gpu, first) = {
+        let p = &h.state().state.preview;
+        assert!(p.message().is_none(), "{:?}", p.message());
+        (p.backend().starts_with("GPU"), p.pixels().unwrap().to_vec())
+    };
+    // Opening: the GPU has drawn nothing yet.
+    assert_eq!(h.state().state.preview.stand_ins(), gpu as usize);
+    // A literal baked into the shader: a new structure.
+    h.state_mut()
+        .state
+        .set_input("brdf", "metallic", serde_json::json!(0.5), None);
+    settle(&mut h);
+    {
+        let p = &h.state().state.preview;
+        assert_eq!(p.stand_ins(), 2 * gpu as usize);
+        assert!(!p.stand_in_running());
+        assert_eq!(p.texture().unwrap().size(), [preview::SIZE as usize; 2]);
+        let changed = first
+            .iter()
+            .zip(p.pixels().unwrap())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(changed > 1000, "half-metal gold differs: {changed} bytes");
+    }
+    // Back to the structure the GPU drew: its pipelines are made, no stand-in.
+    h.state_mut().state.undo();
+    settle(&mut h);
+    let p = &h.state().state.preview;
+    assert_eq!(p.stand_ins(), 2 * gpu as usize);
+    assert_eq!(p.texture().unwrap().size(), [preview::SIZE as usize; 2]);
+    assert_eq!(
+        p.pixels().unwrap(),
+        &first[..],
+        "the same graph, the same pixels"
+    );
+}
+
 #[test]
 fn a_parameter_change_re_renders_without_recompiling() {
     // A copy, so that the autosave of the edits lands in the scratch folder.

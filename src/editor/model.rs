@@ -24,7 +24,7 @@ pub struct EditorDoc {
     canonical: OnceLock<String>,
     /// [`EditorDoc::structure_key`], made on first use after each change: the preview asks
     /// for it every frame.
-    structure: OnceLock<String>,
+    structure: OnceLock<Arc<str>>,
     /// The index of each node id in the document: the canvas looks nodes up by id for
     /// every header and pin, and a linear search took 10 % of a 300-node frame.
     ids: HashMap<String, usize>,
@@ -106,10 +106,12 @@ impl EditorDoc {
         })
     }
 
-    /// The preview's key of the document's structure ([`super::preview::structure_key`]).
-    pub fn structure_key(&self) -> &str {
+    /// The preview's key of the document's structure ([`super::preview::structure_key`]),
+    /// shared: each frame's requests hold it without copying it.
+    pub fn structure_key(&self) -> Arc<str> {
         self.structure
-            .get_or_init(|| super::preview::structure_key(&self.doc))
+            .get_or_init(|| super::preview::structure_key(&self.doc).into())
+            .clone()
     }
 
     /// The index of node `id` in the document.

@@ -75,8 +75,8 @@ pub const NODE_SWATCH_POINTS: f32 = 96.0;
 /// Below this canvas zoom the pins show neither their names nor their value editors, as
 /// Unreal's graph editor drops detail when zoomed out: the text would be under 4 px, and
 /// laying out the widgets of every node was most of the frame of a large graph framed
-/// whole (benches/editor.rs). The headers (the node's id and its error mark; not the
-/// preview toggle), pins and wires stay.
+/// whole (benches/editor.rs). The headers (the node's id and its error mark, painted
+/// without widgets; not the preview toggle), pins and wires stay.
 pub const LOW_DETAIL_ZOOM: f32 = 0.3;
 
 /// The viewer of one frame.
@@ -149,6 +149,21 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let id = self.id(snarl, node).to_owned();
         let errors = self.errors_of(&id);
         let title = self.title(&snarl[node]);
+        if self.low_detail() {
+            // Painted, not laid out as widgets: each widget registers with egui's context
+            // (a lock and hash maps), and a 300-node graph framed whole spent 6 % of its
+            // frame on the headers' labels (benches/editor.rs). The node is still selected
+            // and dragged by its frame.
+            let text = match errors.is_empty() {
+                true => title,
+                false => format!("{title} ⚠"),
+            };
+            let font = egui::TextStyle::Body.resolve(ui.style());
+            let galley = ui.painter().layout_no_wrap(text, font, Color32::WHITE);
+            let (_, rect) = ui.allocate_space(galley.size());
+            ui.painter().galley(rect.min, galley, Color32::WHITE);
+            return;
+        }
         ui.horizontal(|ui| {
             let label = ui.add(
                 egui::Label::new(egui::RichText::new(title).strong().color(Color32::WHITE))
@@ -160,9 +175,6 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             if !errors.is_empty() {
                 ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
                     .on_hover_text(errors.join("\n"));
-            }
-            if self.low_detail() {
-                return;
             }
             let on = self.swatches.contains_key(&id);
             let toggle = ui
