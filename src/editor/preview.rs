@@ -708,19 +708,25 @@ impl Preview {
                 // swatch as it was, and the full render reports the error.
                 state.draft_cold = state.last_draft.is_none_or(|l| l.0 != d.side);
                 state.last_draft = Some((d.side, d.latency));
-                if newest && let Ok(r) = d.result {
-                    state.texture_seq = d.seq;
+                // Marked drafted even when it failed, so that its full render comes next; an
+                // older draft than the texture's leaves the newer stand-in's mark.
+                if newest {
                     state.draft = Some(d.request);
-                    state.show(ctx, &d.slot, &r);
+                    if let Ok(r) = d.result {
+                        state.texture_seq = d.seq;
+                        state.show(ctx, &d.slot, &r);
+                    }
                 }
                 continue;
             }
             state.latency = Some(d.latency);
             state.shown = Some(d.request);
+            if newest {
+                state.draft = None;
+            }
             match d.result {
                 Ok(r) if newest => {
                     state.texture_seq = d.seq;
-                    state.draft = None;
                     state.show(ctx, &d.slot, &r);
                     state.message = None;
                     state.backend = r.backend;
