@@ -584,15 +584,22 @@ fn orbiting_rotates_the_camera_about_its_target() {
     assert!((e2 - 85.0).abs() < 1e-4, "{e2}");
 }
 
+/// The editor with its preview on a copy of bundled graph `graph` in scratch folder `dir`
+/// (so that the autosave of the edits lands there), once the preview settled.
+fn settled_copy(dir: &str, graph: &str) -> Harness<'static, EditorApp> {
+    let file = scratch(dir).join(graph);
+    std::fs::copy(Path::new("graphs").join(graph), &file).unwrap();
+    let state = EditorState::open(&file, Registry::builtin()).unwrap();
+    let mut h = preview_harness(state);
+    settle(&mut h);
+    h
+}
+
 /// A structure the GPU has not drawn (a new shader to compile) is drawn first on the CPU,
 /// once; a structure it has drawn is not. The full swatch replaces the stand-in.
 #[test]
 fn a_new_structure_is_drawn_first_on_the_cpu() {
-    let file = scratch("stand-in").join("pbr_gold.json");
-    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
-    let state = EditorState::open(&file, Registry::builtin()).unwrap();
-    let mut h = preview_harness(state);
-    settle(&mut h);
+    let mut h = settled_copy("stand-in", "pbr_gold.json");
     let (gpu, first) = {
         let p = &h.state().state.preview;
         assert!(p.message().is_none(), "{:?}", p.message());
@@ -632,12 +639,7 @@ fn a_new_structure_is_drawn_first_on_the_cpu() {
 
 #[test]
 fn a_parameter_change_re_renders_without_recompiling() {
-    // A copy, so that the autosave of the edits lands in the scratch folder.
-    let file = scratch("parameter").join("pbr_gold.json");
-    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
-    let state = EditorState::open(&file, Registry::builtin()).unwrap();
-    let mut h = preview_harness(state);
-    settle(&mut h);
+    let mut h = settled_copy("parameter", "pbr_gold.json");
     // The parameters panel lists the graph's exposed parameter (the canvas has the node
     // and the roughness inputs of brdf, env_spec and env_brdf).
     h.get_by_label("Parameters");
