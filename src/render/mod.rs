@@ -421,16 +421,9 @@ fn textures(
         // of a 24² draft's 12 ms on the CPU, measured on pbr_gold), as on the GPU path.
         static ENVIRONMENT: Memo<(String, Vec<String>, Same<Texture>), Arc<TextureSet>, 4> =
             Memo::new();
-        let mut names: Vec<String> = wanted
-            .iter()
-            .filter(|w| is_environment_texture(w))
-            .map(|w| w.to_string())
-            .collect();
-        names.sort_unstable();
-        names.dedup();
         let key = (
             scene.environment_key(),
-            names,
+            scene_names(&wanted, true),
             Same(options.environment.clone()),
         );
         let made = ENVIRONMENT.get_or_make(key, || {
@@ -445,25 +438,13 @@ fn textures(
             return Ok(set);
         }
     }
-    // The passes (at the frame's size, seen by the camera) once per scene and size: a
-    // material's edit draws none (a toon water's refraction through the apparent mesh was
-    // 10 ms of its 24² draft's 13 ms on the CPU).
+    // The passes (at the frame's size, seen by the camera) of a small frame once per scene
+    // and size: a material's edit draws none (a toon water's refraction through the
+    // apparent mesh was 10 ms of its 24² draft's 13 ms on the CPU). A large frame's are
+    // not kept (four 2048² frames' would hold 800 MB).
     static PASSES: Memo<PassKey, Arc<TextureSet>, 4> = Memo::new();
     let size = scene_texture_size(options.width, options.height);
-    let mut names: Vec<String> = wanted
-        .iter()
-        .filter(|w| !is_environment_texture(w))
-        .map(|w| w.to_string())
-        .collect();
-    names.sort_unstable();
-    names.dedup();
-    let key = (
-        serde_json::to_string(scene).unwrap_or_default(),
-        names,
-        size,
-        Same(options.environment.clone()),
-    );
-    let made = PASSES.get_or_make(key, || {
+    let make = || {
         let maps = scene.scene_textures_with(size.0, size.1, environment);
         let mut made = TextureSet::new();
         for name in ["background", "refraction", "reflection"] {
@@ -484,10 +465,38 @@ fn textures(
             made.insert(key, Texture::new(image, true)?)?;
         }
         Ok(Arc::new(made))
-    });
+    };
+    let made = match size.0 as u64 * size.1 as u64 <= KEPT_PASS_TEXELS {
+        true => PASSES.get_or_make(
+            (
+                serde_json::to_string(scene).unwrap_or_default(),
+                scene_names(&wanted, false),
+                size,
+                Same(options.environment.clone()),
+            ),
+            make,
+        ),
+        false => make(),
+    };
     set.extend_shared(&*made.map_err(texture_error)?)
         .map_err(texture_error)?;
     Ok(set)
+}
+
+/// Texels of the largest scene passes the CPU path keeps between frames (512²).
+const KEPT_PASS_TEXELS: u64 = 512 * 512;
+
+/// The scene texture names in `wanted` made from the environment map (`environment`) or
+/// not, sorted, each once: part of a memo's key.
+fn scene_names(wanted: &[&str], environment: bool) -> Vec<String> {
+    let mut names: Vec<String> = wanted
+        .iter()
+        .filter(|w| is_environment_texture(w) == environment)
+        .map(|w| w.to_string())
+        .collect();
+    names.sort_unstable();
+    names.dedup();
+    names
 }
 
 /// What the CPU's scene passes of a frame depend on: the scene as JSON, the pass names,
