@@ -584,6 +584,11 @@ fn orbiting_rotates_the_camera_about_its_target() {
     assert!((e2 - 85.0).abs() < 1e-4, "{e2}");
 }
 
+/// How many bytes of two swatches' pixels differ.
+fn differing_bytes(a: &[u8], b: &[u8]) -> usize {
+    a.iter().zip(b).filter(|(a, b)| a != b).count()
+}
+
 /// The editor with its preview on a copy of bundled graph `graph` in scratch folder `dir`
 /// (so that the autosave of the edits lands there), once the preview settled.
 fn settled_copy(dir: &str, graph: &str) -> Harness<'static, EditorApp> {
@@ -617,11 +622,7 @@ fn a_new_structure_is_drawn_first_on_the_cpu() {
         assert_eq!(p.stand_ins(), 2 * gpu as usize);
         assert!(!p.stand_in_running());
         assert_eq!(p.texture().unwrap().size(), [preview::SIZE as usize; 2]);
-        let changed = first
-            .iter()
-            .zip(p.pixels().unwrap())
-            .filter(|(a, b)| a != b)
-            .count();
+        let changed = differing_bytes(&first, p.pixels().unwrap());
         assert!(changed > 1000, "half-metal gold differs: {changed} bytes");
     }
     // Back to the structure the GPU drew: its pipelines are made, no stand-in.
@@ -694,7 +695,7 @@ fn a_parameter_change_re_renders_without_recompiling() {
         );
         assert_eq!(p.renders(), renders + 1);
         let after = p.pixels().unwrap();
-        let changed = before.iter().zip(after).filter(|(a, b)| a != b).count();
+        let changed = differing_bytes(&before, after);
         assert!(
             changed > 1000,
             "a rougher gold ball looks different: {changed} bytes"
@@ -990,10 +991,6 @@ fn the_cpu_fallback_renders_says_so_and_takes_parameters_without_recompiling() {
     settle(&mut h);
     let p = &h.state().state.preview;
     assert_eq!(p.compiles(), compiles);
-    let changed = before
-        .iter()
-        .zip(p.pixels().unwrap())
-        .filter(|(a, b)| a != b)
-        .count();
+    let changed = differing_bytes(&before, p.pixels().unwrap());
     assert!(changed > 1000, "{changed}");
 }
