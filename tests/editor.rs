@@ -994,3 +994,229 @@ fn the_cpu_fallback_renders_says_so_and_takes_parameters_without_recompiling() {
     let changed = differing_bytes(&before, p.pixels().unwrap());
     assert!(changed > 1000, "{changed}");
 }
+
+/// A graph of `n` nodes in rows of 20, 300 × 220 canvas points apart (the layout leaves
+/// them as placed): geometry, then generic `mul`/`add` nodes each reading the one before
+/// and, every third, the one eight before (benches/editor.rs's grid).
+fn grid_graph(n: usize) -> matgraph::GraphDocument {
+    let place = |k: usize| serde_json::json!([(k % 20) as f64 * 300.0, (k / 20) as f64 * 220.0]);
+    let mut nodes = vec![serde_json::json!({"id": "n0", "type": "geometry", "position": place(0)})];
+    for k in 1..n {
+        let a = match k {
+            1 => "n0.uv".to_owned(),
+            _ => format!("n{}.result", k - 1),
+        };
+        let b = match k > 8 && k % 3 == 0 {
+            true => serde_json::json!({"link": format!("n{}.result", k - 8)}),
+            false => serde_json::json!(0.5),
+        };
+        nodes.push(serde_json::json!({
+            "id": format!("n{k}"),
+            "type": if k % 2 == 0 { "add" } else { "mul" },
+            "inputs": {"a": {"link": a}, "b": b},
+            "position": place(k),
+        }));
+    }
+    let doc = serde_json::json!({
+        "version": matgraph::FORMAT_VERSION,
+        "name": "grid",
+        "nodes": nodes,
+        "outputs": [{"name": "emission", "from": format!("n{}.result", n - 1)}],
+    });
+    matgraph::GraphDocument::parse(&doc.to_string()).unwrap()
+}
+
+#[test]
+fn culling_keeps_the_nodes_near_the_view_and_the_pins_their_wires_need() {
+    use egui::{Rect, pos2, vec2};
+    use matgraph::editor::cull::{Culling, MARGIN};
+    let view = Rect::from_min_max(pos2(0.0, 0.0), pos2(1000.0, 800.0));
+    let at = |x: f32, y: f32| Rect::from_min_size(pos2(x, y), vec2(100.0, 100.0));
+    let nodes = [
+        (0, at(100.0, 100.0)),                // on screen
+        (1, at(1000.0 + MARGIN - 50.0, 0.0)), // in the margin
+        (2, at(1300.0, 0.0)),                 // 100 past the margin
+        (3, at(-2000.0, 0.0)),
+        (4, at(5000.0, 5000.0)),
+        // An id written twice: drawn in full if either copy is near.
+        (5, at(9000.0, 0.0)),
+        (5, at(500.0, 500.0)),
+    ];
+    let wires = [
+        (2, 1, 0, 3), // culled 2's output 1 feeds drawn 0: 2 keeps outputs 0–1
+        (0, 0, 3, 2), // drawn 0 feeds culled 3's input 2: 3 keeps inputs 0–2
+        (2, 0, 3, 0), // between two culled nodes: nothing kept for it
+        (4, 9, 9, 9), // an end out of range: ignored
+    ];
+    let c = Culling::new(view, 6, nodes, wires);
+    let shown: Vec<bool> = (0..6).map(|k| !c.is_culled(k)).collect();
+    assert_eq!(shown, [true, true, false, false, false, true]);
+    // (inputs, outputs) shown of 4 and 3.
+    let pins = |k| (c.inputs(k, 4), c.outputs(k, 3));
+    assert_eq!(pins(0), (4, 3));
+    assert_eq!(pins(2), (0, 2));
+    assert_eq!(pins(3), (3, 0));
+    assert_eq!(pins(4), (0, 0));
+    // Never more pins than the node has; an unknown index is drawn in full.
+    assert_eq!(c.outputs(2, 1), 1);
+    assert!(!c.is_culled(17));
+    assert_eq!(Culling::default().inputs(3, 5), 5);
+
+    // Seeded cases against what culling promises: a node on screen is drawn in full, one
+    // farther than MARGIN from the view is culled, and a culled node shows every pin that
+    // a wire to a drawn node needs.
+    let mut rng = common::rng::Rng(0x5eed_c011);
+    let mut next = |n: u64| (rng.next() % n) as usize;
+    for case in 0..200 {
+        let count = 2 + next(40);
+        let nodes: Vec<(usize, Rect)> = (0..count)
+            .map(|k| {
+                let (x, y) = (next(6000) as f32 - 2500.0, next(5000) as f32 - 2000.0);
+                (
+                    k,
+                    Rect::from_min_size(pos2(x, y), vec2(50.0 + next(300) as f32, 80.0)),
+                )
+            })
+            .collect();
+        let wires: Vec<(usize, usize, usize, usize)> = (0..next(80))
+            .map(|_| (next(count as u64), next(4), next(count as u64), next(6)))
+            .collect();
+        let c = Culling::new(view, count, nodes.iter().copied(), wires.iter().copied());
+        for &(k, r) in &nodes {
+            if r.intersects(view) {
+                assert!(
+                    !c.is_culled(k),
+                    "case {case}: node {k} at {r:?} is on screen"
+                );
+            }
+            if !r.intersects(view.expand(MARGIN)) {
+                assert!(c.is_culled(k), "case {case}: node {k} at {r:?} is far");
+            }
+        }
+        for &(a, out, b, inp) in &wires {
+            if c.is_culled(b) && !c.is_culled(a) {
+                assert!(
+                    c.inputs(b, 6) > inp,
+                    "case {case}: wire into culled {b}.{inp}"
+                );
+            }
+            if c.is_culled(a) && !c.is_culled(b) {
+                assert!(
+                    c.outputs(a, 4) > out,
+                    "case {case}: wire out of culled {a}.{out}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn overview_wires_join_the_pins_along_a_cubic() {
+    use egui::{Rect, Shape, Stroke, pos2};
+    use matgraph::editor::layout::{INPUT_ROW, OUTPUT_ROW};
+    use matgraph::editor::overview::{Body, wire_segments, wire_shape};
+    let body = Body(Rect::from_min_max(pos2(10.0, 20.0), pos2(110.0, 120.0)));
+    // Row k's centre: top + (k + ½) · row.
+    assert_eq!(body.input(0), pos2(10.0, 20.0 + 0.5 * INPUT_ROW));
+    assert_eq!(body.input(2), pos2(10.0, 20.0 + 2.5 * INPUT_ROW));
+    assert_eq!(body.output(1), pos2(110.0, 20.0 + 1.5 * OUTPUT_ROW));
+    let points = |s: Shape| match s {
+        Shape::Path(p) => p.points,
+        other => panic!("not a path: {other:?}"),
+    };
+    // Forward, handles half the run (50 > frame 32): the Bézier's midpoint is
+    // (P0 + 3 P1 + 3 P2 + P3) / 8 = ((0 + 150 + 150 + 100) / 8, (0 + 0 + 150 + 50) / 8).
+    let p = points(wire_shape(
+        pos2(0.0, 0.0),
+        pos2(100.0, 50.0),
+        32.0,
+        4,
+        Stroke::NONE,
+    ));
+    assert_eq!(p.len(), 5);
+    assert_eq!((p[0], p[4]), (pos2(0.0, 0.0), pos2(100.0, 50.0)));
+    assert!((p[2] - pos2(50.0, 25.0)).length() < 1e-4, "{:?}", p[2]);
+    // t = ¼: (27 P0 + 27 P1 + 9 P2 + P3) / 64 with P1 = (50, 0), P2 = (50, 50).
+    let quarter = pos2(
+        (27.0 * 50.0 + 9.0 * 50.0 + 100.0) / 64.0,
+        (9.0 * 50.0 + 50.0) / 64.0,
+    );
+    assert!(
+        (p[1] - quarter).length() < 1e-4,
+        "{:?} vs {quarter:?}",
+        p[1]
+    );
+    // Backwards, the handles keep the frame: P1 = (100 + 50, 0), P2 = (0 − 50, 0); the
+    // midpoint is (100 + 450 − 150 + 0) / 8 = 50 and loops nowhere below y = 0.
+    let p = points(wire_shape(
+        pos2(100.0, 0.0),
+        pos2(0.0, 0.0),
+        32.0,
+        2,
+        Stroke::NONE,
+    ));
+    assert_eq!(p, [pos2(100.0, 0.0), pos2(50.0, 0.0), pos2(0.0, 0.0)]);
+    // Short runs keep the frame: run 10, handles 32 → P1 = (32, 0), P2 = (10 − 32, 0);
+    // midpoint x = (0 + 96 − 66 + 10) / 8 = 5.
+    let p = points(wire_shape(
+        pos2(0.0, 0.0),
+        pos2(10.0, 0.0),
+        32.0,
+        2,
+        Stroke::NONE,
+    ));
+    assert!((p[1] - pos2(5.0, 0.0)).length() < 1e-5, "{:?}", p[1]);
+    // One segment per 12 px of the control polygon (2 × max(run, frame) + rise), 2 to 24.
+    let (a, b) = (pos2(0.0, 0.0), pos2(100.0, 60.0));
+    assert_eq!(wire_segments(a, b, 32.0, 1.0), 22); // 260 / 12 = 21.7
+    assert_eq!(wire_segments(a, b, 32.0, 0.2), 5); // 52 / 12 = 4.3
+    assert_eq!(wire_segments(a, b, 32.0, 0.05), 2);
+    assert_eq!(wire_segments(a, pos2(900.0, 0.0), 32.0, 1.0), 24);
+}
+
+#[test]
+fn a_large_graph_draws_an_overview_zoomed_out_and_culls_what_is_off_screen() {
+    use matgraph::editor::viewer::LOW_DETAIL_ZOOM;
+    let mut state = EditorState::new(grid_graph(300), None, Registry::builtin());
+    state.dialog = None;
+    let mut h = harness(state);
+    h.run();
+    assert!(h.state().settled());
+    // Framed whole, the canvas is an overview: no node title or pin label is a widget.
+    let scale = h.state().to_screen().scaling;
+    assert!(scale < LOW_DETAIL_ZOOM, "framed at {scale}");
+    for label in ["n5", "n150", "result", "b"] {
+        assert!(
+            h.query_by_label(label).is_none(),
+            "{label} is a widget at {scale}×"
+        );
+    }
+    // Zoomed in to 1× about the canvas' centre: the nodes there are drawn in full (title,
+    // pin labels, value editors); those far off screen are empty frames.
+    let centre = egui::pos2(500.0, 450.0);
+    h.input_mut().events.push(egui::Event::PointerMoved(centre));
+    h.input_mut().events.push(egui::Event::Zoom(1.0 / scale));
+    h.run();
+    let t = h.state().to_screen();
+    assert!((t.scaling - 1.0).abs() < 1e-3, "zoomed to {}", t.scaling);
+    let on_screen = |k: usize| {
+        let p = t * egui::pos2((k % 20) as f32 * 300.0, (k / 20) as f32 * 220.0);
+        (0.0..900.0).contains(&p.x) && (40.0..800.0).contains(&p.y)
+    };
+    let near: Vec<usize> = (0..300).filter(|&k| on_screen(k)).collect();
+    assert!((4..40).contains(&near.len()), "{near:?}");
+    for &k in &near {
+        assert!(
+            h.query_by_label(&format!("n{k}")).is_some(),
+            "n{k} is on screen"
+        );
+    }
+    assert!(h.query_all_by_label("result").count() >= near.len());
+    for k in [0, 19, 280, 299] {
+        assert!(!on_screen(k));
+        assert!(
+            h.query_by_label(&format!("n{k}")).is_none(),
+            "n{k} is far off screen"
+        );
+    }
+}

@@ -164,6 +164,9 @@ impl EditorApp {
             shader_error: shader_error.and_then(|(n, m)| Some((n?, m))),
             set_transform: None,
             swatches: self.node_swatches(),
+            overview: Default::default(),
+            canvas: ui.max_rect(),
+            culling: Default::default(),
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = Self::fit(self.nodes_rect, self.canvas_rect);
@@ -187,6 +190,7 @@ impl EditorApp {
             ui,
         );
         let _ = r;
+        viewer.paint_overview(&self.state.snarl, ui.style());
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;

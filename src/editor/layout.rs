@@ -24,12 +24,21 @@ pub const MIN_WIDTH: f32 = 160.0;
 /// Points per character of a pin label or title (egui's default proportional font).
 const CHAR: f32 = 7.0;
 
+/// The estimated height of a node's header on the canvas, canvas points.
+pub const HEADER_HEIGHT: f32 = 30.0;
+
+/// The estimated height of an input row (its label and value widget), canvas points.
+pub const INPUT_ROW: f32 = 22.0;
+
+/// The estimated height of an output row (its label), canvas points.
+pub const OUTPUT_ROW: f32 = 18.0;
+
 /// The estimated height of a node with `inputs` input pins and `outputs` output pins on
-/// the canvas: a 30-point header, 22 points per input row (value widgets) or 18 per output
-/// row, whichever column of pins is taller (measured on egui-snarl 0.12 with the default
-/// style: pbr_brdf, 7 inputs, is 163 tall; geometry, 8 outputs, 170).
+/// the canvas: the header, then [`INPUT_ROW`] per input or [`OUTPUT_ROW`] per output,
+/// whichever column of pins is taller (measured on egui-snarl 0.12 with the default style:
+/// pbr_brdf, 7 inputs, is 163 tall; geometry, 8 outputs, 170).
 pub fn node_height(inputs: usize, outputs: usize) -> f32 {
-    30.0 + (22.0 * inputs as f32).max(18.0 * outputs as f32)
+    HEADER_HEIGHT + (INPUT_ROW * inputs as f32).max(OUTPUT_ROW * outputs as f32)
 }
 
 /// The width of the value widget an unlinked input shows (0 when linked), canvas points:

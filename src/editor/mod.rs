@@ -3,16 +3,18 @@
 //! document it edits is a [`crate::GraphDocument`], checked by the loader after every edit.
 //!
 //! Modules: [`model`] (the document and its validation), [`undo`], [`state`] (every edit,
-//! files, autosave), [`view`] and [`viewer`] (the canvas), [`widgets`] (value editors),
+//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
 pub mod code;
+pub mod cull;
 pub mod files;
 pub mod headless;
 pub mod layout;
 pub mod model;
+pub mod overview;
 pub mod preview;
 pub mod preview_ui;
 pub mod search;

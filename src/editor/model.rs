@@ -25,6 +25,9 @@ pub struct EditorDoc {
     /// [`EditorDoc::structure_key`], made on first use after each change: the preview asks
     /// for it every frame.
     structure: OnceLock<Arc<str>>,
+    /// [`EditorDoc::node_sizes`], made on first use after each change: the canvas culls
+    /// and draws its overview with them every frame.
+    sizes: OnceLock<Vec<(f32, f32)>>,
     /// The index of each node id in the document: the canvas looks nodes up by id for
     /// every header and pin, and a linear search took 10 % of a 300-node frame.
     ids: HashMap<String, usize>,
@@ -41,6 +44,7 @@ impl EditorDoc {
             registry,
             canonical: OnceLock::new(),
             structure: OnceLock::new(),
+            sizes: OnceLock::new(),
             ids,
         }
     }
@@ -112,6 +116,17 @@ impl EditorDoc {
         self.structure
             .get_or_init(|| super::preview::structure_key(&self.doc).into())
             .clone()
+    }
+
+    /// The estimated canvas size of each node ([`super::layout::node_size`]), by index.
+    pub fn node_sizes(&self) -> &[(f32, f32)] {
+        self.sizes.get_or_init(|| {
+            self.doc
+                .nodes
+                .iter()
+                .map(|n| super::layout::node_size(n, self.registry))
+                .collect()
+        })
     }
 
     /// The index of node `id` in the document.
@@ -341,6 +356,7 @@ impl EditorDoc {
     fn changed(&mut self) {
         self.canonical = OnceLock::new();
         self.structure = OnceLock::new();
+        self.sizes = OnceLock::new();
         self.ids = id_index(&self.doc);
     }
 }

@@ -2,13 +2,16 @@
 //! by socket type (generic pins square), values edited in place. It only reads the document
 //! and queues [`Action`]s, which the app applies after the frame through the state's edits.
 
+use super::cull::Culling;
+use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
+use super::overview::{Body, Overview, pin_shape};
 use super::search::WireFilter;
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
 use super::widgets::{current_lanes, port_hover, value_editor};
 use crate::node::PortType;
-use egui::{Color32, Stroke, Ui};
-use egui_snarl::ui::{AnyPins, PinInfo, PinShape, SnarlViewer};
+use egui::{Color32, Shape, Stroke, Ui};
+use egui_snarl::ui::{AnyPins, BackgroundPattern, PinInfo, PinShape, SnarlStyle, SnarlViewer};
 use egui_snarl::{InPin, NodeId, OutPin, Snarl};
 
 /// What the user asked for on the canvas during a frame.
@@ -72,12 +75,17 @@ pub enum Swatch {
 /// Side of a node's swatch on the canvas, points (before the canvas zoom).
 pub const NODE_SWATCH_POINTS: f32 = 96.0;
 
-/// Below this canvas zoom the pins show neither their names nor their value editors, as
-/// Unreal's graph editor drops detail when zoomed out: the text would be under 4 px, and
-/// laying out the widgets of every node was most of the frame of a large graph framed
-/// whole (benches/editor.rs). The headers (the node's id and its error mark, painted
-/// without widgets; not the preview toggle), pins and wires stay.
+/// Below this canvas zoom the canvas is an overview ([`super::overview`]), as Unreal's
+/// graph editor drops detail when zoomed out: the pins' names and value editors would be
+/// under 4 px, and laying out the widgets of every node and pin was most of the frame of a
+/// large graph framed whole (benches/editor.rs). The headers (the node's id and its error
+/// mark, painted without widgets; not the preview toggle) stay, and the pins and wires are
+/// painted; wires are made and removed zoomed in.
 pub const LOW_DETAIL_ZOOM: f32 = 0.3;
+
+/// Canvas points between a node's estimated width ([`super::layout::node_size`]) and its overview body's:
+/// the node frame's margins and the spacing beside the body.
+const BODY_INSET: f32 = 16.0;
 
 /// The viewer of one frame.
 pub struct Viewer<'a> {
@@ -95,6 +103,12 @@ pub struct Viewer<'a> {
     pub set_transform: Option<egui::emath::TSTransform>,
     /// The swatches of the nodes whose preview is on, by node id.
     pub swatches: std::collections::BTreeMap<String, Swatch>,
+    /// The overview's pins and wires, when this frame's zoom is under [`LOW_DETAIL_ZOOM`].
+    pub overview: Overview,
+    /// The canvas' rect on screen (the nodes away from it are culled).
+    pub canvas: egui::Rect,
+    /// This frame's culling ([`super::cull`]), made once the transform is known.
+    pub culling: Culling,
 }
 
 impl Viewer<'_> {
@@ -113,22 +127,91 @@ impl Viewer<'_> {
         &snarl[node].id
     }
 
+    /// Whether the node with id `id` is culled this frame.
+    fn culled(&self, id: &str) -> bool {
+        self.doc
+            .index(id)
+            .is_some_and(|k| self.culling.is_culled(k))
+    }
+
+    /// The culling of a frame drawn with `to_screen`: each node's estimated rect against
+    /// the canvas' viewport (nothing is culled before the canvas' rect is known).
+    fn cull(&self, to_screen: egui::emath::TSTransform, snarl: &Snarl<NodeView>) -> Culling {
+        if !self.canvas.is_positive() {
+            return Culling::default();
+        }
+        let viewport = to_screen.inverse() * self.canvas;
+        let nodes = snarl.nodes_pos_ids().filter_map(|(_, pos, view)| {
+            let k = self.doc.index(&view.id)?;
+            let (w, h) = *self.doc.node_sizes().get(k)?;
+            Some((k, egui::Rect::from_min_size(pos, egui::vec2(w, h))))
+        });
+        let index = |n: NodeId| snarl.get_node(n).and_then(|v| self.doc.index(&v.id));
+        let wires = snarl.wires().filter_map(|(from, to)| {
+            Some((index(from.node)?, from.output, index(to.node)?, to.input))
+        });
+        Culling::new(viewport, self.doc.doc().nodes.len(), nodes, wires)
+    }
+
     /// Whether this frame's zoom is under [`LOW_DETAIL_ZOOM`].
     fn low_detail(&self) -> bool {
         self.to_screen.is_some_and(|t| t.scaling < LOW_DETAIL_ZOOM)
     }
 
-    fn pin(&self, node: &str, port: PortType) -> PinInfo {
-        let (fill, shape) = match (self.doc.port_type(node, port), port) {
+    /// A pin's colour (its socket type's) and shape (square for a generic port).
+    fn pin_look(&self, node: &str, port: PortType) -> (Color32, PinShape) {
+        match (self.doc.port_type(node, port), port) {
             (Some(t), PortType::Fixed(_)) => (socket_color(t), PinShape::Circle),
             (Some(t), PortType::Generic) => (socket_color(t), PinShape::Square),
             (None, _) => (GENERIC_UNKNOWN, PinShape::Square),
-        };
+        }
+    }
+
+    fn pin(&self, node: &str, port: PortType) -> PinInfo {
+        let (fill, shape) = self.pin_look(node, port);
         PinInfo::default()
             .with_shape(shape)
             .with_fill(fill)
             .with_wire_color(fill)
     }
+
+    /// Paints the overview's wires once the canvas drew its nodes (see [`super::overview`]),
+    /// each in the mean of its ends' colours as egui-snarl mixes them, at least a pixel
+    /// wide. `style` is the egui style the canvas drew with.
+    pub fn paint_overview(&self, snarl: &Snarl<NodeView>, style: &egui::Style) {
+        let Some(scale) = self
+            .to_screen
+            .map(|t| t.scaling)
+            .filter(|_| self.low_detail())
+        else {
+            return;
+        };
+        let pin = style.spacing.interact_size.y * 0.6;
+        let width = (pin * 0.1).max(1.0 / scale);
+        let wires = snarl.wires().filter_map(|(from, to)| {
+            let (a, b) = (&snarl.get_node(from.node)?.id, &snarl.get_node(to.node)?.id);
+            let out = self.doc.node_type(a)?.outputs().get(from.output)?.ty;
+            let inp = self.doc.node_type(b)?.inputs().get(to.input)?.ty;
+            let (ca, cb) = (self.pin_look(a, out).0, self.pin_look(b, inp).0);
+            let mix = |x: u8, y: u8| x.midpoint(y);
+            let color = Color32::from_rgba_premultiplied(
+                mix(ca.r(), cb.r()),
+                mix(ca.g(), cb.g()),
+                mix(ca.b(), cb.b()),
+                mix(ca.a(), cb.a()),
+            );
+            Some((from, to, Stroke::new(width, color)))
+        });
+        self.overview.paint_wires(wires, pin * 3.0, scale);
+    }
+}
+
+/// `frame` as the overview draws it: without shadow, outline or rounding.
+fn plain(frame: egui::Frame) -> egui::Frame {
+    frame
+        .shadow(egui::Shadow::NONE)
+        .stroke(Stroke::NONE)
+        .corner_radius(0)
 }
 
 impl SnarlViewer<NodeView> for Viewer<'_> {
@@ -147,6 +230,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
+        if self.culled(&id) {
+            return;
+        }
         let errors = self.errors_of(&id);
         let title = self.title(&snarl[node]);
         if self.low_detail() {
@@ -187,7 +273,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn has_footer(&mut self, node: &NodeView) -> bool {
-        self.swatches.contains_key(&node.id)
+        self.swatches.contains_key(&node.id) && !self.culled(&node.id)
     }
 
     fn show_footer(
@@ -226,6 +312,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         _: &[OutPin],
         snarl: &Snarl<NodeView>,
     ) -> egui::Frame {
+        let default = match self.low_detail() {
+            true => plain(default),
+            false => default,
+        };
         match self.doc.node_type(&snarl[node].id) {
             Some(t) => default.fill(category_color(t.category())),
             None => default.fill(Color32::from_rgb(0x50, 0x20, 0x20)),
@@ -240,6 +330,13 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         _: &[OutPin],
         snarl: &Snarl<NodeView>,
     ) -> egui::Frame {
+        // The overview's nodes have no shadow, outline or rounding: a pixel or less there,
+        // their tessellation was a third of the frame of a 300-node graph framed whole
+        // (benches/editor.rs).
+        let default = match self.low_detail() {
+            true => plain(default),
+            false => default,
+        };
         if self.errors_of(&snarl[node].id).is_empty() {
             default
         } else {
@@ -248,13 +345,29 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn inputs(&mut self, node: &NodeView) -> usize {
-        self.doc.node_type(&node.id).map_or(0, |t| t.inputs().len())
+        if self.low_detail() {
+            // The overview paints the pins (show_body).
+            return 0;
+        }
+        let all = self.doc.node_type(&node.id).map_or(0, |t| t.inputs().len());
+        match self.doc.index(&node.id) {
+            Some(k) => self.culling.inputs(k, all),
+            None => all,
+        }
     }
 
     fn outputs(&mut self, node: &NodeView) -> usize {
-        self.doc
+        if self.low_detail() {
+            return 0;
+        }
+        let all = self
+            .doc
             .node_type(&node.id)
-            .map_or(0, |t| t.outputs().len())
+            .map_or(0, |t| t.outputs().len());
+        match self.doc.index(&node.id) {
+            Some(k) => self.culling.outputs(k, all),
+            None => all,
+        }
     }
 
     #[allow(refining_impl_trait)]
@@ -267,7 +380,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let ty = self.doc.port_type(&id, decl.ty);
         let ty_name = ty.map_or("T", |t| t.name());
         let info = self.pin(&id, decl.ty);
-        if self.low_detail() {
+        if self.low_detail() || self.culled(&id) {
             return info;
         }
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
@@ -305,7 +418,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             return PinInfo::default();
         };
         let decl = &t.outputs()[pin.id.output];
-        if self.low_detail() {
+        if self.low_detail() || self.culled(&id) {
             return self.pin(&id, decl.ty);
         }
         let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
@@ -316,15 +429,78 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         self.pin(&id, decl.ty)
     }
 
+    fn has_body(&mut self, _: &NodeView) -> bool {
+        self.low_detail()
+    }
+
+    /// The overview's body: the node's estimated full-detail size, its pins painted on
+    /// its edges ([`Body`]).
+    fn show_body(
+        &mut self,
+        node: NodeId,
+        _: &[InPin],
+        _: &[OutPin],
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let id = self.id(snarl, node);
+        let (Some(k), Some(t)) = (self.doc.index(id), self.doc.node_type(id)) else {
+            return;
+        };
+        let Some(&(w, h)) = self.doc.node_sizes().get(k) else {
+            return;
+        };
+        let size = egui::vec2((w - BODY_INSET).max(0.0), (h - HEADER_HEIGHT).max(0.0));
+        let body = Body(ui.allocate_space(size).1);
+        self.overview.record(node, body);
+        if self.culled(id) {
+            // Off screen: its wires need the body, not the pins.
+            return;
+        }
+        let side = ui.spacing().interact_size.y * 0.6;
+        let mut shapes = Vec::with_capacity(t.inputs().len() + t.outputs().len());
+        for (k, decl) in t.inputs().iter().enumerate() {
+            let (fill, shape) = self.pin_look(id, decl.ty);
+            shapes.push(pin_shape(shape, body.input(k), side, fill));
+        }
+        for (k, decl) in t.outputs().iter().enumerate() {
+            let (fill, shape) = self.pin_look(id, decl.ty);
+            shapes.push(pin_shape(shape, body.output(k), side, fill));
+        }
+        ui.painter().add(Shape::Vec(shapes));
+    }
+
+    /// The background pattern, then (in the overview) the slot of the wires, behind the
+    /// nodes.
+    fn draw_background(
+        &mut self,
+        background: Option<&BackgroundPattern>,
+        viewport: &egui::Rect,
+        snarl_style: &SnarlStyle,
+        style: &egui::Style,
+        painter: &egui::Painter,
+        _: &Snarl<NodeView>,
+    ) {
+        if let Some(background) = background {
+            background.draw(viewport, snarl_style, style, painter);
+        }
+        if self.low_detail() {
+            self.overview.reserve(painter);
+        }
+    }
+
+    /// Imposes the frame-all transform, and culls the nodes away from the viewport (this
+    /// is called before any node is drawn).
     fn current_transform(
         &mut self,
         to_global: &mut egui::emath::TSTransform,
-        _: &mut Snarl<NodeView>,
+        snarl: &mut Snarl<NodeView>,
     ) {
         if let Some(t) = self.set_transform.take() {
             *to_global = t;
         }
         self.to_screen = Some(*to_global);
+        self.culling = self.cull(*to_global, snarl);
     }
 
     fn has_on_hover_popup(&mut self, _: &NodeView) -> bool {
