@@ -18,11 +18,32 @@ use matgraph::editor::{EditorApp, EditorState, preview_ui};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+/// How the synthetic graph's nodes are placed.
+#[derive(Clone, Copy, PartialEq)]
+enum Placing {
+    /// No positions: the editor lays them out by link depth, one column per node (a chain
+    /// 300 columns wide; framed at egui-snarl's least zoom, 0.2×, about 25 are on screen).
+    Arranged,
+    /// In rows of [`GRID_COLUMNS`], 300 × 220 canvas points apart: framed at 0.2×, all 300
+    /// are on screen.
+    Grid,
+}
+
+/// Nodes per row of [`Placing::Grid`].
+const GRID_COLUMNS: usize = 20;
+
 /// A graph of `n` nodes: geometry, then `n − 1` generic `mul`/`add` nodes, each reading
 /// the one before and one of the eight before it (a wide, deep canvas with many wires),
 /// its last node the `emission` output.
-fn synthetic(n: usize) -> GraphDocument {
-    let mut nodes = vec![serde_json::json!({"id": "n0", "type": "geometry"})];
+fn synthetic(n: usize, placing: Placing) -> GraphDocument {
+    let place = |k: usize| match placing {
+        Placing::Arranged => serde_json::Value::Null,
+        Placing::Grid => serde_json::json!([
+            (k % GRID_COLUMNS) as f64 * 300.0,
+            (k / GRID_COLUMNS) as f64 * 220.0
+        ]),
+    };
+    let mut nodes = vec![serde_json::json!({"id": "n0", "type": "geometry", "position": place(0)})];
     for k in 1..n {
         let a = if k == 1 {
             "n0.uv".to_owned()
@@ -38,14 +59,20 @@ fn synthetic(n: usize) -> GraphDocument {
             "id": format!("n{k}"),
             "type": if k % 2 == 0 { "add" } else { "mul" },
             "inputs": {"a": {"link": a}, "b": b},
+            "position": place(k),
         }));
     }
-    let doc = serde_json::json!({
+    let mut doc = serde_json::json!({
         "version": matgraph::FORMAT_VERSION,
         "name": format!("synthetic_{n}"),
         "nodes": nodes,
         "outputs": [{"name": "emission", "from": format!("n{}.result", n - 1)}],
     });
+    if placing == Placing::Arranged {
+        for node in doc["nodes"].as_array_mut().expect("nodes") {
+            node.as_object_mut().expect("node").remove("position");
+        }
+    }
     GraphDocument::parse(&doc.to_string()).expect("the synthetic graph parses")
 }
 
@@ -68,6 +95,8 @@ struct Window {
     epoch: Instant,
     /// Frames 0.5 ms apart instead of at the ticks (`--unpaced`).
     unpaced: bool,
+    /// Input events for the next frame.
+    events: Vec<egui::Event>,
 }
 
 impl Window {
@@ -78,6 +107,7 @@ impl Window {
             time: 0.0,
             epoch: Instant::now(),
             unpaced: std::env::args().any(|a| a == "--unpaced"),
+            events: Vec::new(),
         }
     }
 
@@ -90,6 +120,7 @@ impl Window {
                 egui::vec2(1400.0, 900.0),
             )),
             time: Some(self.time),
+            events: std::mem::take(&mut self.events),
             ..Default::default()
         };
         let app = &mut self.app;
@@ -186,7 +217,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 /// Frame time with an `n`-node graph, all nodes on screen (framed): the median of `frames`.
 fn frame_time(n: usize, frames: usize) {
-    let mut state = EditorState::new(synthetic(n), None, Registry::builtin());
+    let mut state = EditorState::new(synthetic(n, Placing::Arranged), None, Registry::builtin());
     state.dialog = None;
     state.preview.enabled = false;
     let mut h = harness(state);
@@ -209,20 +240,38 @@ fn frame_time(n: usize, frames: usize) {
     );
 }
 
-/// Frame time as in a window ([`Window`]) with an `n`-node graph framed and its preview
+/// Frame time as in a window ([`Window`]) with an `n`-node graph placed by `placing`,
+/// framed, then (given `zoom`) zoomed about the canvas' centre to that scale, its preview
 /// on (settled: each frame asks it what is due): the median of `frames`, back to back.
-fn window_frame_time(n: usize, frames: usize) {
-    let mut state = EditorState::new(synthetic(n), None, Registry::builtin());
+fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, frames: usize) {
+    let mut state = EditorState::new(synthetic(n, placing), None, Registry::builtin());
     state.dialog = None;
     let mut w = Window::new(state);
     let open = w.settle(Duration::from_secs(600));
-    println!(
-        "open as in a window at 60 Hz, {n} nodes (shown, framed, the preview rendered): {:.0} ms",
-        ms(open)
-    );
+    let what = match placing {
+        Placing::Arranged => "laid out",
+        Placing::Grid => "in a grid",
+    };
+    if zoom.is_none() {
+        println!(
+            "open as in a window at 60 Hz, {n} nodes {what} (shown, framed, the preview rendered): {:.0} ms",
+            ms(open)
+        );
+    }
     for _ in 0..4 {
         w.frame();
     }
+    if let Some(zoom) = zoom {
+        // egui-snarl zooms about the pointer; the canvas spans x 0–1090 of the window.
+        w.events = vec![
+            egui::Event::PointerMoved(egui::pos2(545.0, 450.0)),
+            egui::Event::Zoom(zoom / w.app.to_screen().scaling),
+        ];
+        for _ in 0..4 {
+            w.frame();
+        }
+    }
+    let scale = w.app.to_screen().scaling;
     let mut times = Vec::new();
     let cpu = thread_cpu_time();
     for _ in 0..frames {
@@ -235,10 +284,19 @@ fn window_frame_time(n: usize, frames: usize) {
         _ => String::new(),
     };
     println!(
-        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes framed: median {:.2} ms, max {:.2} ms{cpu} ({frames} frames)",
+        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes {what} at {scale:.1}×: median {:.2} ms, max {:.2} ms{cpu} ({frames} frames)",
         median(times.clone()),
         times.iter().copied().fold(0.0, f64::max)
     );
+}
+
+/// [`window_frame_time`] for the views of an `n`-node graph: laid out and framed; in a
+/// grid framed whole (every node on screen); that grid zoomed in to 1× (a few nodes on
+/// screen, in full detail).
+fn window_views(n: usize, frames: usize) {
+    window_frame_time(n, Placing::Arranged, None, frames);
+    window_frame_time(n, Placing::Grid, None, frames);
+    window_frame_time(n, Placing::Grid, Some(1.0), frames);
 }
 
 /// The first numeric literal of a node that is not a `parameter`: (node, input, value).
@@ -365,7 +423,8 @@ fn graph_edits(file: &Path, reps: usize) {
 fn main() {
     // `cargo bench` passes --bench; `cargo test` runs the quick check. `--nodes N` and
     // `--graphs a,b` (file stems) narrow a run; `--nodes N --window-only` runs 400 window
-    // frames and nothing else (for a profiler).
+    // frames and nothing else (for a profiler; `--grid` places the nodes in a grid,
+    // `--zoom Z` zooms to Z).
     let args: Vec<String> = std::env::args().collect();
     let full = args.iter().any(|a| a == "--bench");
     let value = |flag: &str| {
@@ -378,22 +437,27 @@ fn main() {
         value("--graphs").map(|v| v.split(',').map(str::to_owned).collect());
     match (nodes, full) {
         (Some(n), _) if args.iter().any(|a| a == "--window-only") => {
-            window_frame_time(n, 400);
+            let placing = match args.iter().any(|a| a == "--grid") {
+                true => Placing::Grid,
+                false => Placing::Arranged,
+            };
+            let zoom = value("--zoom").and_then(|z| z.parse().ok());
+            window_frame_time(n, placing, zoom, 400);
             return;
         }
         (Some(n), _) => {
             frame_time(n, 20);
-            window_frame_time(n, 20);
+            window_views(n, 20);
         }
         (None, true) => {
             frame_time(300, 60);
-            window_frame_time(300, 60);
+            window_views(300, 60);
             frame_time(40, 60);
-            window_frame_time(40, 60);
+            window_frame_time(40, Placing::Arranged, None, 60);
         }
         (None, false) => {
             frame_time(30, 3);
-            window_frame_time(30, 3);
+            window_views(30, 3);
         }
     }
     println!(
