@@ -153,6 +153,30 @@ impl Viewer<'_> {
         Culling::new(viewport, self.doc.doc().nodes.len(), nodes, wires)
     }
 
+    /// How many of a node's `all` input or output pins egui-snarl draws this frame: none in
+    /// the overview (it paints them, `show_body`), else those `culled` leaves.
+    fn pins_shown(
+        &self,
+        node: &NodeView,
+        all: usize,
+        culled: fn(&Culling, usize, usize) -> usize,
+    ) -> usize {
+        if self.low_detail() {
+            return 0;
+        }
+        self.doc
+            .index(&node.id)
+            .map_or(all, |k| culled(&self.culling, k, all))
+    }
+
+    /// `frame` as this frame draws it: [`plain`] in the overview.
+    fn frame_for_zoom(&self, frame: egui::Frame) -> egui::Frame {
+        match self.low_detail() {
+            true => plain(frame),
+            false => frame,
+        }
+    }
+
     /// Whether this frame's zoom is under [`LOW_DETAIL_ZOOM`].
     fn low_detail(&self) -> bool {
         self.to_screen.is_some_and(|t| t.scaling < LOW_DETAIL_ZOOM)
@@ -312,10 +336,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         _: &[OutPin],
         snarl: &Snarl<NodeView>,
     ) -> egui::Frame {
-        let default = match self.low_detail() {
-            true => plain(default),
-            false => default,
-        };
+        let default = self.frame_for_zoom(default);
         match self.doc.node_type(&snarl[node].id) {
             Some(t) => default.fill(category_color(t.category())),
             None => default.fill(Color32::from_rgb(0x50, 0x20, 0x20)),
@@ -333,10 +354,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         // The overview's nodes have no shadow, outline or rounding: a pixel or less there,
         // their tessellation was a third of the frame of a 300-node graph framed whole
         // (benches/editor.rs).
-        let default = match self.low_detail() {
-            true => plain(default),
-            false => default,
-        };
+        let default = self.frame_for_zoom(default);
         if self.errors_of(&snarl[node].id).is_empty() {
             default
         } else {
@@ -345,29 +363,16 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn inputs(&mut self, node: &NodeView) -> usize {
-        if self.low_detail() {
-            // The overview paints the pins (show_body).
-            return 0;
-        }
         let all = self.doc.node_type(&node.id).map_or(0, |t| t.inputs().len());
-        match self.doc.index(&node.id) {
-            Some(k) => self.culling.inputs(k, all),
-            None => all,
-        }
+        self.pins_shown(node, all, Culling::inputs)
     }
 
     fn outputs(&mut self, node: &NodeView) -> usize {
-        if self.low_detail() {
-            return 0;
-        }
         let all = self
             .doc
             .node_type(&node.id)
             .map_or(0, |t| t.outputs().len());
-        match self.doc.index(&node.id) {
-            Some(k) => self.culling.outputs(k, all),
-            None => all,
-        }
+        self.pins_shown(node, all, Culling::outputs)
     }
 
     #[allow(refining_impl_trait)]
@@ -458,15 +463,16 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             return;
         }
         let side = ui.spacing().interact_size.y * 0.6;
-        let mut shapes = Vec::with_capacity(t.inputs().len() + t.outputs().len());
-        for (k, decl) in t.inputs().iter().enumerate() {
-            let (fill, shape) = self.pin_look(id, decl.ty);
-            shapes.push(pin_shape(shape, body.input(k), side, fill));
-        }
-        for (k, decl) in t.outputs().iter().enumerate() {
-            let (fill, shape) = self.pin_look(id, decl.ty);
-            shapes.push(pin_shape(shape, body.output(k), side, fill));
-        }
+        let inputs = t.inputs().iter().enumerate();
+        let outputs = t.outputs().iter().enumerate();
+        let pins = (inputs.map(|(k, d)| (body.input(k), d.ty)))
+            .chain(outputs.map(|(k, d)| (body.output(k), d.ty)));
+        let shapes = pins
+            .map(|(at, ty)| {
+                let (fill, shape) = self.pin_look(id, ty);
+                pin_shape(shape, at, side, fill)
+            })
+            .collect();
         ui.painter().add(Shape::Vec(shapes));
     }
 
