@@ -242,11 +242,14 @@ fn frame_time(n: usize, frames: usize) {
 
 /// Frame time as in a window ([`Window`]) with an `n`-node graph placed by `placing`,
 /// framed, then (given `zoom`) zoomed about the canvas' centre to that scale, its preview
-/// on (settled: each frame asks it what is due): the median of `frames`, back to back.
-fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, frames: usize) {
+/// on (settled: each frame asks it what is due), the pointer resting on the canvas' centre:
+/// the median of `frames`, back to back. `whole`: egui-snarl is handed every node each
+/// frame (`EditorApp::set_hand_off(false)`, the editor before the hand-off).
+fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, whole: bool, frames: usize) {
     let mut state = EditorState::new(synthetic(n, placing), None, Registry::builtin());
     state.dialog = None;
     let mut w = Window::new(state);
+    w.app.set_hand_off(!whole);
     let open = w.settle(Duration::from_secs(600));
     let what = match placing {
         Placing::Arranged => "laid out",
@@ -258,15 +261,13 @@ fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, frames: usiz
             ms(open)
         );
     }
+    // The canvas spans x 0–1090 of the window; egui-snarl zooms about the pointer.
+    w.events = vec![egui::Event::PointerMoved(egui::pos2(545.0, 450.0))];
     for _ in 0..4 {
         w.frame();
     }
     if let Some(zoom) = zoom {
-        // egui-snarl zooms about the pointer; the canvas spans x 0–1090 of the window.
-        w.events = vec![
-            egui::Event::PointerMoved(egui::pos2(545.0, 450.0)),
-            egui::Event::Zoom(zoom / w.app.to_screen().scaling),
-        ];
+        w.events = vec![egui::Event::Zoom(zoom / w.app.to_screen().scaling)];
         for _ in 0..4 {
             w.frame();
         }
@@ -283,8 +284,12 @@ fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, frames: usiz
         (Some(a), Some(b)) => format!(", CPU {:.2} ms per frame", ms(b - a) / frames as f64),
         _ => String::new(),
     };
+    let handed = match w.app.handed() {
+        Some(k) => format!("{k} handed to egui-snarl"),
+        None => "all handed to egui-snarl".to_owned(),
+    };
     println!(
-        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes {what} at {scale:.1}×: median {:.2} ms, max {:.2} ms{cpu} ({frames} frames)",
+        "frame as in a window (egui pass + tessellation, no accessibility tree), {n} nodes {what} at {scale:.1}× ({handed}): median {:.2} ms, max {:.2} ms{cpu} ({frames} frames)",
         median(times.clone()),
         times.iter().copied().fold(0.0, f64::max)
     );
@@ -292,11 +297,13 @@ fn window_frame_time(n: usize, placing: Placing, zoom: Option<f32>, frames: usiz
 
 /// [`window_frame_time`] for the views of an `n`-node graph: laid out and framed; in a
 /// grid framed whole (every node on screen); that grid zoomed in to 1× (a few nodes on
-/// screen, in full detail).
+/// screen, in full detail); and the grid framed whole with every node handed to
+/// egui-snarl, as before the hand-off.
 fn window_views(n: usize, frames: usize) {
-    window_frame_time(n, Placing::Arranged, None, frames);
-    window_frame_time(n, Placing::Grid, None, frames);
-    window_frame_time(n, Placing::Grid, Some(1.0), frames);
+    window_frame_time(n, Placing::Arranged, None, false, frames);
+    window_frame_time(n, Placing::Grid, None, false, frames);
+    window_frame_time(n, Placing::Grid, Some(1.0), false, frames);
+    window_frame_time(n, Placing::Grid, None, true, frames);
 }
 
 /// The first numeric literal of a node that is not a `parameter`: (node, input, value).
@@ -424,7 +431,7 @@ fn main() {
     // `cargo bench` passes --bench; `cargo test` runs the quick check. `--nodes N` and
     // `--graphs a,b` (file stems) narrow a run; `--nodes N --window-only` runs 400 window
     // frames and nothing else (for a profiler; `--grid` places the nodes in a grid,
-    // `--zoom Z` zooms to Z).
+    // `--zoom Z` zooms to Z, `--whole` hands egui-snarl every node).
     let args: Vec<String> = std::env::args().collect();
     let full = args.iter().any(|a| a == "--bench");
     let value = |flag: &str| {
@@ -442,7 +449,8 @@ fn main() {
                 false => Placing::Arranged,
             };
             let zoom = value("--zoom").and_then(|z| z.parse().ok());
-            window_frame_time(n, placing, zoom, 400);
+            let whole = args.iter().any(|a| a == "--whole");
+            window_frame_time(n, placing, zoom, whole, 400);
             return;
         }
         (Some(n), _) => {
@@ -453,7 +461,7 @@ fn main() {
             frame_time(300, 60);
             window_views(300, 60);
             frame_time(40, 60);
-            window_frame_time(40, Placing::Arranged, None, 60);
+            window_frame_time(40, Placing::Arranged, None, false, 60);
         }
         (None, false) => {
             frame_time(30, 3);

@@ -3,9 +3,11 @@
 //! `Ui`, so the same code runs in the window (eframe), headless and under egui_kittest.
 
 use super::code::{TARGETS, extension, node_lines};
+use super::handoff;
 use super::search_ui::{self, SearchState};
+use super::stand_in::Looks;
 use super::state::{Dialog, EditorState, Pending};
-use super::viewer::{Action, Swatch, Viewer};
+use super::viewer::{Action, Places, Swatch, Viewer};
 use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
@@ -35,6 +37,15 @@ pub struct EditorApp {
     revealed: usize,
     /// Whether the last frame drew (and measured) every node.
     nodes_measured: bool,
+    /// How egui-snarl last drew each node in the overview ([`super::stand_in`]).
+    looks: Looks,
+    /// Whether a box selection (a drag begun with Shift) is under way: egui-snarl selects
+    /// among the nodes it is handed, so it is handed all of them until the drag ends.
+    boxing: bool,
+    /// Whether egui-snarl may be handed only some nodes ([`super::handoff`]).
+    hand_off: bool,
+    /// How many nodes the last frame handed egui-snarl (`None`: all).
+    handed: Option<usize>,
 }
 
 impl EditorApp {
@@ -49,6 +60,10 @@ impl EditorApp {
             frame_in: 1,
             revealed: 0,
             nodes_measured: false,
+            looks: Looks::default(),
+            boxing: false,
+            hand_off: true,
+            handed: None,
         }
     }
 
@@ -68,6 +83,17 @@ impl EditorApp {
     /// widgets are in canvas coordinates).
     pub fn to_screen(&self) -> egui::emath::TSTransform {
         self.to_screen
+    }
+
+    /// Lets egui-snarl be handed only the nodes it must lay out ([`super::handoff`]), or
+    /// (`false`) every node each frame, as before the hand-off (for comparison).
+    pub fn set_hand_off(&mut self, on: bool) {
+        self.hand_off = on;
+    }
+
+    /// How many nodes the last frame handed egui-snarl; `None` when it was handed all.
+    pub fn handed(&self) -> Option<usize> {
+        self.handed
     }
 
     /// Fits the view to every node (View → Frame all, Home), on the next frame.
@@ -167,6 +193,9 @@ impl EditorApp {
             overview: Default::default(),
             canvas: ui.max_rect(),
             culling: Default::default(),
+            places: Places::of(&self.state.snarl, &self.state.doc),
+            handed: None,
+            looks: &mut self.looks,
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = Self::fit(self.nodes_rect, self.canvas_rect);
@@ -184,12 +213,54 @@ impl EditorApp {
             collapsible: Some(false),
             ..SnarlStyle::new()
         };
-        let r = SnarlWidget::new().id(canvas_id()).style(style).show(
-            &mut self.state.snarl,
-            &mut viewer,
-            ui,
-        );
-        let _ = r;
+        // egui-snarl is handed only the nodes it must lay out (super::handoff), except
+        // while the file's nodes are revealed, the view is fitted, a box selection or a
+        // menu is open (a node's menu belongs to its frame).
+        let (shift, pressed, released) = ui.input(|i| {
+            (
+                i.modifiers.shift,
+                i.pointer.primary_pressed(),
+                i.pointer.primary_released(),
+            )
+        });
+        self.boxing |= shift && pressed;
+        let whole = !self.hand_off
+            || n > self.revealed
+            || !self.nodes_measured
+            || fit.is_some()
+            || shift
+            || self.boxing
+            || egui::Popup::is_any_open(ui.ctx());
+        if released {
+            self.boxing = false;
+        }
+        let mut part = None;
+        if !whole {
+            let (zoom, scroll, pointer) = ui.input(|i| {
+                (
+                    i.zoom_delta(),
+                    i.smooth_scroll_delta(),
+                    i.pointer.latest_pos(),
+                )
+            });
+            let next = handoff::predict(self.to_screen, zoom, scroll, pointer, canvas);
+            let selected = egui_snarl::ui::get_selected_nodes(canvas_id(), ui.ctx());
+            let keep = viewer.hand_over(next, &selected, pointer);
+            part = handoff::partial(&self.state.snarl, &keep);
+            viewer.handed = part.as_ref().map(|_| keep);
+        }
+        self.handed = viewer
+            .handed
+            .as_ref()
+            .map(|keep| keep.iter().filter(|&&k| k).count());
+        let shown = part.as_mut().unwrap_or(&mut self.state.snarl);
+        SnarlWidget::new()
+            .id(canvas_id())
+            .style(style)
+            .show(shown, &mut viewer, ui);
+        if let Some(part) = &part {
+            handoff::write_back(&mut self.state.snarl, part);
+        }
         viewer.paint_overview(&self.state.snarl, ui.style());
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {

@@ -78,18 +78,30 @@ pub fn wire_segments(from: Pos2, to: Pos2, frame: f32, scale: f32) -> usize {
     ((reach * scale / 12.0).ceil() as usize).clamp(2, 24)
 }
 
-/// The overview of one frame: the bodies the nodes drew and the shape slot, behind the
-/// nodes, that the wires fill once every node is drawn.
+/// The overview of one frame: the bodies the nodes drew and the shape slots, behind the
+/// nodes, that the wires and then the stand-ins ([`super::stand_in`]) fill once every node
+/// is drawn.
 #[derive(Default)]
 pub struct Overview {
     bodies: HashMap<NodeId, Body>,
     slot: Option<(Painter, ShapeIdx)>,
+    stand_ins: Option<ShapeIdx>,
 }
 
 impl Overview {
-    /// Reserves the wires' place in `painter`'s layer (call before the nodes are drawn).
+    /// Reserves the wires' and the stand-ins' places in `painter`'s layer (call before the
+    /// nodes are drawn).
     pub fn reserve(&mut self, painter: &Painter) {
         self.slot = Some((painter.clone(), painter.add(Shape::Noop)));
+        self.stand_ins = Some(painter.add(Shape::Noop));
+    }
+
+    /// Paints the stand-ins' `shapes` in their slot, and records their `bodies`.
+    pub fn paint_stand_ins(&mut self, shapes: Vec<Shape>, bodies: Vec<(NodeId, Body)>) {
+        if let (Some((painter, _)), Some(slot)) = (&self.slot, self.stand_ins) {
+            painter.set(slot, Shape::Vec(shapes));
+        }
+        self.bodies.extend(bodies);
     }
 
     /// Records the body node `node` drew this frame.

@@ -2,11 +2,13 @@
 //! by socket type (generic pins square), values edited in place. It only reads the document
 //! and queues [`Action`]s, which the app applies after the frame through the state's edits.
 
-use super::cull::Culling;
+use super::cull::{Culling, Wire};
+use super::handoff::POINTER_REACH;
 use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
 use super::overview::{Body, Overview, pin_shape};
 use super::search::WireFilter;
+use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
 use super::widgets::{current_lanes, port_hover, value_editor};
 use crate::node::PortType;
@@ -109,6 +111,41 @@ pub struct Viewer<'a> {
     pub canvas: egui::Rect,
     /// This frame's culling ([`super::cull`]), made once the transform is known.
     pub culling: Culling,
+    /// Where the whole canvas' nodes and wires are this frame (egui-snarl may be handed
+    /// only some of them, [`super::handoff`]).
+    pub places: Places,
+    /// The nodes handed to egui-snarl this frame, by node id (`None`: all).
+    pub handed: Option<Vec<bool>>,
+    /// How egui-snarl last drew each node in the overview ([`super::stand_in`]).
+    pub looks: &'a mut Looks,
+}
+
+/// The canvas' nodes (egui-snarl id, document index, position) and wires (document
+/// indices) at the start of a frame.
+#[derive(Clone, Debug, Default)]
+pub struct Places {
+    /// Each node: its id on the canvas, its document index and its position.
+    pub nodes: Vec<(NodeId, usize, egui::Pos2)>,
+    /// Each wire, by document index.
+    pub wires: Vec<Wire>,
+}
+
+impl Places {
+    /// The places of `snarl`'s nodes (those whose id `doc` knows) and wires.
+    pub fn of(snarl: &Snarl<NodeView>, doc: &EditorDoc) -> Places {
+        let nodes = snarl
+            .nodes_pos_ids()
+            .filter_map(|(n, pos, view)| Some((n, doc.index(&view.id)?, pos)))
+            .collect();
+        let index = |n: NodeId| snarl.get_node(n).and_then(|v| doc.index(&v.id));
+        let wires = snarl
+            .wires()
+            .filter_map(|(from, to)| {
+                Some((index(from.node)?, from.output, index(to.node)?, to.input))
+            })
+            .collect();
+        Places { nodes, wires }
+    }
 }
 
 impl Viewer<'_> {
@@ -136,21 +173,96 @@ impl Viewer<'_> {
 
     /// The culling of a frame drawn with `to_screen`: each node's estimated rect against
     /// the canvas' viewport (nothing is culled before the canvas' rect is known).
-    fn cull(&self, to_screen: egui::emath::TSTransform, snarl: &Snarl<NodeView>) -> Culling {
+    fn cull(&self, to_screen: egui::emath::TSTransform) -> Culling {
         if !self.canvas.is_positive() {
             return Culling::default();
         }
         let viewport = to_screen.inverse() * self.canvas;
-        let nodes = snarl.nodes_pos_ids().filter_map(|(_, pos, view)| {
-            let k = self.doc.index(&view.id)?;
-            let (w, h) = *self.doc.node_sizes().get(k)?;
-            Some((k, egui::Rect::from_min_size(pos, egui::vec2(w, h))))
-        });
-        let index = |n: NodeId| snarl.get_node(n).and_then(|v| self.doc.index(&v.id));
-        let wires = snarl.wires().filter_map(|(from, to)| {
-            Some((index(from.node)?, from.output, index(to.node)?, to.input))
-        });
+        let nodes = self
+            .places
+            .nodes
+            .iter()
+            .map(|&(_, k, pos)| (k, self.estimate(k, pos)));
+        let wires = self.places.wires.iter().copied();
         Culling::new(viewport, self.doc.doc().nodes.len(), nodes, wires)
+    }
+
+    /// Document node `k`'s estimated rect at `pos` ([`super::layout::node_size`]).
+    fn estimate(&self, k: usize, pos: egui::Pos2) -> egui::Rect {
+        let (w, h) = self.doc.node_sizes().get(k).copied().unwrap_or_default();
+        egui::Rect::from_min_size(pos, egui::vec2(w, h))
+    }
+
+    /// Which nodes egui-snarl is handed in a frame drawn with `to_screen` (by node id, see
+    /// [`super::handoff`]): those `selected`, those within [`POINTER_REACH`] of `pointer`
+    /// (screen), culled ones holding a wire to a node drawn, and the others in view, except
+    /// in the overview those with a look recorded for their current look (their
+    /// stand-ins are painted instead).
+    pub fn hand_over(
+        &self,
+        to_screen: egui::emath::TSTransform,
+        selected: &[NodeId],
+        pointer: Option<egui::Pos2>,
+    ) -> Vec<bool> {
+        let culling = self.cull(to_screen);
+        let overview = to_screen.scaling < LOW_DETAIL_ZOOM;
+        let reach = POINTER_REACH / to_screen.scaling;
+        let pointer = pointer.map(|p| to_screen.inverse() * p);
+        let len = self
+            .places
+            .nodes
+            .iter()
+            .map(|(n, ..)| n.0 + 1)
+            .max()
+            .unwrap_or(0);
+        let mut keep = vec![true; len];
+        for &(n, k, pos) in &self.places.nodes {
+            let rect = self.looks.frame_at(k, pos).unwrap_or(self.estimate(k, pos));
+            let near = pointer.is_some_and(|p| rect.expand(reach).contains(p));
+            let wired = culling.inputs(k, usize::MAX) + culling.outputs(k, usize::MAX) > 0;
+            let needed = match culling.is_culled(k) {
+                true => wired,
+                false => !overview || !self.looks.has(k, &self.look_key(k)),
+            };
+            keep[n.0] = needed || near || selected.contains(&n);
+        }
+        keep
+    }
+
+    /// What document node `k`'s overview look depends on ([`LookKey`]).
+    fn look_key(&self, k: usize) -> LookKey {
+        let id = &self.doc.doc().nodes[k].id;
+        let errors = !self.errors_of(id).is_empty();
+        LookKey {
+            size: self.doc.node_sizes().get(k).copied().unwrap_or_default(),
+            title: overview_title(id, errors),
+            fill: self.header_fill(id),
+            stroke: frame_stroke(errors),
+        }
+    }
+
+    /// The fill of node `id`'s header: its category's colour (dark red for an unknown type).
+    fn header_fill(&self, id: &str) -> Color32 {
+        match self.doc.node_type(id) {
+            Some(t) => category_color(t.category()),
+            None => Color32::from_rgb(0x50, 0x20, 0x20),
+        }
+    }
+
+    /// The pins of node `id` as the overview paints them on the edges of `body`.
+    fn pin_shapes(&self, id: &str, body: Body, side: f32) -> Vec<Shape> {
+        let Some(t) = self.doc.node_type(id) else {
+            return Vec::new();
+        };
+        let inputs = t.inputs().iter().enumerate();
+        let outputs = t.outputs().iter().enumerate();
+        (inputs.map(|(k, d)| (body.input(k), d.ty)))
+            .chain(outputs.map(|(k, d)| (body.output(k), d.ty)))
+            .map(|(at, ty)| {
+                let (fill, shape) = self.pin_look(id, ty);
+                pin_shape(shape, at, side, fill)
+            })
+            .collect()
     }
 
     /// How many of a node's `all` input or output pins egui-snarl draws this frame: none in
@@ -199,10 +311,31 @@ impl Viewer<'_> {
             .with_wire_color(fill)
     }
 
+    /// Paints the stand-ins of the nodes in view that egui-snarl was not handed (filled
+    /// with `window`, pins `pin` across) behind the nodes it drew, and records their bodies
+    /// for the wires.
+    fn paint_stand_ins(&mut self, window: Color32, pin: f32) {
+        let Some(handed) = &self.handed else {
+            return;
+        };
+        let mut shapes = Vec::new();
+        let mut bodies = Vec::new();
+        for &(n, k, pos) in &self.places.nodes {
+            if handed.get(n.0).copied().unwrap_or(true) || self.culling.is_culled(k) {
+                continue;
+            }
+            if let Some(body) = self.looks.paint(k, pos, window, &mut shapes) {
+                shapes.extend(self.pin_shapes(&self.doc.doc().nodes[k].id, body, pin));
+                bodies.push((n, body));
+            }
+        }
+        self.overview.paint_stand_ins(shapes, bodies);
+    }
+
     /// Paints the overview's wires once the canvas drew its nodes (see [`super::overview`]),
     /// each in the mean of its ends' colours as egui-snarl mixes them, at least a pixel
     /// wide. `style` is the egui style the canvas drew with.
-    pub fn paint_overview(&self, snarl: &Snarl<NodeView>, style: &egui::Style) {
+    pub fn paint_overview(&mut self, snarl: &Snarl<NodeView>, style: &egui::Style) {
         let Some(scale) = self
             .to_screen
             .map(|t| t.scaling)
@@ -211,6 +344,7 @@ impl Viewer<'_> {
             return;
         };
         let pin = style.spacing.interact_size.y * 0.6;
+        self.paint_stand_ins(style.visuals.window_fill, pin);
         let width = (pin * 0.1).max(1.0 / scale);
         let wires = snarl.wires().filter_map(|(from, to)| {
             let (a, b) = (&snarl.get_node(from.node)?.id, &snarl.get_node(to.node)?.id);
@@ -227,6 +361,22 @@ impl Viewer<'_> {
             Some((from, to, Stroke::new(width, color)))
         });
         self.overview.paint_wires(wires, pin * 3.0, scale);
+    }
+}
+
+/// A node's header text in the overview: its id, and an error mark when it has errors.
+fn overview_title(id: &str, errors: bool) -> String {
+    match errors {
+        true => format!("{id} ⚠"),
+        false => id.to_owned(),
+    }
+}
+
+/// A node frame's outline: red for a node with errors.
+fn frame_stroke(errors: bool) -> Stroke {
+    match errors {
+        true => Stroke::new(2.0, Color32::from_rgb(230, 60, 50)),
+        false => Stroke::NONE,
     }
 }
 
@@ -264,14 +414,15 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             // (a lock and hash maps), and a 300-node graph framed whole spent 6 % of its
             // frame on the headers' labels (benches/editor.rs). The node is still selected
             // and dragged by its frame.
-            let text = match errors.is_empty() {
-                true => title,
-                false => format!("{title} ⚠"),
-            };
+            let text = overview_title(&title, !errors.is_empty());
             let font = egui::TextStyle::Body.resolve(ui.style());
             let galley = ui.painter().layout_no_wrap(text, font, Color32::WHITE);
             let (_, rect) = ui.allocate_space(galley.size());
-            ui.painter().galley(rect.min, galley, Color32::WHITE);
+            ui.painter()
+                .galley(rect.min, galley.clone(), Color32::WHITE);
+            if let Some(k) = self.doc.index(&id) {
+                self.looks.header(k, ui.min_rect(), rect.min, galley);
+            }
             return;
         }
         ui.horizontal(|ui| {
@@ -336,11 +487,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         _: &[OutPin],
         snarl: &Snarl<NodeView>,
     ) -> egui::Frame {
-        let default = self.frame_for_zoom(default);
-        match self.doc.node_type(&snarl[node].id) {
-            Some(t) => default.fill(category_color(t.category())),
-            None => default.fill(Color32::from_rgb(0x50, 0x20, 0x20)),
-        }
+        self.frame_for_zoom(default)
+            .fill(self.header_fill(&snarl[node].id))
     }
 
     fn node_frame(
@@ -355,10 +503,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         // their tessellation was a third of the frame of a 300-node graph framed whole
         // (benches/editor.rs).
         let default = self.frame_for_zoom(default);
-        if self.errors_of(&snarl[node].id).is_empty() {
-            default
-        } else {
-            default.stroke(Stroke::new(2.0, Color32::from_rgb(230, 60, 50)))
+        match self.errors_of(&snarl[node].id).is_empty() {
+            true => default,
+            false => default.stroke(frame_stroke(true)),
         }
     }
 
@@ -449,7 +596,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node);
-        let (Some(k), Some(t)) = (self.doc.index(id), self.doc.node_type(id)) else {
+        let (Some(k), Some(_)) = (self.doc.index(id), self.doc.node_type(id)) else {
             return;
         };
         let Some(&(w, h)) = self.doc.node_sizes().get(k) else {
@@ -462,17 +609,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             // Off screen: its wires need the body, not the pins.
             return;
         }
+        self.looks.body(k, body.0);
         let side = ui.spacing().interact_size.y * 0.6;
-        let inputs = t.inputs().iter().enumerate();
-        let outputs = t.outputs().iter().enumerate();
-        let pins = (inputs.map(|(k, d)| (body.input(k), d.ty)))
-            .chain(outputs.map(|(k, d)| (body.output(k), d.ty)));
-        let shapes = pins
-            .map(|(at, ty)| {
-                let (fill, shape) = self.pin_look(id, ty);
-                pin_shape(shape, at, side, fill)
-            })
-            .collect();
+        let shapes = self.pin_shapes(id, body, side);
         ui.painter().add(Shape::Vec(shapes));
     }
 
@@ -500,13 +639,33 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     fn current_transform(
         &mut self,
         to_global: &mut egui::emath::TSTransform,
-        snarl: &mut Snarl<NodeView>,
+        _: &mut Snarl<NodeView>,
     ) {
         if let Some(t) = self.set_transform.take() {
             *to_global = t;
         }
         self.to_screen = Some(*to_global);
-        self.culling = self.cull(*to_global, snarl);
+        self.culling = self.cull(*to_global);
+    }
+
+    /// Records how the overview drew the node (its stand-in's look, [`super::stand_in`]).
+    fn final_node_rect(
+        &mut self,
+        node: NodeId,
+        rect: egui::Rect,
+        _: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) {
+        let Some(info) = snarl.get_node_info(node) else {
+            return;
+        };
+        if !self.low_detail() || self.culled(&info.value.id) {
+            return;
+        }
+        if let Some(k) = self.doc.index(&info.value.id) {
+            let key = self.look_key(k);
+            self.looks.frame(k, info.pos, rect, key);
+        }
     }
 
     fn has_on_hover_popup(&mut self, _: &NodeView) -> bool {
