@@ -1220,3 +1220,162 @@ fn a_large_graph_draws_an_overview_zoomed_out_and_culls_what_is_off_screen() {
         );
     }
 }
+
+#[test]
+fn a_partial_canvas_keeps_the_node_ids_and_the_wires_between_kept_nodes() {
+    use egui_snarl::{InPinId, NodeId, OutPinId, Snarl};
+    use matgraph::editor::handoff::{partial, write_back};
+    use matgraph::editor::view::NodeView;
+    let mut full = Snarl::new();
+    for k in 0..7 {
+        let id = full.insert_node(
+            egui::pos2(k as f32 * 10.0, 1.0),
+            NodeView {
+                id: format!("n{k}"),
+            },
+        );
+        assert_eq!(id, NodeId(k));
+    }
+    // A node removed by an edit leaves a hole in the ids.
+    full.remove_node(NodeId(2));
+    let wire = |a: usize, o: usize, b: usize, i: usize| {
+        (
+            OutPinId {
+                node: NodeId(a),
+                output: o,
+            },
+            InPinId {
+                node: NodeId(b),
+                input: i,
+            },
+        )
+    };
+    let wires = [
+        wire(0, 0, 1, 0),
+        wire(1, 0, 3, 1),
+        wire(3, 0, 4, 0),
+        wire(4, 1, 6, 2),
+        wire(0, 0, 5, 0),
+    ];
+    for (from, to) in wires {
+        full.connect(from, to);
+    }
+    let keep = [true, false, false, true, true, false, true];
+    let mut part = partial(&full, &keep).expect("ids line up");
+    let ids: Vec<(usize, String)> = part.node_ids().map(|(n, v)| (n.0, v.id.clone())).collect();
+    assert_eq!(
+        ids,
+        [
+            (0, "n0".into()),
+            (3, "n3".into()),
+            (4, "n4".into()),
+            (6, "n6".into())
+        ]
+    );
+    let mut got: Vec<_> = part.wires().collect();
+    got.sort_by_key(|(f, t)| (f.node.0, t.node.0));
+    assert_eq!(got, [wire(3, 0, 4, 0), wire(4, 1, 6, 2)]);
+    // Moves made on the partial canvas reach the whole one; the others stay.
+    part.get_node_info_mut(NodeId(3)).unwrap().pos = egui::pos2(-5.0, 7.0);
+    write_back(&mut full, &part);
+    assert_eq!(
+        full.get_node_info(NodeId(3)).unwrap().pos,
+        egui::pos2(-5.0, 7.0)
+    );
+    assert_eq!(
+        full.get_node_info(NodeId(1)).unwrap().pos,
+        egui::pos2(10.0, 1.0)
+    );
+    assert_eq!(full.wires().count(), 5);
+}
+
+#[test]
+fn the_predicted_zoom_keeps_the_point_under_the_pointer_and_the_zoom_range() {
+    use egui::emath::TSTransform;
+    use matgraph::editor::handoff::{ZOOM_RANGE, predict};
+    let canvas = egui::Rect::from_min_size(egui::pos2(0.0, 30.0), egui::vec2(1000.0, 800.0));
+    let mut rng = fastrand_like(0x5eed);
+    for case in 0..200 {
+        let scale = 0.2 + 1.8 * rng();
+        let last = TSTransform::new(
+            egui::vec2(rng() * 400.0 - 200.0, rng() * 400.0 - 200.0),
+            scale,
+        );
+        let zoom = if case % 4 == 0 {
+            1.0
+        } else {
+            0.25 + 2.0 * rng()
+        };
+        let scroll = egui::vec2(rng() * 60.0 - 30.0, rng() * 60.0 - 30.0);
+        let pointer = egui::pos2(rng() * 1000.0, 30.0 + rng() * 800.0);
+        let t = predict(last, zoom, scroll, Some(pointer), canvas);
+        // Closed form: the scale is the last one times the zoom, within egui-snarl's range;
+        // the canvas point under the pointer stays under it, then the view moves by the scroll.
+        let expect = (scale as f64 * zoom as f64).clamp(ZOOM_RANGE.0 as f64, ZOOM_RANGE.1 as f64);
+        assert!(
+            (t.scaling as f64 - expect).abs() < 1e-5 * expect,
+            "case {case}: {} vs {expect}",
+            t.scaling
+        );
+        let under = last.inverse() * pointer;
+        let now = t * under;
+        assert!(
+            (now - (pointer + scroll)).length() < 2e-2,
+            "case {case}: {now:?} vs {:?}",
+            pointer + scroll
+        );
+        // Off the canvas nothing moves.
+        let outside = egui::pos2(1100.0, 400.0);
+        assert_eq!(predict(last, zoom, scroll, Some(outside), canvas), last);
+    }
+}
+
+/// A seeded uniform [0, 1) generator (xorshift64*), f32-exact outputs.
+fn fastrand_like(seed: u64) -> impl FnMut() -> f32 {
+    let mut s = seed;
+    move || {
+        s ^= s >> 12;
+        s ^= s << 25;
+        s ^= s >> 27;
+        let v = s.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (v >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+#[test]
+fn the_overview_hands_egui_snarl_few_nodes_and_keeps_a_selection_among_stand_ins() {
+    let mut state = EditorState::new(grid_graph(300), None, Registry::builtin());
+    state.dialog = None;
+    let mut h = harness(state);
+    h.run();
+    let t = h.state().to_screen();
+    // The pointer on node n45 (row 2, column 5): a few nodes near it are handed over, the
+    // rest painted as stand-ins.
+    let p = t * egui::pos2(5.0 * 300.0 + 60.0, 2.0 * 220.0 + 40.0);
+    h.input_mut().events.push(egui::Event::PointerMoved(p));
+    h.run_steps(6);
+    let handed = h.state().handed().expect("a partial canvas");
+    assert!((1..20).contains(&handed), "{handed} handed");
+    // Shift-click selects it; with the pointer far away it stays selected (egui-snarl drops
+    // selected nodes missing from its graph, so a selected node is always handed over).
+    h.input_mut()
+        .events
+        .push(egui::Event::ModifiersChanged(Modifiers::SHIFT));
+    for pressed in [true, false] {
+        h.input_mut().events.push(egui::Event::PointerButton {
+            pos: p,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::SHIFT,
+        });
+        h.run_steps(1);
+    }
+    h.input_mut()
+        .events
+        .push(egui::Event::ModifiersChanged(Modifiers::NONE));
+    let away = t * egui::pos2(15.0 * 300.0, 12.0 * 220.0);
+    h.input_mut().events.push(egui::Event::PointerMoved(away));
+    h.run_steps(6);
+    assert!(h.state().handed().is_some_and(|k| k < 20));
+    assert_eq!(h.state().selected(&h.ctx), ["n45"]);
+}
