@@ -219,9 +219,9 @@ impl Viewer<'_> {
         for &(n, k, pos) in &self.places.nodes {
             let rect = self.looks.frame_at(k, pos).unwrap_or(self.estimate(k, pos));
             let near = pointer.is_some_and(|p| rect.expand(reach).contains(p));
-            let wired = culling.inputs(k, usize::MAX) + culling.outputs(k, usize::MAX) > 0;
             let needed = match culling.is_culled(k) {
-                true => wired,
+                // A culled node keeps the pins of its wires to nodes drawn.
+                true => culling.inputs(k, usize::MAX) > 0 || culling.outputs(k, usize::MAX) > 0,
                 false => !overview || !self.looks.has(k, &self.look_key(k)),
             };
             keep[n.0] = needed || near || selected.contains(&n);
