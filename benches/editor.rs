@@ -406,8 +406,14 @@ fn graph_edits(file: &Path, reps: usize) {
                 Some(p) if (p[i].0 - m).abs() > 0.25 * m => format!(" (first {:.0} ms)", p[i].0),
                 _ => String::new(),
             };
+            // Where some edits took more than the next frame: how many of them did not.
+            let next = v.iter().filter(|p| p[i].1 <= 1).count();
+            let share = match next {
+                n if n == v.len() || n == 0 => String::new(),
+                n => format!(", {n} of {} in 1 f", v.len()),
+            };
             format!(
-                "{m:.0} ms, {} f{first}",
+                "{m:.0} ms, {} f{first}{share}",
                 v.iter().map(|p| p[i].1).max().unwrap_or(0)
             )
         };
@@ -429,9 +435,10 @@ fn graph_edits(file: &Path, reps: usize) {
 
 fn main() {
     // `cargo bench` passes --bench; `cargo test` runs the quick check. `--nodes N` and
-    // `--graphs a,b` (file stems) narrow a run; `--nodes N --window-only` runs 400 window
-    // frames and nothing else (for a profiler; `--grid` places the nodes in a grid,
-    // `--zoom Z` zooms to Z, `--whole` hands egui-snarl every node).
+    // `--graphs a,b` (file stems) narrow a run; `--reps N` makes each kind of edit N times
+    // per graph; `--nodes N --window-only` runs 400 window frames and nothing else (for a
+    // profiler; `--grid` places the nodes in a grid, `--zoom Z` zooms to Z, `--whole` hands
+    // egui-snarl every node).
     let args: Vec<String> = std::env::args().collect();
     let full = args.iter().any(|a| a == "--bench");
     let value = |flag: &str| {
@@ -486,7 +493,11 @@ fn main() {
         None if !full => files.retain(|f| f.ends_with("pbr_gold.json")),
         None => {}
     }
+    // Edits per graph: `--reps N`, else 3 (1 in the quick check).
+    let reps = value("--reps")
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(if full || only.is_some() { 3 } else { 1 });
     for f in &files {
-        graph_edits(f, if full || only.is_some() { 3 } else { 1 });
+        graph_edits(f, reps);
     }
 }

@@ -416,10 +416,12 @@ impl EditorApp {
     fn shortcuts(&mut self, ctx: &egui::Context) {
         let cmd = |k| KeyboardShortcut::new(Modifiers::COMMAND, k);
         let cmd_shift = |k| KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, k);
-        let (undo, redo, save) = ctx.input_mut(|i| {
+        // egui matches shortcuts logically (a Shift the pattern lacks is ignored), so Ctrl+Z
+        // would take Ctrl+Shift+Z too: redo is consumed first.
+        let (redo, undo, save) = ctx.input_mut(|i| {
             (
-                i.consume_shortcut(&cmd(Key::Z)),
                 i.consume_shortcut(&cmd_shift(Key::Z)) || i.consume_shortcut(&cmd(Key::Y)),
+                i.consume_shortcut(&cmd(Key::Z)),
                 i.consume_shortcut(&cmd(Key::S)),
             )
         });
@@ -622,7 +624,13 @@ impl EditorApp {
             return;
         };
         let Some(t) = self.state.doc.node_type(&id).cloned() else {
-            ui.weak(format!("node '{id}'"));
+            // Gone (an undo, a delete, a reload) or of a type the registry lacks.
+            match self.state.doc.node(&id) {
+                None => ui.weak(format!(
+                    "Node '{id}' is no longer in the graph. Click a node's title to see its documentation."
+                )),
+                Some(n) => ui.weak(format!("node '{id}': unknown type '{}'", n.node_type)),
+            };
             return;
         };
         ui.heading(&id);

@@ -14,8 +14,9 @@
 //! Besides the main swatch, any node can have a swatch of its own ([`Preview::toggle_node`],
 //! as in Blender): the graph cut at the node's first output ([`cut_at`]).
 //!
-//! **Drafts.** Where the main swatch's last render took longer than fits in the frame after
-//! an edit ([`DRAFT_BUDGET`], half a 60 Hz frame), an edit (a parameter, a value, a wire,
+//! **Drafts.** Where any of the main swatch's last [`LATENCY_WINDOW`] full renders took
+//! longer than fits in the frame after an edit ([`DRAFT_BUDGET`], half a 60 Hz frame:
+//! [`drafts_edits`]), an edit (a parameter, a value, a wire,
 //! the orbit) is first rendered as a draft at a lower mesh detail ([`draft_detail`]), shown
 //! scaled up in the swatch, and the full swatch follows. The first draft is [`DRAFT_SIZE`]²; each later one is sized
 //! from the last ([`draft_side`]) to fit [`DRAFT_BUDGET`], down to [`MIN_DRAFT_SIZE`]², as a
@@ -78,6 +79,20 @@ pub const DRAFT_BUDGET: Duration = Duration::from_micros(8_333);
 
 /// A frame at 60 Hz.
 pub const FRAME: Duration = Duration::from_micros(16_667);
+
+/// Full renders of a swatch whose times decide whether its edits draft ([`drafts_edits`]).
+pub const LATENCY_WINDOW: usize = 8;
+
+/// Whether a swatch whose last full renders took `latencies` (request to pixels) drafts its
+/// edits: when any of them took over [`DRAFT_BUDGET`]. One render's time is not enough to
+/// go by: on lavapipe a swatch's full render varies by 2× from one to the next (`skin`'s
+/// 128², measured on a 2-core VM: 8–15 ms), so deciding by the last one alone left the edit
+/// after a quick render undrafted, and its slow full render missed the next frame (5 of 400
+/// parameter changes over five graphs; none once decided on the last eight). Drafting when
+/// it was not needed costs the edit a draft's time (2–4 ms) before its full swatch.
+pub fn drafts_edits(latencies: &VecDeque<Duration>) -> bool {
+    latencies.iter().any(|l| *l > DRAFT_BUDGET)
+}
 
 /// The graph output a node swatch shows: `color` (lit, summed over the scene's lights)
 /// when the cut graph reads `light` or `light_color`, else this name (shown unlit).
@@ -245,6 +260,9 @@ struct SlotState {
     backend: String,
     /// Request to pixels, the last full render.
     latency: Option<Duration>,
+    /// Request to pixels of the last [`LATENCY_WINDOW`] full renders, oldest first: whether
+    /// edits draft ([`drafts_edits`]).
+    latencies: VecDeque<Duration>,
     /// The last draft's side and request-to-pixels time.
     last_draft: Option<(u32, Duration)>,
     /// Whether the last draft was the first at its side (its time then counts the mesh,
@@ -261,6 +279,15 @@ struct SlotState {
 }
 
 impl SlotState {
+    /// Records a full render's request-to-pixels time.
+    fn record_latency(&mut self, latency: Duration) {
+        self.latency = Some(latency);
+        self.latencies.push_back(latency);
+        if self.latencies.len() > LATENCY_WINDOW {
+            self.latencies.pop_front();
+        }
+    }
+
     /// Puts `r` on the swatch's texture (made on the first render).
     fn show(&mut self, ctx: &egui::Context, slot: &Slot, r: &Rendered) {
         let image = r.image();
@@ -459,6 +486,14 @@ impl Preview {
         self.slots.get(&None)?.latency
     }
 
+    /// Whether the main swatch drafts its next edit: [`drafts_edits`] of its last full
+    /// renders.
+    pub fn drafts_next_edit(&self) -> bool {
+        self.slots
+            .get(&None)
+            .is_some_and(|s| drafts_edits(&s.latencies))
+    }
+
     /// The main swatch's last draft: its side in pixels and its request-to-pixels time.
     pub fn last_draft(&self) -> Option<(u32, Duration)> {
         self.slots.get(&None)?.last_draft
@@ -538,7 +573,7 @@ impl Preview {
                 && !playing
                 && graph.is_some()
                 && state.message.is_none()
-                && state.latency.is_some_and(|l| l > DRAFT_BUDGET)
+                && drafts_edits(&state.latencies)
                 && state.warmed.as_ref() != Some(&warm_key);
             // The main worker's job is due: it is free, and the request is not shown (or is,
             // and its draft is to be warmed).
@@ -599,7 +634,7 @@ impl Preview {
                     || slot.is_none()
                         && !stand_in
                         && !playing
-                        && state.latency.is_some_and(|l| l > DRAFT_BUDGET)
+                        && drafts_edits(&state.latencies)
                         && state.draft.as_ref() != Some(&request);
                 let side = match draft {
                     true => state.next_draft_side(),
@@ -719,7 +754,7 @@ impl Preview {
                 }
                 continue;
             }
-            state.latency = Some(d.latency);
+            state.record_latency(d.latency);
             state.shown = Some(d.request);
             if newest {
                 state.draft = None;
@@ -1104,6 +1139,36 @@ pub fn cut_at(doc: &GraphDocument, id: &str, registry: &Registry) -> Result<Grap
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Edits draft while any of the last eight full renders took over 8.333 ms: hand cases
+    /// at and around the budget, and a slow render that leaves the window after eight quick
+    /// ones.
+    #[test]
+    fn edits_draft_while_a_recent_full_render_was_slow() {
+        let us = |t: u64| Duration::from_micros(t);
+        let mut s = SlotState::default();
+        assert!(!drafts_edits(&s.latencies), "nothing rendered yet");
+        s.record_latency(us(8_333));
+        assert!(!drafts_edits(&s.latencies), "exactly the budget fits");
+        s.record_latency(us(8_334));
+        assert!(drafts_edits(&s.latencies));
+        // Seven quick renders after the slow one: it is still among the last eight.
+        for k in 0..7 {
+            s.record_latency(us(2_000 + 100 * k));
+            assert!(drafts_edits(&s.latencies), "after {} quick ones", k + 1);
+        }
+        s.record_latency(us(6_000));
+        assert!(!drafts_edits(&s.latencies), "the slow one left the window");
+        assert_eq!(s.latencies.len(), LATENCY_WINDOW);
+        assert_eq!(s.latency, Some(us(6_000)), "the last render's time is kept");
+        // Once one render of a swatch that jitters by 2× about the budget (the skin swatch's
+        // 8–15 ms) was slow, its quick ones do not stop the drafts.
+        assert!(!drafts_edits(&s.latencies));
+        for t in [14_700, 7_900, 7_500, 8_000, 7_800] {
+            s.record_latency(us(t));
+            assert!(drafts_edits(&s.latencies), "{t} µs");
+        }
+    }
 
     /// Drafts sized to the budget: hand-worked cases, then seeded random ones checked
     /// against the quadratic cost model (48² where the time scaled by the pixels,
