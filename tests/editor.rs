@@ -333,6 +333,17 @@ fn closing_with_unsaved_changes_asks_first() {
     assert_eq!(node_types(&h.state().state), ["geometry"]);
 }
 
+/// Pixels of 1.26 M that an editor snapshot may differ by (beyond egui_kittest's per-pixel
+/// threshold). On one machine the snapshots are now the same in every run: 48 runs of both
+/// matched with none allowed, 8 of them with both cores kept busy. They were not before:
+/// egui-snarl's wires crossed in a random order (73 pixels; `editor::wire_order`), and in
+/// `toon_ball` the nodes `spec_band` and `lit`, laid out 4 points apart as the estimate of a
+/// generic slider was short, stacked in a random order (113 pixels; the flake of session
+/// 15). The slack is for another CPU's lavapipe, whose rounding may move a few pixels of the
+/// preview; a wire order or a stacking gone random again (70–140), a moved node or a lost
+/// swatch (thousands) still fail.
+const SNAPSHOT_SLACK: usize = 20;
+
 /// Whether the GPU snapshot can run here; panics when `MATGRAPH_REQUIRE_GPU` is set and not.
 fn gpu_or_skip(test: &str) -> bool {
     if matgraph::editor::headless::adapter_available() {
@@ -370,9 +381,7 @@ fn snapshot_of_the_editor_on_pbr_gold() {
         h.state().state.preview.message()
     );
     h.run_steps(2);
-    // Anti-aliased wires that cross blend in an order that varies run to run: 10 of the
-    // 1.26 M pixels differed between two runs, so allow 100.
-    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(100);
+    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(SNAPSHOT_SLACK);
     h.snapshot_options("editor_pbr_gold", &options);
 }
 
@@ -413,11 +422,7 @@ fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
         );
     }
     h.run_steps(2);
-    // Under load (the whole suite at once) about one run in five differs from the committed
-    // image at 120–140 pixels of 1.26 M, on the toon bands' hard edges; the cause is not
-    // found yet (docs/benchmarks.md, session 15). 200 keeps a moved node or a lost swatch
-    // (thousands of pixels) failing.
-    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(200);
+    let options = egui_kittest::SnapshotOptions::new().max_failed_pixels(SNAPSHOT_SLACK);
     h.snapshot_options("editor_toon_ball", &options);
 }
 
@@ -1408,4 +1413,85 @@ fn the_overview_hands_egui_snarl_few_nodes_and_keeps_a_selection_among_stand_ins
     h.run_steps(6);
     assert!(h.state().handed().is_some_and(|k| k < 20));
     assert_eq!(h.state().selected(&h.ctx), ["n45"]);
+}
+
+/// Every bundled graph draws each node within its estimated rect and the reveal's margin
+/// (`editor::layout::node_size`, `editor::view::REVEAL_MARGIN`), as it opens. egui-snarl
+/// stacks the nodes shown in one frame in a random order, so `editor::view::reveal_until`
+/// shows at once only nodes whose estimated rects (with the margin and the frame's shadow)
+/// are apart; a node drawn beyond its estimate could reach another shown with it, and the
+/// canvas look different from run to run. Before the estimate followed a generic port's
+/// inferred type, `toon_ball`'s `spec_band` (a step whose float `edge` is a slider) was
+/// drawn 50 points wider than estimated, 4 points from `lit`, and the editor's screenshot
+/// changed from run to run at 113 pixels.
+#[test]
+fn bundled_graphs_draw_each_node_within_its_estimated_rect() {
+    use matgraph::editor::view::REVEAL_MARGIN;
+    let mut files: Vec<PathBuf> = std::fs::read_dir("graphs")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 20, "{files:?}");
+    let (mut checked, mut beyond) = (0, Vec::new());
+    for file in files {
+        let mut state = EditorState::open(&file, Registry::builtin()).unwrap();
+        state.dialog = None;
+        let n = state.doc.doc().nodes.len();
+        let mut h = harness(state);
+        let start = std::time::Instant::now();
+        h.step();
+        while !h.state().settled() && start.elapsed().as_secs() < 60 {
+            h.step();
+        }
+        h.step();
+        let app = h.state();
+        let frames = app.drawn_frames();
+        assert_eq!(frames.len(), n, "{}: every node drawn", file.display());
+        for (id, drawn) in frames {
+            let doc = &app.state.doc;
+            let k = doc.index(id).unwrap();
+            let [x, y] = doc.doc().nodes[k].position.unwrap();
+            let (w, h) = doc.node_sizes()[k];
+            let estimate = egui::Rect::from_min_size(egui::pos2(x, y), egui::vec2(w, h));
+            if !estimate.expand(REVEAL_MARGIN).contains_rect(drawn) {
+                beyond.push(format!(
+                    "{}: {id} drawn at {drawn:?}, estimated {estimate:?}",
+                    file.display()
+                ));
+            }
+            checked += 1;
+        }
+    }
+    assert!(beyond.is_empty(), "{}", beyond.join("\n"));
+    assert!(checked > 300, "{checked} nodes");
+}
+
+/// The editor draws a graph alike however egui-snarl's hash sets are seeded: two editors on
+/// `pbr_gold` (whose wires from `geo` cross) in one process, where each canvas' wire set
+/// gets its own seed, render to the same bytes. Before `editor::wire_order` sorted the
+/// wires, two renders differed where anti-aliased wires cross.
+#[test]
+fn two_editors_on_one_graph_render_the_same_pixels() {
+    if !gpu_or_skip("two_editors_on_one_graph_render_the_same_pixels") {
+        return;
+    }
+    let render = || {
+        let mut state =
+            EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+        state.dialog = None;
+        state.preview.enabled = false;
+        let mut h = matgraph::editor::headless::harness(EditorApp::new(state), [1400, 900]);
+        h.run_steps(4);
+        while !h.state().settled() {
+            h.step();
+        }
+        h.run_steps(2);
+        h.render().unwrap()
+    };
+    let (a, b) = (render(), render());
+    assert_eq!(a.dimensions(), b.dimensions());
+    let differ = differing_bytes(a.as_raw(), b.as_raw());
+    assert_eq!(differ, 0, "{differ} bytes differ");
 }

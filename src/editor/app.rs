@@ -46,6 +46,8 @@ pub struct EditorApp {
     hand_off: bool,
     /// How many nodes the last frame handed egui-snarl (`None`: all).
     handed: Option<usize>,
+    /// The last frame's [`Viewer::drawn`].
+    drawn: Vec<(usize, egui::Rect)>,
 }
 
 impl EditorApp {
@@ -64,6 +66,7 @@ impl EditorApp {
             boxing: false,
             hand_off: true,
             handed: None,
+            drawn: Vec::new(),
         }
     }
 
@@ -94,6 +97,16 @@ impl EditorApp {
     /// How many nodes the last frame handed egui-snarl; `None` when it was handed all.
     pub fn handed(&self) -> Option<usize> {
         self.handed
+    }
+
+    /// The frames of the nodes egui-snarl drew in full in the last frame, by node id, in
+    /// canvas points (culled and withheld nodes left out).
+    pub fn drawn_frames(&self) -> Vec<(&str, egui::Rect)> {
+        let nodes = &self.state.doc.doc().nodes;
+        self.drawn
+            .iter()
+            .filter_map(|&(k, r)| Some((nodes.get(k)?.id.as_str(), r)))
+            .collect()
     }
 
     /// Fits the view to every node (View → Frame all, Home), on the next frame.
@@ -196,6 +209,8 @@ impl EditorApp {
             places: Places::of(&self.state.snarl, &self.state.doc),
             handed: None,
             looks: &mut self.looks,
+            wires: None,
+            drawn: Vec::new(),
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = Self::fit(self.nodes_rect, self.canvas_rect);
@@ -258,10 +273,14 @@ impl EditorApp {
             .id(canvas_id())
             .style(style)
             .show(shown, &mut viewer, ui);
+        if let Some(wires) = viewer.wires {
+            wires.sort(ui.ctx());
+        }
         if let Some(part) = &part {
             handoff::write_back(&mut self.state.snarl, part);
         }
         viewer.paint_overview(&self.state.snarl, ui.style());
+        self.drawn = std::mem::take(&mut viewer.drawn);
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;

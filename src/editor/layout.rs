@@ -6,8 +6,9 @@
 //! and by View → Arrange.
 
 use super::model::link_of;
+use super::widgets::current_lanes;
 use crate::document::{GraphDocument, NodeDocument};
-use crate::node::{InputDecl, PortType};
+use crate::node::{NodeType, PortType};
 use crate::registry::Registry;
 use crate::types::SocketType;
 use std::collections::HashMap;
@@ -41,27 +42,53 @@ pub fn node_height(inputs: usize, outputs: usize) -> f32 {
     HEADER_HEIGHT + (INPUT_ROW * inputs as f32).max(OUTPUT_ROW * outputs as f32)
 }
 
-/// The width of the value widget an unlinked input shows (0 when linked), canvas points:
-/// sliders 130, vector fields 50 per lane, enum combos 110, colour buttons 45, toggles 20,
-/// other numbers 50.
-fn widget_width(decl: &InputDecl, node: &NodeDocument) -> f32 {
-    if node.inputs.get(decl.name).and_then(link_of).is_some() {
+/// The width of the value widget input `k` of type `t` shows on `node` (0 when linked),
+/// canvas points, chosen as [`super::widgets::value_editor`] chooses it, by the port's type
+/// (a generic port's `generic`, the node's inferred `T`, where known): sliders (a float with
+/// a finite soft or hard range) 130, vector fields [`lane_width`] per lane of the value
+/// shown, enum combos 110, colour buttons 45, toggles 20, other numbers 50. A generic port
+/// whose `T` is not known counts 50 per lane of its node's widest literal.
+fn widget_width(t: &NodeType, k: usize, node: &NodeDocument, generic: Option<SocketType>) -> f32 {
+    let decl = &t.inputs()[k];
+    let written = node.inputs.get(decl.name);
+    if written.and_then(link_of).is_some() {
         return 0.0;
     }
-    match decl.ty {
-        PortType::Generic => 50.0 * generic_lanes(node) as f32,
-        PortType::Fixed(SocketType::Float)
-            if decl
-                .soft
-                .is_some_and(|r| r.min.is_finite() && r.max.is_finite()) =>
-        {
-            130.0
+    let ty = match (decl.ty, generic) {
+        (PortType::Fixed(t), _) | (PortType::Generic, Some(t)) => t,
+        (PortType::Generic, None) => return 50.0 * generic_lanes(node) as f32,
+    };
+    let finite = |r: crate::node::Range| r.min.is_finite() && r.max.is_finite();
+    match ty {
+        SocketType::Float if decl.soft.or(decl.hard).is_some_and(finite) => 130.0,
+        SocketType::Int if !decl.choices.is_empty() => 110.0,
+        SocketType::Color => 45.0,
+        SocketType::Bool => 20.0,
+        SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => {
+            let default = t.default_for(k, generic.unwrap_or(SocketType::Float));
+            current_lanes(decl, ty, written, &default)
+                .into_iter()
+                .map(lane_width)
+                .sum()
         }
-        PortType::Fixed(SocketType::Int) if !decl.choices.is_empty() => 110.0,
-        PortType::Fixed(SocketType::Color) => 45.0,
-        PortType::Fixed(SocketType::Bool) => 20.0,
-        PortType::Fixed(t) => 50.0 * t.width() as f32,
+        other => 50.0 * other.width() as f32,
     }
+}
+
+/// The width of one field of a vector editor showing `x`, canvas points, with the spacing
+/// after it: egui's `DragValue` at speed 0.01 prints 2 decimals, or 3 where 2 do not hold
+/// the value (`-0.1736482` → `-0.174`, 6 characters); a field is its text and 8 points of
+/// padding, at least the canvas' interact width of 44, and 8 apart. The gerstner_waves
+/// node's vec4 rows of such values were drawn 24 points wider than 50 a field allowed.
+pub fn lane_width(x: f32) -> f32 {
+    let hundredths = f64::from(x) * 100.0;
+    let decimals = if (hundredths - hundredths.round()).abs() < 1e-3 {
+        2
+    } else {
+        3
+    };
+    let chars = format!("{x:.decimals$}").chars().count() as f32;
+    (CHAR * chars + 8.0).max(44.0) + 8.0
 }
 
 /// The lanes of a generic node's literals: the widest array literal among its inputs.
@@ -75,17 +102,23 @@ fn generic_lanes(node: &NodeDocument) -> usize {
 
 /// The estimated size (width, height) of `node` on the canvas, canvas points: the title
 /// (with the preview toggle), the widest input row (label and value widget) beside the
-/// widest output label, and [`node_height`]; at least [`MIN_WIDTH`]. Estimated from the
-/// egui-snarl 0.12 nodes of the bundled graphs to within about 10 % (pbr_brdf ≈ 260 wide,
-/// fresnel_schlick with a vec3 literal ≈ 290), so the layout leaves room to spare.
-pub fn node_size(node: &NodeDocument, registry: &Registry) -> (f32, f32) {
+/// widest output label, and [`node_height`]; at least [`MIN_WIDTH`]. `generic` is the
+/// node's inferred `T` where known (its generic ports' widgets follow it). Estimated from
+/// the egui-snarl 0.12 nodes of the bundled graphs to within about 10 % (pbr_brdf ≈ 260
+/// wide, fresnel_schlick with a vec3 literal ≈ 290), so the layout leaves room to spare.
+pub fn node_size(
+    node: &NodeDocument,
+    registry: &Registry,
+    generic: Option<SocketType>,
+) -> (f32, f32) {
     let Some(t) = registry.get(&node.node_type) else {
         return (MIN_WIDTH, node_height(1, 1));
     };
     let input = t
         .inputs()
         .iter()
-        .map(|i| 16.0 + CHAR * i.name.len() as f32 + widget_width(i, node))
+        .enumerate()
+        .map(|(k, i)| 16.0 + CHAR * i.name.len() as f32 + widget_width(t, k, node, generic))
         .fold(0.0f32, f32::max);
     let output = t
         .outputs()
@@ -97,8 +130,20 @@ pub fn node_size(node: &NodeDocument, registry: &Registry) -> (f32, f32) {
     (width, node_height(t.inputs().len(), t.outputs().len()))
 }
 
+/// Each node's [`node_size`], its generic type as the loader infers it (when the graph is
+/// valid), else as written.
 fn sizes(doc: &GraphDocument, registry: &Registry) -> Vec<(f32, f32)> {
-    doc.nodes.iter().map(|n| node_size(n, registry)).collect()
+    let graph = crate::graph::Graph::from_document(doc, registry).ok();
+    doc.nodes
+        .iter()
+        .map(|n| {
+            let generic = match &graph {
+                Some(g) => g.node_index(&n.id).map(|k| g.nodes()[k].generic),
+                None => n.data_type.as_deref().and_then(SocketType::from_name),
+            };
+            node_size(n, registry, generic)
+        })
+        .collect()
 }
 
 /// The indices of the nodes feeding each node (its links' sources), in input order.
@@ -231,4 +276,51 @@ pub fn arranged_with(
         n.position = Some(p);
     }
     d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A vector field is as wide as the text egui's `DragValue` prints in it: hand cases.
+    #[test]
+    fn a_vector_field_is_as_wide_as_its_text() {
+        // "1.00" and "14.00": 7·4 + 8 = 36 and 7·5 + 8 = 43 points, under the interact
+        // width of 44; then 8 to the next field.
+        assert_eq!(lane_width(1.0), 52.0);
+        assert_eq!(lane_width(14.0), 52.0);
+        assert_eq!(lane_width(0.25), 52.0);
+        // Two decimals do not hold −0.1736482 or −0.125: "-0.174", "-0.125", 7·6 + 8 + 8.
+        assert_eq!(lane_width(-0.173_648_2), 58.0);
+        assert_eq!(lane_width(-0.125), 58.0);
+        // "-1000.00": 7·8 + 8 + 8.
+        assert_eq!(lane_width(-1000.0), 72.0);
+    }
+
+    /// A generic node is estimated by its inferred type: `mul` with `b` a literal −1 shows
+    /// three fields of "-1.00" once `T` is vec3, a slider over its soft range once `T` is
+    /// float, and 50 points a lane of its literal while `T` is not known.
+    #[test]
+    fn a_generic_node_is_estimated_by_its_inferred_type() {
+        let registry = Registry::builtin();
+        let node: NodeDocument = serde_json::from_value(serde_json::json!({
+            "id": "incident", "type": "mul",
+            "inputs": { "a": { "link": "geo.view" }, "b": -1.0 }
+        }))
+        .unwrap();
+        // Widest input row ("b" and its editor) + widest output ("result") + 20.
+        let output = 16.0 + 7.0 * 6.0;
+        let width = |editor: f32| (16.0 + 7.0 + editor) + output + 20.0;
+        let vec3 = node_size(&node, registry, Some(SocketType::Vec3));
+        assert_eq!(vec3.0, width(3.0 * 52.0));
+        assert_eq!(vec3.0, 257.0);
+        let float = node_size(&node, registry, Some(SocketType::Float));
+        assert_eq!(float.0, width(130.0));
+        assert_eq!(
+            node_size(&node, registry, None).0,
+            MIN_WIDTH.max(width(50.0))
+        );
+        // Two inputs, one output: the header and two input rows.
+        assert_eq!(vec3.1, HEADER_HEIGHT + 2.0 * INPUT_ROW);
+    }
 }

@@ -26,6 +26,7 @@ pub mod undo;
 pub mod view;
 pub mod viewer;
 pub mod widgets;
+pub mod wire_order;
 
 pub use app::EditorApp;
 pub use state::EditorState;

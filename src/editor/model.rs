@@ -124,7 +124,7 @@ impl EditorDoc {
             self.doc
                 .nodes
                 .iter()
-                .map(|n| super::layout::node_size(n, self.registry))
+                .map(|n| super::layout::node_size(n, self.registry, self.generic(&n.id)))
                 .collect()
         })
     }

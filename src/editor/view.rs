@@ -63,7 +63,7 @@ pub fn reveal_until(doc: &EditorDoc, shown: usize, shadow: egui::Shadow) -> usiz
     let d = doc.doc();
     let places = places(doc);
     let rect = |k: usize| {
-        let (w, h) = super::layout::node_size(&d.nodes[k], doc.registry());
+        let (w, h) = doc.node_sizes()[k];
         let [x, y] = places[k];
         let r = egui::Rect::from_min_size(egui::pos2(x, y), egui::vec2(w, h)).expand(REVEAL_MARGIN);
         let offset = egui::vec2(shadow.offset[0] as f32, shadow.offset[1] as f32);

@@ -118,6 +118,11 @@ pub struct Viewer<'a> {
     pub handed: Option<Vec<bool>>,
     /// How egui-snarl last drew each node in the overview ([`super::stand_in`]).
     pub looks: &'a mut Looks,
+    /// Where egui-snarl paints its wires this frame, to be sorted ([`super::wire_order`]).
+    pub wires: Option<super::wire_order::Slot>,
+    /// The frame of each node egui-snarl drew in full this frame (document index, canvas
+    /// rect).
+    pub drawn: Vec<(usize, egui::Rect)>,
 }
 
 /// The canvas' nodes (egui-snarl id, document index, position) and wires (document
@@ -346,20 +351,26 @@ impl Viewer<'_> {
         let pin = style.spacing.interact_size.y * 0.6;
         self.paint_stand_ins(style.visuals.window_fill, pin);
         let width = (pin * 0.1).max(1.0 / scale);
-        let wires = snarl.wires().filter_map(|(from, to)| {
-            let (a, b) = (&snarl.get_node(from.node)?.id, &snarl.get_node(to.node)?.id);
-            let out = self.doc.node_type(a)?.outputs().get(from.output)?.ty;
-            let inp = self.doc.node_type(b)?.inputs().get(to.input)?.ty;
-            let (ca, cb) = (self.pin_look(a, out).0, self.pin_look(b, inp).0);
-            let mix = |x: u8, y: u8| x.midpoint(y);
-            let color = Color32::from_rgba_premultiplied(
-                mix(ca.r(), cb.r()),
-                mix(ca.g(), cb.g()),
-                mix(ca.b(), cb.b()),
-                mix(ca.a(), cb.a()),
-            );
-            Some((from, to, Stroke::new(width, color)))
-        });
+        let mut wires: Vec<_> = snarl
+            .wires()
+            .filter_map(|(from, to)| {
+                let (a, b) = (&snarl.get_node(from.node)?.id, &snarl.get_node(to.node)?.id);
+                let out = self.doc.node_type(a)?.outputs().get(from.output)?.ty;
+                let inp = self.doc.node_type(b)?.inputs().get(to.input)?.ty;
+                let (ca, cb) = (self.pin_look(a, out).0, self.pin_look(b, inp).0);
+                let mix = |x: u8, y: u8| x.midpoint(y);
+                let color = Color32::from_rgba_premultiplied(
+                    mix(ca.r(), cb.r()),
+                    mix(ca.g(), cb.g()),
+                    mix(ca.b(), cb.b()),
+                    mix(ca.a(), cb.a()),
+                );
+                Some((from, to, Stroke::new(width, color)))
+            })
+            .collect();
+        // egui-snarl lists its wires in a random hash order ([`super::wire_order`]):
+        // painted by pin, crossings blend alike in every run.
+        wires.sort_unstable_by_key(|&(from, to, _)| (from, to));
         self.overview.paint_wires(wires, pin * 3.0, scale);
     }
 }
@@ -616,7 +627,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     /// The background pattern, then (in the overview) the slot of the wires, behind the
-    /// nodes.
+    /// nodes; last, where egui-snarl's own wires will go ([`super::wire_order`]).
     fn draw_background(
         &mut self,
         background: Option<&BackgroundPattern>,
@@ -632,6 +643,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         if self.low_detail() {
             self.overview.reserve(painter);
         }
+        self.wires = Some(super::wire_order::Slot::before_wires(painter));
     }
 
     /// Imposes the frame-all transform, and culls the nodes away from the viewport (this
@@ -659,10 +671,14 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let Some(info) = snarl.get_node_info(node) else {
             return;
         };
-        if !self.low_detail() || self.culled(&info.value.id) {
+        let Some(k) = self.doc.index(&info.value.id) else {
+            return;
+        };
+        if self.culled(&info.value.id) {
             return;
         }
-        if let Some(k) = self.doc.index(&info.value.id) {
+        self.drawn.push((k, rect));
+        if self.low_detail() {
             let key = self.look_key(k);
             self.looks.frame(k, info.pos, rect, key);
         }
