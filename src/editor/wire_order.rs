@@ -55,24 +55,34 @@ impl Slot {
 /// fix its curve, and no two wires join the same pins), then by the bounding box for shapes
 /// other than a line.
 pub fn compare(a: &Shape, b: &Shape) -> Ordering {
-    let (ka, kb) = (key(a), key(b));
-    ka.iter()
-        .zip(&kb)
-        .map(|(x, y)| x.total_cmp(y))
-        .find(|o| o.is_ne())
-        .unwrap_or(Ordering::Equal)
+    // The bounding box (a walk over the points) only where the ends tie.
+    lexical(&ends(a), &ends(b)).then_with(|| {
+        let (ra, rb) = (a.visual_bounding_rect(), b.visual_bounding_rect());
+        lexical(
+            &[ra.min.x, ra.min.y, ra.max.x, ra.max.y],
+            &[rb.min.x, rb.min.y, rb.max.x, rb.max.y],
+        )
+    })
 }
 
-/// A wire's sort key: its first and last points (x, y each), then its bounding box.
-fn key(s: &Shape) -> [f32; 8] {
+/// A wire's first and last points (x, y each); zero for a shape other than a line.
+fn ends(s: &Shape) -> [f32; 4] {
     let ends: Option<(Pos2, Pos2)> = match s {
         Shape::Path(p) => p.points.first().zip(p.points.last()).map(|(a, b)| (*a, *b)),
         Shape::LineSegment { points, .. } => Some((points[0], points[1])),
         _ => None,
     };
     let (a, b) = ends.unwrap_or((Pos2::ZERO, Pos2::ZERO));
-    let r = s.visual_bounding_rect();
-    [a.x, a.y, b.x, b.y, r.min.x, r.min.y, r.max.x, r.max.y]
+    [a.x, a.y, b.x, b.y]
+}
+
+/// Lexical order of two keys, by `f32::total_cmp`.
+fn lexical(a: &[f32; 4], b: &[f32; 4]) -> Ordering {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| x.total_cmp(y))
+        .find(|o| o.is_ne())
+        .unwrap_or(Ordering::Equal)
 }
 
 #[cfg(test)]
