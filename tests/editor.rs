@@ -1469,17 +1469,18 @@ fn bundled_graphs_draw_each_node_within_its_estimated_rect() {
 }
 
 /// The editor draws a graph alike however egui-snarl's hash sets are seeded: two editors on
-/// `pbr_gold` (whose wires from `geo` cross) in one process, where each canvas' wire set
-/// gets its own seed, render to the same bytes. Before `editor::wire_order` sorted the
-/// wires, two renders differed where anti-aliased wires cross.
+/// one graph in one process, where each canvas' wire set gets its own seed, render to the
+/// same bytes; `pbr_gold` (whose wires from `geo` cross) at full detail, and a 300-node
+/// grid framed whole, in the overview (whose wires the editor paints). Before
+/// `editor::wire_order` the first differed where anti-aliased wires cross (94–203 bytes in
+/// three runs).
 #[test]
 fn two_editors_on_one_graph_render_the_same_pixels() {
     if !gpu_or_skip("two_editors_on_one_graph_render_the_same_pixels") {
         return;
     }
-    let render = || {
-        let mut state =
-            EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    let render = |state: fn() -> EditorState| {
+        let mut state = state();
         state.dialog = None;
         state.preview.enabled = false;
         let mut h = matgraph::editor::headless::harness(EditorApp::new(state), [1400, 900]);
@@ -1488,10 +1489,22 @@ fn two_editors_on_one_graph_render_the_same_pixels() {
             h.step();
         }
         h.run_steps(2);
-        h.render().unwrap()
+        (h.state().to_screen().scaling, h.render().unwrap())
     };
-    let (a, b) = (render(), render());
-    assert_eq!(a.dimensions(), b.dimensions());
-    let differ = differing_bytes(a.as_raw(), b.as_raw());
-    assert_eq!(differ, 0, "{differ} bytes differ");
+    let pbr_gold =
+        || EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
+    let grid = || EditorState::new(grid_graph(300), None, Registry::builtin());
+    for (name, state) in [
+        ("pbr_gold", pbr_gold as fn() -> EditorState),
+        ("grid", grid),
+    ] {
+        let ((scale, a), (_, b)) = (render(state), render(state));
+        if name == "grid" {
+            let low = matgraph::editor::viewer::LOW_DETAIL_ZOOM;
+            assert!(scale < low, "the grid framed at {scale}×: not the overview");
+        }
+        assert_eq!(a.dimensions(), b.dimensions());
+        let differ = differing_bytes(a.as_raw(), b.as_raw());
+        assert_eq!(differ, 0, "{name}: {differ} bytes differ");
+    }
 }
