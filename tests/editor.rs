@@ -333,6 +333,63 @@ fn closing_with_unsaved_changes_asks_first() {
     assert_eq!(node_types(&h.state().state), ["geometry"]);
 }
 
+/// The file shortcuts of Blender and most editors: Ctrl+Shift+S asks where to save (the
+/// file's own path to start with) and does not save; Ctrl+O asks for a file; Ctrl+N with
+/// unsaved changes asks first, then starts an empty graph in the same session: the preview
+/// stays as it was (off here; File → New used to turn it back on) and so do the recent
+/// files (File → New used to drop them).
+#[test]
+fn ctrl_shift_s_ctrl_o_and_ctrl_n_ask_as_the_file_menu_does() {
+    let dir = scratch("shortcuts");
+    let file = dir.join("shortcuts.json");
+    std::fs::copy("graphs/pbr_gold.json", &file).unwrap();
+    let mut state = EditorState::open(&file, Registry::builtin()).unwrap();
+    state.dialog = None;
+    state.recent = Some(files::Recent::load(&dir.join("recent.json")));
+    state.save_as(&file).unwrap();
+    let before = std::fs::read(&file).unwrap();
+    let mut h = harness(state);
+    h.run();
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::S);
+    h.run();
+    match &h.state().state.dialog {
+        Some(Dialog::SaveAs { path }) => assert_eq!(Path::new(path), file.as_path()),
+        other => panic!("Ctrl+Shift+S: {other:?}"),
+    }
+    assert_eq!(std::fs::read(&file).unwrap(), before, "nothing saved yet");
+    h.state_mut().state.dialog = None;
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.run();
+    assert!(
+        matches!(h.state().state.dialog, Some(Dialog::Open { .. })),
+        "Ctrl+O: {:?}",
+        h.state().state.dialog
+    );
+    h.state_mut().state.dialog = None;
+    h.state_mut()
+        .state
+        .add_node("geometry", [0.0, 0.0])
+        .unwrap();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::N);
+    h.run();
+    assert!(
+        matches!(h.state().state.dialog, Some(Dialog::Discard { .. })),
+        "Ctrl+N with unsaved changes: {:?}",
+        h.state().state.dialog
+    );
+    h.get_by_label("Discard").click();
+    h.run();
+    let s = &h.state().state;
+    assert!(node_types(s).is_empty(), "a new, empty graph");
+    assert!(s.path.is_none());
+    assert!(!s.preview.enabled, "the preview stays off");
+    assert_eq!(
+        s.recent.as_ref().map(|r| r.files.clone()),
+        Some(vec![file.canonicalize().unwrap()])
+    );
+    files::discard_recovery(Some(&file));
+}
+
 /// Pixels of 1.26 M that an editor snapshot may differ by (beyond egui_kittest's per-pixel
 /// threshold). On one machine the snapshots are now the same in every run: 48 runs of both
 /// matched with none allowed, 8 of them with both cores kept busy. They were not before:

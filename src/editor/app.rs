@@ -436,16 +436,30 @@ impl EditorApp {
         let cmd = |k| KeyboardShortcut::new(Modifiers::COMMAND, k);
         let cmd_shift = |k| KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, k);
         // egui matches shortcuts logically (a Shift the pattern lacks is ignored), so Ctrl+Z
-        // would take Ctrl+Shift+Z too: redo is consumed first.
-        let (redo, undo, save) = ctx.input_mut(|i| {
+        // would take Ctrl+Shift+Z too: the shortcuts with Shift are consumed first.
+        let (redo, undo, save_as, save, open, new) = ctx.input_mut(|i| {
             (
                 i.consume_shortcut(&cmd_shift(Key::Z)) || i.consume_shortcut(&cmd(Key::Y)),
                 i.consume_shortcut(&cmd(Key::Z)),
+                i.consume_shortcut(&cmd_shift(Key::S)),
                 i.consume_shortcut(&cmd(Key::S)),
+                i.consume_shortcut(&cmd(Key::O)),
+                i.consume_shortcut(&cmd(Key::N)),
             )
         });
         if save {
             let _ = self.state.save();
+        }
+        if self.state.dialog.is_none() && self.state.search.is_none() {
+            if save_as {
+                self.ask_save_as();
+            }
+            if open {
+                self.ask_open();
+            }
+            if new {
+                self.new_graph(ctx);
+            }
         }
         let typing = ctx.egui_wants_keyboard_input();
         if typing || self.state.dialog.is_some() || self.state.search.is_some() {
@@ -480,19 +494,40 @@ impl EditorApp {
         }
     }
 
+    /// File → New: a new graph, once unsaved changes are saved or discarded.
+    fn new_graph(&mut self, ctx: &egui::Context) {
+        if let Some(p) = self.state.request(Pending::New) {
+            self.run_pending(p, ctx);
+        }
+    }
+
+    /// File → Open…: asks for the file.
+    fn ask_open(&mut self) {
+        self.state.dialog = Some(Dialog::Open {
+            path: String::new(),
+        });
+    }
+
+    /// File → Save as…: asks for the path, the file's own to start with.
+    fn ask_save_as(&mut self) {
+        self.state.dialog = Some(Dialog::SaveAs {
+            path: self
+                .state
+                .path
+                .as_ref()
+                .map_or("untitled.json".into(), |p| p.display().to_string()),
+        });
+    }
+
     fn menu_bar(&mut self, ui: &mut Ui) {
         egui::Panel::top("matgraph-menu").show(ui, |ui| {
             egui::MenuBar::new().ui(ui, |ui| {
                 ui.menu_button("File", |ui| {
-                    if ui.button("New").clicked()
-                        && let Some(p) = self.state.request(Pending::New)
-                    {
-                        self.run_pending(p, ui.ctx());
+                    if ui.button("New  (Ctrl+N)").clicked() {
+                        self.new_graph(ui.ctx());
                     }
-                    if ui.button("Open…").clicked() {
-                        self.state.dialog = Some(Dialog::Open {
-                            path: String::new(),
-                        });
+                    if ui.button("Open…  (Ctrl+O)").clicked() {
+                        self.ask_open();
                     }
                     let recent = self
                         .state
@@ -515,14 +550,8 @@ impl EditorApp {
                     if ui.button("Save  (Ctrl+S)").clicked() {
                         let _ = self.state.save();
                     }
-                    if ui.button("Save as…").clicked() {
-                        self.state.dialog = Some(Dialog::SaveAs {
-                            path: self
-                                .state
-                                .path
-                                .as_ref()
-                                .map_or("untitled.json".into(), |p| p.display().to_string()),
-                        });
+                    if ui.button("Save as…  (Ctrl+Shift+S)").clicked() {
+                        self.ask_save_as();
                     }
                 });
                 ui.menu_button("Edit", |ui| {
@@ -929,8 +958,9 @@ impl EditorApp {
                 }
             }
             Pending::New => {
-                let registry = self.state.doc.registry();
-                self.state = EditorState::untitled(registry);
+                self.state.start_new();
+                self.frame_in = 1;
+                self.revealed = 0;
             }
         }
     }

@@ -420,11 +420,7 @@ impl EditorState {
         let registry = self.doc.registry();
         match EditorState::open(path, registry) {
             Ok(s) => {
-                let preview = std::mem::take(&mut self.preview);
-                let recent = self.recent.take();
-                *self = s;
-                self.preview = preview;
-                self.recent = recent;
+                self.replace_keeping_session(s);
                 self.remember(path);
                 Ok(())
             }
@@ -433,6 +429,23 @@ impl EditorState {
                 Err(e)
             }
         }
+    }
+
+    /// Starts an empty, untitled graph in place of this one (File → New), keeping the
+    /// session as [`EditorState::load`] does.
+    pub fn start_new(&mut self) {
+        let s = EditorState::untitled(self.doc.registry());
+        self.replace_keeping_session(s);
+    }
+
+    /// Becomes `s`, keeping the session: the preview (whether it is on, CPU only, its
+    /// worker) and the recent files.
+    fn replace_keeping_session(&mut self, s: EditorState) {
+        let preview = std::mem::take(&mut self.preview);
+        let recent = self.recent.take();
+        *self = s;
+        self.preview = preview;
+        self.recent = recent;
     }
 
     fn changed(&mut self) {
