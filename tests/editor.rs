@@ -9,7 +9,7 @@ use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use matgraph::Registry;
-use matgraph::editor::{EditorApp, EditorState, files, preview, state::Dialog};
+use matgraph::editor::{EditorApp, EditorState, files, model::EditorDoc, preview, state::Dialog};
 use std::path::{Path, PathBuf};
 
 /// A harness without a renderer (logic and accessibility tree only), preview off.
@@ -969,10 +969,15 @@ fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
     let registry = Registry::builtin();
     let file = matgraph::editor::files::open(Path::new("graphs/pbr_gold.json")).unwrap();
     // The bundled file has overlapping nodes (its columns are 200 apart; brdf is ~260 wide).
-    assert!(needs_arranging(&file, registry));
+    let sizes =
+        |d: &matgraph::GraphDocument| EditorDoc::new(d.clone(), registry).node_sizes().to_vec();
+    assert!(needs_arranging(&file, &sizes(&file)));
     let s = EditorState::open(Path::new("graphs/pbr_gold.json"), registry).unwrap();
     let doc = s.doc.doc();
-    assert!(!needs_arranging(doc, registry), "arranged on open");
+    assert!(
+        !needs_arranging(doc, s.doc.node_sizes()),
+        "arranged on open"
+    );
     assert!(!s.dirty(), "the layout alone does not make the graph dirty");
     assert!(s.status.as_deref().unwrap().contains("arranged"));
     // Longest-path depths of pbr_gold, by hand from its links: geo, roughness 0; brdf,
@@ -1048,9 +1053,10 @@ fn edit_arrange_rewrites_the_file_arranged_and_canonical() {
     );
     let text = std::fs::read_to_string(&file).unwrap();
     let doc = matgraph::GraphDocument::parse(&text).unwrap();
+    let sizes = EditorDoc::new(doc.clone(), Registry::builtin());
     assert!(!matgraph::editor::layout::needs_arranging(
         &doc,
-        Registry::builtin()
+        sizes.node_sizes()
     ));
     let g = matgraph::Graph::from_json(&text, Registry::builtin()).unwrap();
     assert_eq!(g.to_json(), text, "canonical");

@@ -45,8 +45,8 @@ pub fn run(args: &Args) -> CliResult {
             .as_ref()
             .ok_or("matgraph edit --arrange: give the graph file")?;
         let registry = matgraph::Registry::builtin();
-        let doc = editor::files::open(file)?;
-        let arranged = editor::layout::arranged(&doc, registry);
+        let doc = editor::model::EditorDoc::new(editor::files::open(file)?, registry);
+        let arranged = editor::layout::arranged(doc.doc(), doc.node_sizes());
         let graph = matgraph::Graph::from_document(&arranged, registry).map_err(|errors| {
             matgraph::error::GraphErrors {
                 source: file.clone(),
@@ -55,7 +55,11 @@ pub fn run(args: &Args) -> CliResult {
             .to_string()
         })?;
         editor::files::save(file, &graph.to_json())?;
-        println!("{}: arranged {} nodes", file.display(), doc.nodes.len());
+        println!(
+            "{}: arranged {} nodes",
+            file.display(),
+            doc.doc().nodes.len()
+        );
         return Ok(());
     }
     let Some(out) = &args.screenshot else {

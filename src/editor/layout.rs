@@ -6,7 +6,7 @@
 //! and by View → Arrange.
 
 use super::model::link_of;
-use super::widgets::current_lanes;
+use super::widgets::{current_lanes, slider_range};
 use crate::document::{GraphDocument, NodeDocument};
 use crate::node::{NodeType, PortType};
 use crate::registry::Registry;
@@ -58,9 +58,8 @@ fn widget_width(t: &NodeType, k: usize, node: &NodeDocument, generic: Option<Soc
         (PortType::Fixed(t), _) | (PortType::Generic, Some(t)) => t,
         (PortType::Generic, None) => return 50.0 * generic_lanes(node) as f32,
     };
-    let finite = |r: crate::node::Range| r.min.is_finite() && r.max.is_finite();
     match ty {
-        SocketType::Float if decl.soft.or(decl.hard).is_some_and(finite) => 130.0,
+        SocketType::Float if slider_range(decl, false).is_some() => 130.0,
         SocketType::Int if !decl.choices.is_empty() => 110.0,
         SocketType::Color => 45.0,
         SocketType::Bool => 20.0,
@@ -130,22 +129,6 @@ pub fn node_size(
     (width, node_height(t.inputs().len(), t.outputs().len()))
 }
 
-/// Each node's [`node_size`], its generic type as the loader infers it (when the graph is
-/// valid), else as written.
-fn sizes(doc: &GraphDocument, registry: &Registry) -> Vec<(f32, f32)> {
-    let graph = crate::graph::Graph::from_document(doc, registry).ok();
-    doc.nodes
-        .iter()
-        .map(|n| {
-            let generic = match &graph {
-                Some(g) => g.node_index(&n.id).map(|k| g.nodes()[k].generic),
-                None => n.data_type.as_deref().and_then(SocketType::from_name),
-            };
-            node_size(n, registry, generic)
-        })
-        .collect()
-}
-
 /// The indices of the nodes feeding each node (its links' sources), in input order.
 fn sources(doc: &GraphDocument) -> Vec<Vec<usize>> {
     let index: HashMap<&str, usize> = doc
@@ -190,24 +173,14 @@ pub fn depths(doc: &GraphDocument) -> Vec<usize> {
     depth
 }
 
-/// The arranged position (top-left corner) of every node of `doc`, in node order.
-pub fn arrange(doc: &GraphDocument, registry: &Registry) -> Vec<[f32; 2]> {
-    arrange_with(doc, registry, &|_| 0.0)
-}
-
-/// [`arrange`] with `extra(id)` points added to node `id`'s height (its preview swatch).
-pub fn arrange_with(
-    doc: &GraphDocument,
-    registry: &Registry,
-    extra: &dyn Fn(&str) -> f32,
-) -> Vec<[f32; 2]> {
+/// The arranged position (top-left corner) of every node of `doc`, in node order, each
+/// node taking `size[k]` (width, height), canvas points: its [`node_size`], as
+/// [`super::model::EditorDoc::node_sizes`] has them, plus whatever the caller draws under
+/// it (a preview swatch).
+pub fn arrange(doc: &GraphDocument, size: &[(f32, f32)]) -> Vec<[f32; 2]> {
     let n = doc.nodes.len();
     let depth = depths(doc);
     let src = sources(doc);
-    let mut size = sizes(doc, registry);
-    for (s, node) in size.iter_mut().zip(&doc.nodes) {
-        s.1 += extra(&node.id);
-    }
     let columns = depth.iter().copied().max().map_or(0, |d| d + 1);
     let mut row = vec![0.0f32; n];
     let mut pos = vec![[0.0f32; 2]; n];
@@ -238,16 +211,16 @@ pub fn arrange_with(
     pos
 }
 
-/// Whether `doc` needs arranging: a node without a position, or two nodes whose estimated
-/// rectangles ([`node_size`]) overlap.
-pub fn needs_arranging(doc: &GraphDocument, registry: &Registry) -> bool {
+/// Whether `doc` needs arranging: a node without a position, or two nodes whose
+/// rectangles of `size` (their [`node_size`]s, by node) overlap.
+pub fn needs_arranging(doc: &GraphDocument, size: &[(f32, f32)]) -> bool {
     if doc.nodes.iter().any(|n| n.position.is_none()) {
         return true;
     }
     let rects: Vec<[f32; 4]> = doc
         .nodes
         .iter()
-        .zip(sizes(doc, registry))
+        .zip(size.iter().copied())
         .filter_map(|(n, (w, h))| {
             let [x, y] = n.position?;
             Some([x, y, x + w, y + h])
@@ -260,19 +233,10 @@ pub fn needs_arranging(doc: &GraphDocument, registry: &Registry) -> bool {
     })
 }
 
-/// `doc` with every node at its arranged position.
-pub fn arranged(doc: &GraphDocument, registry: &Registry) -> GraphDocument {
-    arranged_with(doc, registry, &|_| 0.0)
-}
-
-/// `doc` with every node at its [`arrange_with`] position.
-pub fn arranged_with(
-    doc: &GraphDocument,
-    registry: &Registry,
-    extra: &dyn Fn(&str) -> f32,
-) -> GraphDocument {
+/// `doc` with every node at its [`arrange`] position.
+pub fn arranged(doc: &GraphDocument, size: &[(f32, f32)]) -> GraphDocument {
     let mut d = doc.clone();
-    for (n, p) in d.nodes.iter_mut().zip(arrange_with(doc, registry, extra)) {
+    for (n, p) in d.nodes.iter_mut().zip(arrange(doc, size)) {
         n.position = Some(p);
     }
     d

@@ -258,10 +258,8 @@ struct SlotState {
     rgba: Vec<u8>,
     message: Option<String>,
     backend: String,
-    /// Request to pixels, the last full render.
-    latency: Option<Duration>,
-    /// Request to pixels of the last [`LATENCY_WINDOW`] full renders, oldest first: whether
-    /// edits draft ([`drafts_edits`]).
+    /// Request to pixels of the last [`LATENCY_WINDOW`] full renders, oldest first (the
+    /// last full render's is [`Preview::latency`]): whether edits draft ([`drafts_edits`]).
     latencies: VecDeque<Duration>,
     /// The last draft's side and request-to-pixels time.
     last_draft: Option<(u32, Duration)>,
@@ -281,7 +279,6 @@ struct SlotState {
 impl SlotState {
     /// Records a full render's request-to-pixels time.
     fn record_latency(&mut self, latency: Duration) {
-        self.latency = Some(latency);
         self.latencies.push_back(latency);
         if self.latencies.len() > LATENCY_WINDOW {
             self.latencies.pop_front();
@@ -483,7 +480,7 @@ impl Preview {
 
     /// Time from the request to the pixels of the main swatch's last full render.
     pub fn latency(&self) -> Option<Duration> {
-        self.slots.get(&None)?.latency
+        self.slots.get(&None)?.latencies.back().copied()
     }
 
     /// Whether the main swatch drafts its next edit: [`drafts_edits`] of its last full
@@ -1160,7 +1157,11 @@ mod tests {
         s.record_latency(us(6_000));
         assert!(!drafts_edits(&s.latencies), "the slow one left the window");
         assert_eq!(s.latencies.len(), LATENCY_WINDOW);
-        assert_eq!(s.latency, Some(us(6_000)), "the last render's time is kept");
+        assert_eq!(
+            s.latencies.back(),
+            Some(&us(6_000)),
+            "the last render's time is kept"
+        );
         // Once one render of a swatch that jitters by 2× about the budget (the skin swatch's
         // 8–15 ms) was slow, its quick ones do not stop the drafts.
         assert!(!drafts_edits(&s.latencies));

@@ -100,7 +100,11 @@ pub const DISK_POLL: f64 = 1.0;
 impl EditorState {
     /// An editor on `doc`, saved at `path` (if any) as `saved`.
     pub fn new(doc: GraphDocument, path: Option<PathBuf>, registry: &'static Registry) -> Self {
-        let doc = EditorDoc::new(doc, registry);
+        EditorState::with_doc(EditorDoc::new(doc, registry), path)
+    }
+
+    /// An editor on `doc` (validated), saved at `path` (if any) as it is.
+    fn with_doc(doc: EditorDoc, path: Option<PathBuf>) -> Self {
         let saved = doc.canonical_json();
         let snarl = build_snarl(&doc);
         let mut state = EditorState {
@@ -129,14 +133,16 @@ impl EditorState {
     /// Nodes without a position, or overlapping, are arranged ([`super::layout`]); the
     /// arranged layout counts as the file's (the document is not dirty) until saved.
     pub fn open(path: &Path, registry: &'static Registry) -> Result<Self, String> {
-        let doc = files::open(path)?;
-        let arrange = super::layout::needs_arranging(&doc, registry);
-        let doc = if arrange {
-            super::layout::arranged(&doc, registry)
-        } else {
-            doc
+        let doc = EditorDoc::new(files::open(path)?, registry);
+        let arrange = super::layout::needs_arranging(doc.doc(), doc.node_sizes());
+        let doc = match arrange {
+            true => EditorDoc::new(
+                super::layout::arranged(doc.doc(), doc.node_sizes()),
+                registry,
+            ),
+            false => doc,
         };
-        let mut s = EditorState::new(doc, Some(path.to_owned()), registry);
+        let mut s = EditorState::with_doc(doc, Some(path.to_owned()));
         s.disk_time = files::modified(path);
         if arrange {
             s.status = Some(format!(
@@ -147,20 +153,18 @@ impl EditorState {
         Ok(s)
     }
 
-    /// Arranges every node ([`super::layout::arrange`]) as one undoable edit, with room
+    /// Arranges every node ([`super::layout::arranged`]) as one undoable edit, with room
     /// for the preview swatches that are on.
     pub fn arrange(&mut self) {
-        let registry = self.doc.registry();
         let on: Vec<String> = self.preview.nodes_on().map(str::to_owned).collect();
-        let extra = move |id: &str| {
-            if on.iter().any(|o| o == id) {
-                super::viewer::NODE_SWATCH_POINTS + 8.0
-            } else {
-                0.0
-            }
-        };
         let _ = self.edit(None, true, |d| {
-            let arranged = super::layout::arranged_with(d.doc(), registry, &extra);
+            let mut size = d.node_sizes().to_vec();
+            for (s, n) in size.iter_mut().zip(&d.doc().nodes) {
+                if on.contains(&n.id) {
+                    s.1 += super::viewer::NODE_SWATCH_POINTS + 8.0;
+                }
+            }
+            let arranged = super::layout::arranged(d.doc(), &size);
             d.replace(arranged);
             Ok(())
         });

@@ -674,7 +674,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let Some(k) = self.doc.index(&info.value.id) else {
             return;
         };
-        if self.culled(&info.value.id) {
+        if self.culling.is_culled(k) {
             return;
         }
         self.drawn.push((k, rect));

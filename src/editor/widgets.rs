@@ -1,7 +1,7 @@
 //! In-place editors of unlinked input values: sliders over the soft range (the hard range
 //! while Ctrl is held), linear colours shown in sRGB, vectors, enum combos and toggles.
 
-use crate::node::InputDecl;
+use crate::node::{InputDecl, Range};
 use crate::types::SocketType;
 use crate::value::{Value, json_f32};
 use egui::{SliderClamping, Ui};
@@ -26,6 +26,16 @@ pub fn current_lanes(
         .to_vec()
 }
 
+/// The range a float input's slider spans: the soft range (the hard one with `hard`), else
+/// the other, where finite; `None`: the input gets a drag value instead.
+pub fn slider_range(decl: &InputDecl, hard: bool) -> Option<Range> {
+    let range = match hard {
+        true => decl.hard.or(decl.soft),
+        false => decl.soft.or(decl.hard),
+    };
+    range.filter(|r| r.min.is_finite() && r.max.is_finite())
+}
+
 /// Shows the editor of an input of type `ty` holding `lanes`; returns the new literal when
 /// the user changed it. `hard` widens a slider to the hard range.
 pub fn value_editor(
@@ -39,13 +49,8 @@ pub fn value_editor(
     match ty {
         SocketType::Float => {
             let mut v = lane(0);
-            let range = if hard {
-                decl.hard.or(decl.soft)
-            } else {
-                decl.soft.or(decl.hard)
-            };
-            let r = match range {
-                Some(r) if r.min.is_finite() && r.max.is_finite() => ui.add(
+            let r = match slider_range(decl, hard) {
+                Some(r) => ui.add(
                     egui::Slider::new(&mut v, r.min..=r.max)
                         .clamping(SliderClamping::Never)
                         .max_decimals(4),
