@@ -11,6 +11,7 @@
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
+use crate::precision::{cos, pow, sin, sqrt};
 use crate::value::Value;
 use glam::{Vec2, Vec3};
 use std::f32::consts::TAU;
@@ -160,12 +161,12 @@ pub fn internal_vector(
     let internal = if tir {
         reflected
     } else {
-        eta * i + (eta * cos_i - cos2_t.sqrt()) * normal
+        eta * i + (eta * cos_i - sqrt(cos2_t)) * normal
     };
     let vector = thickness * reflected + thickness * internal;
     let len2 = vector.dot(vector);
     let direction = if len2 > 0.0 && len2.is_finite() {
-        vector / len2.sqrt()
+        vector / sqrt(len2)
     } else {
         reflected
     };
@@ -226,7 +227,7 @@ fn $fn(v: vec3<f32>, environment: vec3<f32>, reading: i32) -> vec3<f32> {
 #[inline]
 pub fn texture_flow(uv: Vec2, time: f32, speed: f32, amplitude: f32) -> Vec2 {
     let phase = wrap_phase(speed * time);
-    uv + amplitude * Vec2::new(phase.sin(), phase.cos())
+    uv + amplitude * Vec2::new(sin(phase), cos(phase))
 }
 
 const FLOW_WGSL: &str = r#"
@@ -245,7 +246,7 @@ pub fn rim(view: Vec3, normal: Vec3, power: f32) -> f32 {
     if base == 0.0 {
         if power == 0.0 { 1.0 } else { 0.0 }
     } else {
-        base.powf(power)
+        pow(base, power)
     }
 }
 
@@ -265,12 +266,7 @@ fn $fn(view: vec3<f32>, normal: vec3<f32>, power: f32) -> f32 {
 pub fn wobble(position: Vec3, time: f32, frequency: f32, amplitude: f32, wavenumber: f32) -> Vec3 {
     let ft = frequency * time;
     let s = |c: f32| wrap_phase(ft + wavenumber * c);
-    amplitude
-        * Vec3::new(
-            s(position.y).sin(),
-            s(position.z).cos(),
-            s(position.x).sin(),
-        )
+    amplitude * Vec3::new(sin(s(position.y)), cos(s(position.z)), sin(s(position.x)))
 }
 
 const WOBBLE_WGSL: &str = r#"
@@ -377,7 +373,7 @@ pub fn underwater(
     let lit = if c == 0.0 {
         if sharpness == 0.0 { 1.0 } else { 0.0 }
     } else {
-        c.powf(sharpness)
+        pow(c, sharpness)
     };
     (tint * (strength * lit), (alpha * opacity).clamp(0.0, 1.0))
 }
@@ -387,7 +383,7 @@ pub fn underwater(
 fn safe_unit(v: Vec3) -> Vec3 {
     let l2 = v.dot(v);
     if l2 > 0.0 && l2.is_finite() {
-        v / l2.sqrt()
+        v / sqrt(l2)
     } else {
         Vec3::Z
     }

@@ -13,6 +13,7 @@
 
 use crate::node::{Category, In, NodeType, Out, TextureSampler};
 use crate::plan::TILE;
+use crate::precision::{self, log2, sqrt};
 use crate::scene::ibl::{GGX_LEVELS, LUT_SIZE};
 use crate::texture::{Filter, Wrap};
 use crate::value::Value;
@@ -87,7 +88,7 @@ pub fn env_brdf(
 pub fn env_diffuse(sample: &TextureSampler, normal: Vec3) -> Vec3 {
     let l2 = normal.dot(normal);
     let n = if l2 > 1e-20 {
-        normal / l2.sqrt()
+        normal / sqrt(l2)
     } else {
         Vec3::ZERO
     };
@@ -136,10 +137,13 @@ fn hammersley(i: u32, n: u32) -> Vec2 {
 fn ggx_half_vector(u: Vec2, a2: f32) -> (Vec3, f32) {
     let q = 1.0 + (a2 - 1.0) * u.x;
     let sin2 = a2 * u.x / q;
-    let cos = ((1.0 - u.x) / q).sqrt();
-    let sin = sin2.sqrt();
+    let cos = sqrt((1.0 - u.x) / q);
+    let sin = sqrt(sin2);
     let phi = 2.0 * PI * u.y;
-    (Vec3::new(sin * phi.cos(), sin * phi.sin(), cos), sin2)
+    (
+        Vec3::new(sin * precision::cos(phi), sin * precision::sin(phi), cos),
+        sin2,
+    )
 }
 
 /// An orthonormal frame `(t, b)` completing unit `n` (Duff et al. 2017, "Building an
@@ -163,7 +167,7 @@ fn frame(n: Vec3) -> (Vec3, Vec3) {
 fn filtered_lod(count: u32, pdf: f32) -> f32 {
     let texel = 4.0 * PI / (MC_MAP_WIDTH * (MC_MAP_WIDTH / 2)) as f32;
     let sample = 1.0 / (count as f32 * pdf);
-    (0.5 * (sample / texel).log2() + 1.0).max(0.0)
+    (0.5 * log2(sample / texel) + 1.0).max(0.0)
 }
 
 /// The single-scattering GGX specular reflection of the environment, `∫ L(l) D V F (n·l) dl`,

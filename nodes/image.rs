@@ -2,6 +2,7 @@
 //! textures (refraction, reflection, background).
 
 use crate::node::{Category, In, NodeType, Out};
+use crate::precision::{atan2, sqrt};
 use crate::texture::{Filter, SAMPLE_WGSL, Wrap};
 use glam::{Vec2, Vec3};
 
@@ -21,12 +22,12 @@ pub fn equirect_uv_of(d: Vec3) -> Vec2 {
     let u = if horizontal == 0.0 {
         0.5
     } else {
-        0.5 + d.x.atan2(-d.z) / std::f32::consts::TAU
+        0.5 + atan2(d.x, -d.z) / std::f32::consts::TAU
     };
     let v = if d == Vec3::ZERO {
         0.5
     } else {
-        horizontal.sqrt().atan2(d.y) / std::f32::consts::PI
+        atan2(sqrt(horizontal), d.y) / std::f32::consts::PI
     };
     Vec2::new(u, v)
 }

@@ -16,6 +16,7 @@
 //! opposite signs meet.
 
 use crate::node::{Category, In, NodeType, Out};
+use crate::precision::{self, sqrt};
 use crate::types::SocketType::{self, *};
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
@@ -133,13 +134,13 @@ pub fn safe_div(a: f32, b: f32) -> f32 {
 #[inline(always)]
 pub fn safe_pow(a: f32, b: f32) -> f32 {
     if a > 0.0 {
-        a.powf(b)
+        precision::pow(a, b)
     } else if a == 0.0 {
         if b == 0.0 { 1.0 } else { 0.0 }
     } else if b.fract() != 0.0 || !b.is_finite() {
         0.0
     } else {
-        let m = (-a).powf(b);
+        let m = precision::pow(-a, b);
         if (b * 0.5).fract() != 0.0 { -m } else { m }
     }
 }
@@ -170,7 +171,7 @@ fn pow<T: Components>(a: T, b: T) -> T {
     a.zip(b, safe_pow)
 }
 fn exp<T: Components>(x: T) -> T {
-    x.map(f32::exp)
+    x.map(precision::exp)
 }
 fn mix<T: Components>(a: T, b: T, t: f32) -> T {
     a.zip(b, |a, b| {
@@ -234,7 +235,7 @@ fn dot<T: Vector>(a: T, b: T) -> f32 {
     a.dot_(b)
 }
 fn length<T: Vector>(v: T) -> f32 {
-    let l = v.dot_(v).sqrt();
+    let l = sqrt(v.dot_(v));
     if l.is_finite() && l >= SCALE_BELOW {
         l
     } else {
@@ -248,14 +249,14 @@ fn length_rescaled<T: Vector>(v: T, l: f32) -> f32 {
     let s = magnitude(v);
     if needs_rescale(s) {
         let u = v.map(|x| x / s);
-        u.dot_(u).sqrt() * s
+        sqrt(u.dot_(u)) * s
     } else {
         l
     }
 }
 /// `v / |v|`, rescaled where the squares overflow or underflow; 0 for a zero vector.
 pub fn normalize<T: Vector>(v: T) -> T {
-    let l = v.dot_(v).sqrt();
+    let l = sqrt(v.dot_(v));
     if l.is_finite() && l >= SCALE_BELOW {
         v * T::splat(1.0 / l)
     } else {
@@ -272,7 +273,7 @@ fn normalize_rescaled<T: Vector>(v: T) -> T {
     } else {
         v
     };
-    let l = v.dot_(v).sqrt();
+    let l = sqrt(v.dot_(v));
     if l > 0.0 && l <= f32::MAX {
         v * T::splat(1.0 / l)
     } else {
@@ -283,7 +284,7 @@ fn normalize_rescaled<T: Vector>(v: T) -> T {
 /// `a × b`, rescaled when the products overflow, so that a representable result comes out
 /// (parallel vectors give 0).
 fn cross(a: Vec3, b: Vec3) -> Vec3 {
-    let c = a.cross(b);
+    let c = precision::cross(a, b);
     if c.is_finite() {
         c
     } else {
@@ -295,7 +296,7 @@ fn cross(a: Vec3, b: Vec3) -> Vec3 {
 #[inline(never)]
 fn cross_rescaled(a: Vec3, b: Vec3) -> Vec3 {
     let (sa, sb) = (magnitude(a), magnitude(b));
-    ((a / sa).cross(b / sb) * sa) * sb
+    (precision::cross(a / sa, b / sb) * sa) * sb
 }
 fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
     let [x, y, z, w] = v.xyzw();

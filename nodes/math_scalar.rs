@@ -16,6 +16,7 @@
 
 use super::math::Components;
 use crate::node::{Category, In, NodeType, Out};
+use crate::precision;
 use crate::types::SocketType::*;
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
@@ -49,7 +50,7 @@ pub fn atan2_total(y: f32, x: f32) -> f32 {
     if hi == 0.0 {
         return 0.0;
     }
-    let t = (lo / hi).atan();
+    let t = precision::atan(lo / hi);
     let a = if ay > ax {
         std::f32::consts::FRAC_PI_2 - t
     } else {
@@ -101,19 +102,19 @@ pub fn fract(x: f32) -> f32 {
 }
 
 fn sin<T: Components>(x: T) -> T {
-    x.map(f32::sin)
+    x.map(precision::sin)
 }
 fn cos<T: Components>(x: T) -> T {
-    x.map(f32::cos)
+    x.map(precision::cos)
 }
 fn tan<T: Components>(x: T) -> T {
-    x.map(f32::tan)
+    x.map(precision::tan)
 }
 fn asin<T: Components>(x: T) -> T {
-    x.map(|x| x.clamp(-1.0, 1.0).asin())
+    x.map(|x| precision::asin(x.clamp(-1.0, 1.0)))
 }
 fn acos<T: Components>(x: T) -> T {
-    x.map(|x| x.clamp(-1.0, 1.0).acos())
+    x.map(|x| precision::acos(x.clamp(-1.0, 1.0)))
 }
 fn atan2<T: Components>(y: T, x: T) -> T {
     y.zip(x, atan2_total)
@@ -151,18 +152,24 @@ fn modulo<T: Components>(a: T, b: T) -> T {
     a.zip(b, floored_modulo)
 }
 fn sqrt<T: Components>(x: T) -> T {
-    x.map(|x| x.max(0.0).sqrt())
+    x.map(|x| precision::sqrt(x.max(0.0)))
 }
 fn inverse_sqrt<T: Components>(x: T) -> T {
-    x.map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 0.0 })
+    x.map(|x| {
+        if x > 0.0 {
+            1.0 / precision::sqrt(x)
+        } else {
+            0.0
+        }
+    })
 }
 fn log<T: Components>(x: T) -> T {
-    x.map(|x| if x > 0.0 { x.ln() } else { 0.0 })
+    x.map(|x| if x > 0.0 { precision::log(x) } else { 0.0 })
 }
 fn log_base<T: Components>(x: T, base: T) -> T {
     x.zip(base, |x, b| {
         if x > 0.0 && b > 0.0 {
-            super::math::safe_div(x.ln(), b.ln())
+            super::math::safe_div(precision::log(x), precision::log(b))
         } else {
             0.0
         }

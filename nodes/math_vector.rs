@@ -8,6 +8,7 @@
 
 use super::math::{Vector, normalize};
 use crate::node::{Category, In, NodeType, Out};
+use crate::precision::{cos, cross, sin};
 use crate::types::SocketType::*;
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
@@ -42,8 +43,8 @@ pub fn rotate(v: Vec3, center: Vec3, axis: Vec3, angle: f32) -> Vec3 {
         return v;
     }
     let p = v - center;
-    let (s, c) = (angle.sin(), angle.cos());
-    p * c + k.cross(p) * s + k * (k.dot(p) * (1.0 - c)) + center
+    let (s, c) = (sin(angle), cos(angle));
+    p * c + cross(k, p) * s + k * (k.dot(p) * (1.0 - c)) + center
 }
 
 /// WGSL of [`project`]: the normalisation of the `normalize` node, then `n (a · n)`.

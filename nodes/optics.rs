@@ -10,6 +10,7 @@
 //! cancels where `R → 1`.
 
 use crate::node::{Category, In, NodeType, Out};
+use crate::precision::{pow, sqrt};
 use crate::types::SocketType::*;
 use crate::value::Value;
 use glam::Vec3;
@@ -50,7 +51,7 @@ pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
     if k < 0.0 {
         (reflect(i, n), true)
     } else {
-        (eta * i - (eta * cos + k.sqrt()) * n, false)
+        (eta * i - (eta * cos + sqrt(k)) * n, false)
     }
 }
 
@@ -71,7 +72,7 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
         (ior_inside, ior_outside, (-cos_theta).min(1.0))
     };
     let cos2_t = cos2_transmitted(cos_i, n1 / n2);
-    let cos_t = cos2_t.max(0.0).sqrt();
+    let cos_t = sqrt(cos2_t.max(0.0));
     let (a, b) = (n1 * cos_i, n2 * cos_t);
     let (ap, bp) = (n2 * cos_i, n1 * cos_t);
     let (inv_s, inv_p) = (1.0 / (a + b), 1.0 / (ap + bp));
@@ -142,7 +143,7 @@ pub fn fresnel_empirical(i_dot_n: f32, bias: f32, scale: f32, power: f32) -> f32
     let p = if base == 0.0 {
         if power == 0.0 { 1.0 } else { 0.0 }
     } else {
-        base.powf(power)
+        pow(base, power)
     };
     (bias + scale * p).clamp(0.0, 1.0)
 }
@@ -162,7 +163,7 @@ pub fn ior_to_f0(ior_outside: f32, ior_inside: f32) -> f32 {
 #[inline]
 pub fn f0_to_ior(f0: f32) -> f32 {
     let f0 = f0.clamp(0.0, 1.0);
-    let one_plus_s = 1.0 + f0.sqrt();
+    let one_plus_s = 1.0 + sqrt(f0);
     (one_plus_s * one_plus_s / (1.0 - f0)).min(f32::MAX)
 }
 
@@ -199,7 +200,7 @@ pub fn hg_phase(cos_theta: f32, g: f32) -> f32 {
     let c = if g < 0.0 { -c } else { c };
     let one_minus_h = 1.0 - h;
     let base = one_minus_h * one_minus_h + 2.0 * h * (1.0 - c);
-    one_minus_h * (1.0 + h) / (4.0 * PI * base * base.sqrt())
+    one_minus_h * (1.0 + h) / (4.0 * PI * base * sqrt(base))
 }
 
 /// WGSL of [`cos2_transmitted`], `mg_opth_cos2_t(cos_i, eta)`: the same expression. Shared by every

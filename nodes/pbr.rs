@@ -15,6 +15,7 @@
 //! grazing angles.
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice};
+use crate::precision::{cross, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -47,11 +48,7 @@ pub(crate) fn alpha2(roughness: f32) -> f32 {
 #[inline]
 pub fn safe_normalize(v: Vec3) -> Vec3 {
     let l2 = v.dot(v);
-    if l2 > 1e-20 {
-        v / l2.sqrt()
-    } else {
-        Vec3::ZERO
-    }
+    if l2 > 1e-20 { v / sqrt(l2) } else { Vec3::ZERO }
 }
 
 /// GGX / Trowbridge–Reitz normal distribution
@@ -95,8 +92,8 @@ pub fn smith_visibility(n_dot_v: f32, n_dot_l: f32, roughness: f32) -> f32 {
 /// `0.5 / (√((N·V)²(1 − α²) + α²) + (N·V/N·L) √((N·L)²(1 − α²) + α²))`, at most `0.5/α`.
 #[inline]
 pub(crate) fn smith_visibility_n_dot_l(nv: f32, nl: f32, a2: f32) -> f32 {
-    let gv = (nv * nv * (1.0 - a2) + a2).sqrt();
-    let gl = (nv / nl) * (nl * nl * (1.0 - a2) + a2).sqrt();
+    let gv = sqrt(nv * nv * (1.0 - a2) + a2);
+    let gl = (nv / nl) * sqrt(nl * nl * (1.0 - a2) + a2);
     0.5 / (gv + gl)
 }
 
@@ -171,7 +168,7 @@ pub fn brdf(
     );
     let a2 = alpha2(roughness);
     let d = if nh > 0.0 {
-        ggx_d_sin2(nh.min(1.0), n.cross(h).length_squared(), a2)
+        ggx_d_sin2(nh.min(1.0), cross(n, h).length_squared(), a2)
     } else {
         0.0
     };

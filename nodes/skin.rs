@@ -12,6 +12,7 @@
 //! [`hg_phase_printed`] (erratum 1) and [`fresnel_printed`] (erratum 2).
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice};
+use crate::precision::{exp, pow, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -37,7 +38,7 @@ pub fn one_minus_exp_neg(x: f32) -> f32 {
 /// `pow(1 − g² − 2g cos, 1.5)`. Negative base — NaN — for `cos > (1 − g²)/(2g)`, 0.225 at g = 0.8.
 /// Kept for the erratum test only; use [`hg_phase`].
 pub fn hg_phase_printed(cos_theta: f32, g: f32) -> f32 {
-    (1.0 - g * g) / (4.0 * PI * (1.0 - g * g - 2.0 * g * cos_theta).powf(1.5))
+    (1.0 - g * g) / (4.0 * PI * pow(1.0 - g * g - 2.0 * g * cos_theta, 1.5))
 }
 
 /// The paper's printed Fresnel (erratum 2): `rParallel`'s numerator equals its denominator
@@ -47,7 +48,7 @@ pub fn hg_phase_printed(cos_theta: f32, g: f32) -> f32 {
 #[allow(clippy::eq_op)] // the printed form's equal numerator and denominator is the erratum
 pub fn fresnel_printed(cos_i: f32, eta_i_over_t: f32) -> f32 {
     let e = 1.0 / eta_i_over_t; // n_t / n_i
-    let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (e * e)).max(0.0).sqrt();
+    let cos_t = sqrt((1.0 - (1.0 - cos_i * cos_i) / (e * e)).max(0.0));
     let r_par = (e * cos_i + cos_t) / (e * cos_i + cos_t);
     let r_perp = (cos_i - e * cos_t) / (cos_i + e * cos_t);
     0.5 * (r_par * r_par - r_perp * r_perp)
@@ -137,7 +138,7 @@ pub fn skin_sebum(specularity: f32, power: f32, r_dot_v: f32) -> f32 {
     let p = if b == 0.0 {
         if power == 0.0 { 1.0 } else { 0.0 }
     } else {
-        b.powf(power)
+        pow(b, power)
     };
     specularity * p
 }
@@ -166,8 +167,8 @@ fn reduced_albedo(s_s: f32, s_a: f32) -> (f32, f32) {
 #[inline]
 fn dipole_total_1(s_s: f32, s_a: f32, a_coef: f32) -> f32 {
     let (alpha, one_minus_alpha) = reduced_albedo(s_s, s_a);
-    let s = (3.0 * one_minus_alpha).sqrt();
-    0.5 * alpha * (1.0 + (-(4.0 / 3.0) * a_coef * s).exp()) * (-s).exp()
+    let s = sqrt(3.0 * one_minus_alpha);
+    0.5 * alpha * (1.0 + exp(-(4.0 / 3.0) * a_coef * s)) * exp(-s)
 }
 
 /// Jensen et al. 2001 total diffuse reflectance of the dipole (eq. 5 integrated, as in §4.3):
@@ -191,8 +192,8 @@ fn dipole_source(z: f32, r: f32, s_tr: f32) -> f32 {
     // d = √(r² + z²) scaled by the larger term, so that z² cannot overflow.
     let (big, small) = (r.max(z), r.min(z));
     let q = small / big;
-    let d = big * (1.0 + q * q).sqrt();
-    (z / d) * (s_tr * d + 1.0) * (-s_tr * d).exp() / (d * d)
+    let d = big * sqrt(1.0 + q * q);
+    (z / d) * (s_tr * d + 1.0) * exp(-s_tr * d) / (d * d)
 }
 
 /// Below this σt' the dipole profile is 0: its true value, at most σt'²/(2π) ≈ 1.6e-61 per
@@ -207,7 +208,7 @@ fn dipole_profile_1(r: f32, s_s: f32, s_a: f32, a_coef: f32) -> f32 {
         return 0.0;
     }
     let alpha = s_s / s_t;
-    let s_tr = (3.0 * s_a * s_t).sqrt();
+    let s_tr = sqrt(3.0 * s_a * s_t);
     let z_r = 1.0 / s_t;
     let z_v = z_r * (1.0 + 4.0 / 3.0 * a_coef);
     alpha / (4.0 * PI) * (dipole_source(z_r, r, s_tr) + dipole_source(z_v, r, s_tr))

@@ -13,6 +13,7 @@
 //! `n`, `l`, `v` are the normal, the direction to the light and to the eye.
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice};
+use crate::precision::{cos, cross, exp, pow, sin, sqrt};
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::{LN_2, TAU};
@@ -68,9 +69,9 @@ pub fn depth_color(depth: f32, half_life: Vec3, model: i32) -> Vec3 {
     let channel = |h: f32| {
         let k = depth_k(h, model);
         if model == DEPTH_BEER_LAMBERT {
-            (-k * d).exp()
+            exp(-k * d)
         } else {
-            (-(k * d).sqrt()).exp()
+            exp(-sqrt(k * d))
         }
     };
     Vec3::new(channel(h.x), channel(h.y), channel(h.z))
@@ -137,7 +138,7 @@ pub fn sky_light(light_color: Vec3, absorption: f32, thickness: f32, time_of_day
         1..=4 => Vec3::from(TIME_OF_DAY[time_of_day as usize - 1].1),
         _ => light_color,
     };
-    i0 * (-(absorption * thickness).max(0.0).sqrt()).exp()
+    i0 * exp(-sqrt((absorption * thickness).max(0.0)))
 }
 
 /// WGSL of [`sky_light`], the same steps.
@@ -167,7 +168,7 @@ pub fn base_color(weight: Vec3, depth_color: Vec3, light: Vec3) -> Vec3 {
 fn normalize_or(v: Vec3, fallback: Vec3) -> Vec3 {
     let l2 = v.dot(v);
     if l2 > 0.0 && l2.is_finite() {
-        v / l2.sqrt()
+        v / sqrt(l2)
     } else {
         fallback
     }
@@ -191,7 +192,7 @@ fn pow0(x: f32, m: f32) -> f32 {
     if x <= 0.0 {
         if m == 0.0 { 1.0 } else { 0.0 }
     } else {
-        x.powf(m)
+        pow(x, m)
     }
 }
 
@@ -431,16 +432,16 @@ pub fn gerstner(position: Vec3, time: f32, waves: &[Wave]) -> GerstnerSample {
         let d = Vec2::from(w.direction);
         let l2 = d.dot(d);
         let (dx, dz) = if l2 > 0.0 && l2.is_finite() {
-            let l = l2.sqrt();
+            let l = sqrt(l2);
             (d.x / l, d.y / l)
         } else {
             (1.0, 0.0)
         };
         let k = TAU / lambda;
-        let freq = (GRAVITY / (TAU * lambda)).sqrt();
+        let freq = sqrt(GRAVITY / (TAU * lambda));
         let c = (dx * position.x + dz * position.z) / lambda - time * freq + w.phase / TAU;
         let theta = TAU * (c - c.floor());
-        let (s, co) = theta.sin_cos();
+        let (s, co) = (sin(theta), cos(theta));
         let (a, q) = (w.amplitude, w.steepness);
         let qak = q * a * k;
         let ak = a * k;
@@ -452,7 +453,7 @@ pub fn gerstner(position: Vec3, time: f32, waves: &[Wave]) -> GerstnerSample {
     }
     GerstnerSample {
         offset,
-        normal: normalize_or(dpdz.cross(dpdx), Vec3::Y),
+        normal: normalize_or(cross(dpdz, dpdx), Vec3::Y),
         normal_gems: normalize_or(gems, Vec3::Y),
         fold_sum,
     }

@@ -11,6 +11,7 @@ use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{
     COS2_T_WGSL, FRESNEL_HELPER_WGSL, cos2_transmitted, fresnel_dielectric, reflect,
 };
+use crate::precision::{exp, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 
@@ -41,7 +42,7 @@ pub fn sellmeier_ior(b: Vec3, c: Vec3, wavelength_nm: f32) -> f32 {
         bk * l2 / if d == 0.0 { 1e-30 } else { d }
     };
     let n2 = 1.0 + term(b.x, c.x) + term(b.y, c.y) + term(b.z, c.z);
-    n2.clamp(1.0, SELLMEIER_N2_MAX).sqrt()
+    sqrt(n2.clamp(1.0, SELLMEIER_N2_MAX))
 }
 
 /// [`sellmeier_ior`] at the three wavelengths of `wavelengths_nm`, one index per channel.
@@ -59,7 +60,7 @@ pub fn sellmeier_rgb(b: Vec3, c: Vec3, wavelengths_nm: Vec3) -> Vec3 {
 fn unit_or(v: Vec3, fallback: Vec3) -> Vec3 {
     let l2 = v.dot(v);
     if l2 > 0.0 && l2 <= f32::MAX {
-        v * (1.0 / l2.sqrt())
+        v * (1.0 / sqrt(l2))
     } else {
         fallback
     }
@@ -130,13 +131,13 @@ pub fn sphere_path(
             tir: true,
         };
     }
-    let t = eta * i + (eta * cos_i - k_in.sqrt()) * n;
+    let t = eta * i + (eta * cos_i - sqrt(k_in)) * n;
     let cos_c = (-t.dot(g)).clamp(0.0, 1.0);
     let length = 2.0 * radius * cos_c;
     let m = g + (2.0 * cos_c) * t;
     let eta_out = ior / ior_outside;
     let k_out = cos2_transmitted(cos_c, eta_out);
-    let absorb = (-sigma * length).exp();
+    let absorb = exp(-sigma * length);
     if k_out < 0.0 {
         return SpherePath {
             exit: t - (2.0 * cos_c) * m,
@@ -146,7 +147,7 @@ pub fn sphere_path(
             tir: true,
         };
     }
-    let exit = eta_out * t + (k_out.sqrt() - eta_out * cos_c) * m;
+    let exit = eta_out * t + (sqrt(k_out) - eta_out * cos_c) * m;
     let (_, t_out) = fresnel_dielectric(-cos_c, ior_outside, ior);
     SpherePath {
         exit,
@@ -212,10 +213,10 @@ pub fn slab_path(
     if k <= 0.0 {
         return (r_in, 0.0, 0.0);
     }
-    let cos_t = k.sqrt().min(1.0);
+    let cos_t = sqrt(k).min(1.0);
     let (r_out, t_out) = fresnel_dielectric(-cos_t, ior_outside, ior);
     let path = thickness / cos_t;
-    let a = (-sigma * path).exp();
+    let a = exp(-sigma * path);
     let ra = r_out * a;
     // f32 may round a grazing entry's internal angle past the critical one (R_out = 1,
     // T_out = 0): T = 0 then, its limit, where the series' 0/0 would be NaN.

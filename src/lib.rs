@@ -21,6 +21,7 @@ pub mod material;
 pub(crate) mod memo;
 pub mod node;
 pub mod plan;
+pub mod precision;
 pub mod pretty;
 pub mod registry;
 pub mod render;

@@ -12,8 +12,8 @@
 
 mod common;
 
-use common::rng::Rng;
-use common::{bundled_graphs, gpu_context as context};
+use common::gpu_context as context;
+use common::parity::*;
 
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
 use matgraph::node::{Evaluation, NodeType};
@@ -25,246 +25,9 @@ use matgraph::{
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-/// Absolute part of the default bound.
-const ABS: f64 = 1e-5;
-/// Relative part of the default bound.
-const REL: f64 = 1e-4;
-
-/// Node types allowed a looser bound: (type name, absolute, relative, why).
-const LOOSE: &[(&str, f64, f64, &str)] = &[
-    (
-        "fresnel_dielectric",
-        3e-4,
-        1e-3,
-        "near a critical angle cos²θt = (1 − η)(1 + η) + (η cosθ)² cancels, and backends round \
-         its terms differently (llvmpipe's GL contracts them into FMAs): the square root \
-         amplifies a 1-ulp difference to up to 3e-4 there (docs/models/optics.md)",
-    ),
-    (
-        "skin_efresnel",
-        3e-4,
-        1e-3,
-        "the same cos²θt as fresnel_dielectric, in its Fresnel term and its refracted direction",
-    ),
-    (
-        "gerstner_waves",
-        1e-4,
-        1e-3,
-        "the phase θ = k D·x − ω t + φ spans up to |x|/λ + t/T ≈ 10³ cycles over the hard ranges \
-         (|x| ≤ 50 m, λ ≥ 0.1 m), where one ulp is 6e-5 cycles; backends round D·x and t·f \
-         differently (contraction into FMAs), and sin/cos turn that into offset errors of Q·a·δθ \
-         (Q·a up to 100 m) and normal errors of δθ; measured 2.1e-4 at most, 62% of this bound (docs/models/toon_water.md)",
-    ),
-];
-
-/// Random samples per node type and generic type.
-const RANDOM_SAMPLES: usize = 10_000;
-
-/// The bound for a node type: the default or its [`LOOSE`] entry.
-fn bound_for(node: &str) -> (f64, f64) {
-    LOOSE
-        .iter()
-        .find(|l| l.0 == node)
-        .map(|l| (l.1, l.2))
-        .unwrap_or((ABS, REL))
-}
-
-/// Largest errors seen over a set of comparisons.
-#[derive(Clone, Copy, Debug, Default)]
-struct Errors {
-    compared: usize,
-    max_abs: f64,
-    /// Largest |cpu − gpu| / |cpu| where |cpu| ≥ 1e-6.
-    max_rel: f64,
-    /// Largest error as a fraction of the bound (≤ 1 passes).
-    worst: f64,
-}
-
-impl Errors {
-    /// Compares one component; returns false when it is out of bound.
-    fn check(&mut self, cpu: f32, gpu: f32, (abs, rel): (f64, f64)) -> bool {
-        self.compared += 1;
-        if cpu.is_nan() || gpu.is_nan() {
-            return cpu.is_nan() && gpu.is_nan();
-        }
-        if cpu.is_infinite() || gpu.is_infinite() {
-            return cpu == gpu;
-        }
-        let err = (cpu as f64 - gpu as f64).abs();
-        let c = (cpu as f64).abs();
-        self.max_abs = self.max_abs.max(err);
-        if c >= 1e-6 {
-            self.max_rel = self.max_rel.max(err / c);
-        }
-        let ratio = err / (abs + rel * c);
-        self.worst = self.worst.max(ratio);
-        ratio <= 1.0
-    }
-}
-
-/// The draws these tests make from the shared seeded generator.
-impl Rng {
-    /// Uniform in [lo, hi].
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        let u = (self.next() >> 40) as f64 / (1u64 << 24) as f64;
-        (lo as f64 + (hi as f64 - lo as f64) * u) as f32
-    }
-    /// Over a hard range: uniform half the time; otherwise, where the range spans more than
-    /// three decades, a log-uniform magnitude (signed where the range allows it), so that
-    /// 1e-6 and 1e4 are both drawn from [0, 1e6].
-    fn hard(&mut self, lo: f32, hi: f32) -> f32 {
-        let span = hi.abs().max(lo.abs());
-        if self.next() & 1 == 0 || span < 1e3 {
-            return self.range(lo, hi);
-        }
-        let mag = (self.range((span * 1e-9).ln(), span.ln())).exp();
-        let x = if lo < 0.0 && self.next() & 1 == 1 {
-            -mag
-        } else {
-            mag
-        };
-        x.clamp(lo, hi)
-    }
-}
-
 // ------------------------------------------------------------------------------------------
 // a) Node parity
 // ------------------------------------------------------------------------------------------
-
-/// Inputs of one node instance: per input, planar columns (`width × n`).
-struct NodeSamples {
-    n: usize,
-    columns: Vec<Vec<f32>>,
-}
-
-/// The range random values of an input are drawn from: soft, else hard, else [-10, 10].
-fn input_range(t: &NodeType, k: usize) -> (f32, f32) {
-    let d = &t.inputs()[k];
-    d.soft
-        .or(d.hard)
-        .map(|r| (r.min, r.max))
-        .unwrap_or((-10.0, 10.0))
-}
-
-/// Random samples per node type over the hard ranges.
-const HARD_SAMPLES: usize = 5_000;
-
-/// The hard range of an input, if it declares one.
-fn hard_range(t: &NodeType, k: usize) -> Option<(f32, f32)> {
-    t.inputs()[k].hard.map(|r| (r.min, r.max))
-}
-
-/// Seeded random samples over the declared soft ranges, then over the hard ranges (inputs
-/// without one keep their soft range), then the defaults, each input at both ends of its
-/// range (others at defaults) and every hard case.
-fn node_samples(t: &NodeType, generic: SocketType, seed: u64) -> NodeSamples {
-    let inputs = t.inputs();
-    let types: Vec<SocketType> = inputs.iter().map(|d| d.ty.resolve(generic)).collect();
-    let defaults: Vec<Value> = (0..inputs.len())
-        .map(|k| t.default_for(k, generic))
-        .collect();
-    let mut rows: Vec<Vec<Value>> = Vec::new();
-    let mut rng = Rng(seed);
-    for i in 0..RANDOM_SAMPLES + HARD_SAMPLES {
-        let hard = i >= RANDOM_SAMPLES;
-        let row = (0..inputs.len())
-            .map(|k| {
-                let ty = types[k];
-                match ty {
-                    SocketType::Bool => {
-                        Value::boolean(if i < 2 { i == 1 } else { rng.next() & 1 == 1 })
-                    }
-                    SocketType::Int if !inputs[k].choices.is_empty() => {
-                        let m = inputs[k].choices.len() as u64;
-                        Value::int(if (i as u64) < m {
-                            i as i32
-                        } else {
-                            (rng.next() % m) as i32
-                        })
-                    }
-                    SocketType::Int => {
-                        let (lo, hi) = input_range(t, k);
-                        Value::int(rng.range(lo, hi).round() as i32)
-                    }
-                    _ => {
-                        let lanes: Vec<f32> = match hard_range(t, k) {
-                            Some((lo, hi)) if hard => {
-                                (0..ty.width()).map(|_| rng.hard(lo, hi)).collect()
-                            }
-                            _ => {
-                                let (lo, hi) = input_range(t, k);
-                                (0..ty.width()).map(|_| rng.range(lo, hi)).collect()
-                            }
-                        };
-                        Value::from_lanes(ty, &lanes)
-                    }
-                }
-            })
-            .collect();
-        rows.push(row);
-    }
-    rows.push(defaults.clone());
-    for k in 0..inputs.len() {
-        if matches!(types[k], SocketType::Bool) || !inputs[k].choices.is_empty() {
-            continue;
-        }
-        let (lo, hi) = input_range(t, k);
-        for x in [lo, hi] {
-            let mut row = defaults.clone();
-            row[k] = Value::float(x).convert(types[k]).unwrap_or(row[k]);
-            if types[k] == SocketType::Int {
-                row[k] = Value::int(x.round() as i32);
-            }
-            rows.push(row);
-        }
-    }
-    for case in t.hard_cases() {
-        let mut row = defaults.clone();
-        for (name, v) in &case.values {
-            let k = t.input_index(name).unwrap_or_else(|| {
-                panic!(
-                    "{}: hard case '{}' names no input '{name}'",
-                    t.name(),
-                    case.why
-                )
-            });
-            row[k] = v.convert(types[k]).unwrap_or(*v);
-        }
-        rows.push(row);
-    }
-    let n = rows.len();
-    let columns = types
-        .iter()
-        .enumerate()
-        .map(|(k, ty)| {
-            let w = ty.width();
-            let mut col = vec![0.0f32; w * n];
-            for (i, row) in rows.iter().enumerate() {
-                for c in 0..w {
-                    col[c * n + i] = row[k].raw()[c];
-                }
-            }
-            col
-        })
-        .collect();
-    NodeSamples { n, columns }
-}
-
-/// Runs the node's CPU kernel; returns per output planar columns.
-fn run_cpu(t: &NodeType, generic: SocketType, s: &NodeSamples) -> Vec<Vec<f32>> {
-    let variant = t
-        .variant_for(generic)
-        .unwrap_or_else(|| panic!("{}: no CPU variant for {generic}", t.name()));
-    let ins: Vec<&[f32]> = s.columns.iter().map(Vec::as_slice).collect();
-    let mut outs: Vec<Vec<f32>> = t
-        .outputs()
-        .iter()
-        .map(|d| vec![0.0; d.ty.resolve(generic).width() * s.n])
-        .collect();
-    let mut out_refs: Vec<&mut [f32]> = outs.iter_mut().map(Vec::as_mut_slice).collect();
-    variant.kernel.run(&ins, &mut out_refs, s.n, s.n);
-    outs
-}
 
 /// Packs planar input columns into the harness's per-sample layout.
 fn pack(t: &NodeType, generic: SocketType, s: &NodeSamples, width: usize) -> Vec<f32> {
@@ -323,22 +86,6 @@ fn run_and_compare(
         at += w;
     }
     Some(errors)
-}
-
-/// The inputs of sample `i`, for failure messages.
-fn describe_inputs(t: &NodeType, generic: SocketType, s: &NodeSamples, i: usize) -> String {
-    t.inputs()
-        .iter()
-        .enumerate()
-        .map(|(k, d)| {
-            let w = d.ty.resolve(generic).width();
-            let lanes: Vec<String> = (0..w)
-                .map(|c| format!("{:e}", s.columns[k][c * s.n + i]))
-                .collect();
-            format!("{}=[{}]", d.name, lanes.join(", "))
-        })
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 #[test]
@@ -522,140 +269,15 @@ fn every_literal_choice_matches_its_cpu_kernel() {
 // b) Graph parity
 // ------------------------------------------------------------------------------------------
 
-fn normalize(v: [f32; 3]) -> [f32; 3] {
-    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    [v[0] / l, v[1] / l, v[2] / l]
-}
-
-/// 64 × 64 view directions over the upper hemisphere × three normals (up, tilted, down),
-/// lights circling the normal, a uv grid and positions on a plane.
-fn grid_batch() -> SampleBatch {
-    let normals = [
-        [0.0, 0.0, 1.0],
-        normalize([0.3, -0.2, 0.9]),
-        [0.0, 0.0, -1.0],
-    ];
-    let (mut pos, mut nor, mut view, mut light, mut uv) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for nrm in normals {
-        for a in 0..64 {
-            for b in 0..64 {
-                let theta = (a as f32 + 0.5) / 64.0 * std::f32::consts::FRAC_PI_2;
-                let phi = b as f32 / 64.0 * std::f32::consts::TAU;
-                view.push([
-                    theta.sin() * phi.cos(),
-                    theta.sin() * phi.sin(),
-                    theta.cos(),
-                ]);
-                let lt = (b as f32 + 0.5) / 64.0 * std::f32::consts::FRAC_PI_2;
-                let lp = a as f32 / 64.0 * std::f32::consts::TAU;
-                light.push([lt.sin() * lp.cos(), lt.sin() * lp.sin(), lt.cos()]);
-                nor.push(nrm);
-                uv.push([(a as f32 + 0.5) / 64.0, (b as f32 + 0.5) / 64.0, 0.0]);
-                pos.push([a as f32 * 0.1 - 3.2, b as f32 * 0.1 - 3.2, 0.0]);
-            }
-        }
-    }
-    let mut batch = SampleBatch::new(view.len());
-    batch.set_values(Attribute::Position, &pos).unwrap();
-    batch.set_values(Attribute::Normal, &nor).unwrap();
-    batch.set_values(Attribute::View, &view).unwrap();
-    batch.set_values(Attribute::Light, &light).unwrap();
-    batch.set_values(Attribute::Uv, &uv).unwrap();
-    batch.set_time(1.25);
-    batch
-}
-
-/// Compares two output batches with the default bound; returns the errors per output and
-/// up to three mismatches.
-fn compare_batches(cpu: &OutputBatch, gpu: &OutputBatch) -> (Vec<(String, Errors)>, Vec<String>) {
-    compare_batches_within(cpu, gpu, (ABS, REL))
-}
-
-/// The bound for a graph's outputs: the loosest [`LOOSE`] entry among its node types (their
-/// reasons hold for whatever they feed), else the default.
-fn graph_bound(graph: &Graph) -> (f64, f64) {
-    graph
-        .nodes()
-        .iter()
-        .map(|n| bound_for(n.node_type.name()))
-        .fold((ABS, REL), |a, b| (a.0.max(b.0), a.1.max(b.1)))
-}
-
-/// [`compare_batches`] under `bound`.
-fn compare_batches_within(
-    cpu: &OutputBatch,
-    gpu: &OutputBatch,
-    bound: (f64, f64),
-) -> (Vec<(String, Errors)>, Vec<String>) {
-    assert_eq!(cpu.names(), gpu.names());
-    assert_eq!(cpu.len(), gpu.len());
-    let mut per_output = Vec::new();
-    let mut bad = Vec::new();
-    for (k, name) in cpu.names().iter().enumerate() {
-        assert_eq!(cpu.ty(k), gpu.ty(k), "output {name}");
-        let mut e = Errors::default();
-        let w = cpu.ty(k).width();
-        for i in 0..cpu.len() {
-            for c in 0..w {
-                let (a, b) = (
-                    cpu.planar(k)[c * cpu.len() + i],
-                    gpu.planar(k)[c * cpu.len() + i],
-                );
-                if !e.check(a, b, bound) && bad.len() < 3 {
-                    bad.push(format!(
-                        "output {name}[{c}] sample {i}: cpu {a:e} gpu {b:e}"
-                    ));
-                }
-            }
-        }
-        per_output.push((name.clone(), e));
-    }
-    (per_output, bad)
-}
-
 #[test]
 fn every_shipped_graph_matches_the_cpu_plan() {
     let Some(ctx) = context("every_shipped_graph_matches_the_cpu_plan") else {
         return;
     };
     let mut failures = Vec::new();
-    let files = bundled_graphs();
-    assert!(!files.is_empty(), "no graphs/*.json");
-    // Every file at its defaults, then at each other choice of its declared variants.
-    let mut graphs = Vec::new();
-    for path in files {
-        let name = path.file_name().unwrap().to_string_lossy().into_owned();
-        let graph =
-            matgraph::io::load_graph(&path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"));
-        let text = std::fs::read_to_string(&path).unwrap();
-        let doc = matgraph::GraphDocument::parse(&text).unwrap();
-        graphs.push((name.clone(), path.clone(), graph));
-        for (variant, v) in &doc.variants {
-            for choice in v.choices.iter().filter(|c| **c != v.default) {
-                let selection = vec![(variant.clone(), choice.clone())];
-                let g = Graph::with_variants(&doc, Registry::builtin(), &selection)
-                    .unwrap_or_else(|e| panic!("{name} {variant}={choice}: {e:?}"));
-                graphs.push((format!("{name} {variant}={choice}"), path.clone(), g));
-            }
-        }
-    }
-    for (name, path, graph) in graphs {
+    for GraphCase { name, graph, batch } in shipped_graph_cases() {
         let options = PlanOptions::default();
         let plan = Plan::compile(&graph, &options).unwrap();
-        // The graph's images, and a stand-in for each scene texture it samples.
-        let mut batch = grid_batch();
-        let mut textures = matgraph::image_io::load_graph_textures(&graph, &path).unwrap();
-        for key in plan.textures() {
-            if textures.index_of(key).is_none() {
-                let image = matgraph::texture::Image::from_fn(32, 16, |x, y| {
-                    [x as f32 / 31.0, y as f32 / 15.0, 0.5, 1.0]
-                });
-                let texture = matgraph::texture::Texture::new(image, true).unwrap();
-                textures.insert(key.clone(), texture).unwrap();
-            }
-        }
-        batch.set_textures(std::sync::Arc::new(textures));
         let gpu = match GpuPlan::compile(ctx, &graph, &options) {
             Ok(g) => g,
             Err(e) => {
@@ -715,39 +337,11 @@ fn the_monte_carlo_variant_matches_the_cpu_plan() {
     let Some(ctx) = context("the_monte_carlo_variant_matches_the_cpu_plan") else {
         return;
     };
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/graphs/pbr_glass.json");
-    let text = std::fs::read_to_string(path).unwrap();
-    let image = matgraph::texture::Image::from_fn(512, 256, |x, y| {
-        let checker = ((x / 16 + y / 16) % 2) as f32;
-        [
-            0.2 + 0.6 * checker,
-            y as f32 / 255.0,
-            0.5 + 0.4 * (x as f32 * 0.05).sin(),
-            1.0,
-        ]
-    });
-    let env = matgraph::texture::Texture::new(image, true).unwrap();
     let mut failures = Vec::new();
     for fresnel in ["schlick", "exact"] {
-        let mut doc = matgraph::GraphDocument::parse(&text).unwrap();
-        for n in doc
-            .nodes
-            .iter_mut()
-            .filter(|n| n.id == "brdf" || n.id == "env_mc")
-        {
-            n.inputs.insert("fresnel".into(), fresnel.into());
-        }
-        let selection = [("ibl".to_owned(), "monte_carlo".to_owned())];
-        let graph = Graph::with_variants(&doc, Registry::builtin(), &selection).unwrap();
+        let GraphCase { graph, batch, .. } = monte_carlo_case(fresnel);
         let options = PlanOptions::default();
         let plan = Plan::compile(&graph, &options).unwrap();
-        let mut batch = grid_batch();
-        // Every scene texture the plan samples gets the stand-in.
-        let mut set = matgraph::texture::TextureSet::new();
-        for key in plan.textures() {
-            set.insert(key.clone(), env.clone()).unwrap();
-        }
-        batch.set_textures(std::sync::Arc::new(set));
         let gpu = GpuPlan::compile(ctx, &graph, &options).unwrap();
         let params = plan.default_parameters();
         let want = plan.execute(&batch, &params).unwrap();

@@ -25,6 +25,7 @@ pub use cie_tables::{
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice, WgslTable};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
+use crate::precision::{cos, exp, sin, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::{PI, TAU};
@@ -112,13 +113,13 @@ fn cos_in(cos_i: f32, eta: f32) -> C {
     let k = cos2_transmitted(cos_i, eta);
     if k >= 0.0 {
         C {
-            re: k.sqrt(),
+            re: sqrt(k),
             im: 0.0,
         }
     } else {
         C {
             re: 0.0,
-            im: (-k).sqrt(),
+            im: sqrt(-k),
         }
     }
 }
@@ -241,7 +242,7 @@ impl Film {
         let cycles = self.opd.re * inv_lambda_nm;
         let half = PI * (cycles - (cycles + 0.5).floor());
         let (decay, em1) = if self.opd.im == 0.0 {
-            let (s, c) = half.sin_cos();
+            let (s, c) = (sin(half), cos(half));
             (
                 1.0,
                 C {
@@ -250,7 +251,7 @@ impl Film {
                 },
             )
         } else {
-            let decay = (-TAU * (self.opd.im * inv_lambda_nm)).exp();
+            let decay = exp(-TAU * (self.opd.im * inv_lambda_nm));
             (
                 decay,
                 C {
@@ -343,10 +344,10 @@ fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
     let o2 = opd_nm * opd_nm;
     let lobe = |k: usize| {
         let cycles = BB_POS_NM[k] * opd_nm;
-        let c = (TAU * (cycles - (cycles + 0.5).floor())).cos();
+        let c = cos(TAU * (cycles - (cycles + 0.5).floor()));
         let c2 = 2.0 * (c * c) - 1.0;
         let c3 = c * (4.0 * (c * c) - 3.0);
-        let e = (-BB_VAR_NM[k] * o2).exp();
+        let e = exp(-BB_VAR_NM[k] * o2);
         let e4 = (e * e) * (e * e);
         let a = BB_AMP[k];
         [a, a * c * e, a * c2 * e4, a * c3 * (e4 * e4 * e)]
@@ -377,9 +378,9 @@ impl AirySeries {
         let r123 = big_r12 * big_r23;
         let rs = t121 * t121 * big_r23 / (1.0 - r123);
         let root = if r12.re * r23.re > 0.0 {
-            -r123.sqrt()
+            -sqrt(r123)
         } else {
-            r123.sqrt()
+            sqrt(r123)
         };
         AirySeries {
             c0: big_r12 + rs,

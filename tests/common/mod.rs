@@ -6,6 +6,7 @@ use matgraph::gpu::GpuContext;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+pub mod parity;
 pub mod rng;
 pub mod scenes;
 pub mod tint;

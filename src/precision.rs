@@ -1,0 +1,623 @@
+//! The WGSL builtins as the CPU kernels call them, and the executor's worst-conformant-GPU
+//! mode.
+//!
+//! WGSL promises each builtin only the accuracy its specification states (WGSL §15.7.4
+//! "Floating Point Accuracy": `sin`/`cos` 2⁻¹¹ absolute inside [−π, π] and nothing outside,
+//! `exp`/`exp2` 3 + 2|x| ULP, `log`/`log2` 2⁻²¹ absolute inside [0.5, 2] and 3 ULP outside,
+//! `pow` inherited from `exp2(y·log2 x)`, …; docs/precision.md has the whole table), and real
+//! GPUs use that room. Every CPU kernel calls the builtins its WGSL calls through the
+//! functions of this module, so the CPU can run as the least accurate GPU the specification
+//! allows: [`set_mode`] with [`Mode::WorstGpu`] moves each result by the full error its builtin
+//! is allowed (up, down, or a seeded choice per call), flushes subnormal arguments and results
+//! to zero as GPUs may, reduces `sin`/`cos` arguments outside [−π, π] in plain f32 as
+//! hardware does, and fuses one product of `cross` as a contracting compiler may. The parity
+//! suites run the node and graph plans in that mode (tests/worst_gpu.rs), so CI on a software
+//! driver predicts what a real GPU may do.
+//!
+//! In [`Mode::Exact`] (the default) each function is the plain correctly rounded or libm
+//! result the kernels always computed: renders and `eval` do not change. The mode costs one
+//! relaxed atomic load per call.
+//!
+//! Not modelled (stated in docs/precision.md): the 2.5 ULP of `x / y` (the CPU divides
+//! correctly rounded), contraction of `a·b + c` outside [`cross`] and [`dot`]-free code, and
+//! subnormal flushing in plain arithmetic.
+
+use glam::{Vec2, Vec3, Vec4};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How the builtins of this module compute.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// The correctly rounded (or libm) result: the CPU executor's normal mode.
+    Exact,
+    /// The least accurate result the WGSL specification allows, in `direction`.
+    WorstGpu(Direction),
+}
+
+/// Which way [`Mode::WorstGpu`] moves each builtin's result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// Every result moved up (towards +∞) by its allowed error.
+    Up,
+    /// Every result moved down (towards −∞).
+    Down,
+    /// Up or down per call, from a hash of the seed, the builtin and its arguments: the same
+    /// call gives the same result, as on a GPU.
+    Mixed(u32),
+}
+
+/// The mode, packed: 0 exact, 1 up, 2 down, 3 mixed with the seed in the high 32 bits.
+static MODE: AtomicU64 = AtomicU64::new(0);
+
+/// Sets the mode for the whole process (every thread, the executor's pool included).
+pub fn set_mode(mode: Mode) {
+    MODE.store(pack(mode), Ordering::Relaxed);
+}
+
+/// The packed form of `mode` (see [`MODE`]).
+fn pack(mode: Mode) -> u64 {
+    match mode {
+        Mode::Exact => 0,
+        Mode::WorstGpu(Direction::Up) => 1,
+        Mode::WorstGpu(Direction::Down) => 2,
+        Mode::WorstGpu(Direction::Mixed(seed)) => 3 | (u64::from(seed) << 32),
+    }
+}
+
+/// The current mode.
+pub fn mode() -> Mode {
+    let packed = MODE.load(Ordering::Relaxed);
+    match packed & 3 {
+        0 => Mode::Exact,
+        1 => Mode::WorstGpu(Direction::Up),
+        2 => Mode::WorstGpu(Direction::Down),
+        _ => Mode::WorstGpu(Direction::Mixed((packed >> 32) as u32)),
+    }
+}
+
+/// The packed mode when it is not exact (the slow path's entry test).
+#[inline(always)]
+fn worst() -> Option<u64> {
+    match MODE.load(Ordering::Relaxed) {
+        0 => None,
+        m => Some(m),
+    }
+}
+
+/// The builtins whose results [`Mode::WorstGpu`] moves, for the per-call hash.
+#[derive(Clone, Copy)]
+enum Builtin {
+    Sin = 1,
+    Cos,
+    Exp,
+    Exp2,
+    Log,
+    Log2,
+    InverseSqrt,
+    Sqrt,
+    Atan,
+    Atan2,
+    Asin,
+    Acos,
+    Cross,
+}
+
+/// Whether the result of `builtin` at `args` moves up under the packed mode `m`.
+fn moves_up(m: u64, builtin: Builtin, args: &[f32]) -> bool {
+    match m & 3 {
+        1 => true,
+        2 => false,
+        _ => {
+            // SplitMix64's finaliser over the seed, the builtin and the argument bits.
+            let mut h = (m >> 32) ^ ((builtin as u64) << 56);
+            for a in args {
+                h = h.rotate_left(23) ^ u64::from(a.to_bits());
+                h ^= h >> 30;
+                h = h.wrapping_mul(0xbf58_476d_1ce4_e5b9);
+                h ^= h >> 27;
+                h = h.wrapping_mul(0x94d0_49bb_1331_11eb);
+                h ^= h >> 31;
+            }
+            h & 1 == 1
+        }
+    }
+}
+
+/// Zero for a subnormal `x` (sign kept), as a GPU may flush it (WGSL §15.7.4.1); else `x`.
+#[inline]
+pub fn flush(x: f32) -> f32 {
+    if x != 0.0 && x.abs() < f32::MIN_POSITIVE {
+        0.0f32.copysign(x)
+    } else {
+        x
+    }
+}
+
+/// `r` moved by `n` ULP up (towards +∞) or down, saturating at ±`f32::MAX` and at zero
+/// (a move never crosses zero); non-finite values stay.
+fn move_ulps(r: f32, n: u32, up: bool) -> f32 {
+    if !r.is_finite() || n == 0 {
+        return r;
+    }
+    let mag = r.abs().to_bits();
+    let grow = up == (r > 0.0) || r == 0.0 && up;
+    let bits = if grow {
+        mag.saturating_add(n).min(f32::MAX.to_bits())
+    } else {
+        mag.saturating_sub(n)
+    };
+    let out = f32::from_bits(bits);
+    if r < 0.0 || (r == 0.0 && !up) {
+        -out
+    } else {
+        out
+    }
+}
+
+/// `r` moved by `e` (absolute) up or down, rounded to f32.
+fn move_abs(r: f32, e: f64, up: bool) -> f32 {
+    if !r.is_finite() {
+        return r;
+    }
+    (r as f64 + if up { e } else { -e }) as f32
+}
+
+/// 2⁻¹¹: the absolute error WGSL allows `sin` and `cos` inside [−π, π].
+pub const SIN_COS_ABS: f64 = 1.0 / 2048.0;
+/// 2⁻²¹: the absolute error WGSL allows `log` and `log2` inside [0.5, 2].
+pub const LOG_ABS: f64 = 1.0 / 2_097_152.0;
+/// 6.77 × 10⁻⁵: the absolute error WGSL allows `asin` and `acos` (the worse of this and the
+/// error inherited from `atan2`).
+pub const ASIN_ACOS_ABS: f64 = 6.77e-5;
+/// The ULP WGSL allows `atan` and `atan2`.
+pub const ATAN_ULPS: u32 = 4096;
+/// The ULP WGSL allows `inverseSqrt`.
+pub const INVERSE_SQRT_ULPS: u32 = 2;
+/// The ULP a worst GPU's `sqrt` may be off: inherited from `1.0 / inverseSqrt(x)`, 2 ULP of
+/// `inverseSqrt` and 2.5 of the division, rounded down to whole ULP.
+pub const SQRT_ULPS: u32 = 4;
+
+/// The ULP WGSL allows `exp(x)` and `exp2(x)`: 3 + 2|x|.
+fn exp_ulps(x: f32) -> u32 {
+    (3.0 + 2.0 * x.abs()).min(1e9) as u32
+}
+
+/// `sin` and `cos` of a worst GPU: the argument reduced in plain f32 outside [−π, π] (as
+/// hardware does; WGSL promises nothing there), then the result moved by 2⁻¹¹ and kept in
+/// [−1, 1].
+#[cold]
+fn sin_cos_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
+    let x = flush(x);
+    let up = moves_up(m, builtin, &[x]);
+    let reduced = if x.abs() <= std::f32::consts::PI {
+        x
+    } else {
+        let tau = std::f32::consts::TAU;
+        x - (x / tau).round() * tau
+    };
+    let exact = match builtin {
+        Builtin::Sin => (reduced as f64).sin(),
+        _ => (reduced as f64).cos(),
+    };
+    flush(move_abs(exact as f32, SIN_COS_ABS, up).clamp(-1.0, 1.0))
+}
+
+/// WGSL `sin(x)`.
+#[inline]
+pub fn sin(x: f32) -> f32 {
+    match worst() {
+        None => x.sin(),
+        Some(m) => sin_cos_worst(m, x, Builtin::Sin),
+    }
+}
+
+/// WGSL `cos(x)`.
+#[inline]
+pub fn cos(x: f32) -> f32 {
+    match worst() {
+        None => x.cos(),
+        Some(m) => sin_cos_worst(m, x, Builtin::Cos),
+    }
+}
+
+/// WGSL `tan(x)`: inherited from `sin(x) / cos(x)`.
+#[inline]
+pub fn tan(x: f32) -> f32 {
+    match worst() {
+        None => x.tan(),
+        Some(m) => sin_cos_worst(m, x, Builtin::Sin) / sin_cos_worst(m, x, Builtin::Cos),
+    }
+}
+
+/// `exp` or `exp2` of a worst GPU: 3 + 2|x| ULP.
+#[cold]
+fn exp_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
+    let x = flush(x);
+    let exact = match builtin {
+        Builtin::Exp => x.exp(),
+        _ => x.exp2(),
+    };
+    flush(move_ulps(exact, exp_ulps(x), moves_up(m, builtin, &[x])))
+}
+
+/// WGSL `exp(x)`.
+#[inline]
+pub fn exp(x: f32) -> f32 {
+    match worst() {
+        None => x.exp(),
+        Some(m) => exp_worst(m, x, Builtin::Exp),
+    }
+}
+
+/// WGSL `exp2(x)`.
+#[inline]
+pub fn exp2(x: f32) -> f32 {
+    match worst() {
+        None => x.exp2(),
+        Some(m) => exp_worst(m, x, Builtin::Exp2),
+    }
+}
+
+/// `log` or `log2` of a worst GPU: 2⁻²¹ absolute inside [0.5, 2], 3 ULP outside.
+#[cold]
+fn log_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
+    let x = flush(x);
+    let exact = match builtin {
+        Builtin::Log => x.ln(),
+        _ => x.log2(),
+    };
+    let up = moves_up(m, builtin, &[x]);
+    flush(if (0.5..=2.0).contains(&x) {
+        move_abs(exact, LOG_ABS, up)
+    } else {
+        move_ulps(exact, 3, up)
+    })
+}
+
+/// WGSL `log(x)` (natural).
+#[inline]
+pub fn log(x: f32) -> f32 {
+    match worst() {
+        None => x.ln(),
+        Some(m) => log_worst(m, x, Builtin::Log),
+    }
+}
+
+/// WGSL `log2(x)`.
+#[inline]
+pub fn log2(x: f32) -> f32 {
+    match worst() {
+        None => x.log2(),
+        Some(m) => log_worst(m, x, Builtin::Log2),
+    }
+}
+
+/// WGSL `pow(x, y)`: inherited from `exp2(y · log2(x))`, so undefined (NaN here) for
+/// `x < 0`, and for `x = 0` with `y ≤ 0`.
+#[inline]
+pub fn pow(x: f32, y: f32) -> f32 {
+    match worst() {
+        None => x.powf(y),
+        Some(m) => pow_worst(m, x, y),
+    }
+}
+
+/// [`pow`] of a worst GPU, composed as the specification defines it.
+#[cold]
+fn pow_worst(m: u64, x: f32, y: f32) -> f32 {
+    exp_worst(m, flush(y) * log_worst(m, x, Builtin::Log2), Builtin::Exp2)
+}
+
+/// WGSL `sinh(x)`: inherited from `(exp(x) − exp(−x)) / 2`.
+#[inline]
+pub fn sinh(x: f32) -> f32 {
+    match worst() {
+        None => x.sinh(),
+        Some(m) => (exp_worst(m, x, Builtin::Exp) - exp_worst(m, -x, Builtin::Exp)) * 0.5,
+    }
+}
+
+/// WGSL `cosh(x)`: inherited from `(exp(x) + exp(−x)) / 2`.
+#[inline]
+pub fn cosh(x: f32) -> f32 {
+    match worst() {
+        None => x.cosh(),
+        Some(m) => (exp_worst(m, x, Builtin::Exp) + exp_worst(m, -x, Builtin::Exp)) * 0.5,
+    }
+}
+
+/// WGSL `tanh(x)`: inherited from `sinh(x) / cosh(x)`.
+#[inline]
+pub fn tanh(x: f32) -> f32 {
+    match worst() {
+        None => x.tanh(),
+        Some(_) => sinh(x) / cosh(x),
+    }
+}
+
+/// WGSL `inverseSqrt(x)`: 2 ULP.
+#[inline]
+pub fn inverse_sqrt(x: f32) -> f32 {
+    match worst() {
+        None => 1.0 / x.sqrt(),
+        Some(m) => {
+            let x = flush(x);
+            let up = moves_up(m, Builtin::InverseSqrt, &[x]);
+            flush(move_ulps(1.0 / x.sqrt(), INVERSE_SQRT_ULPS, up))
+        }
+    }
+}
+
+/// WGSL `sqrt(x)`: inherited from `1.0 / inverseSqrt(x)` ([`SQRT_ULPS`]).
+#[inline]
+pub fn sqrt(x: f32) -> f32 {
+    match worst() {
+        None => x.sqrt(),
+        Some(m) => sqrt_worst(m, x),
+    }
+}
+
+/// [`sqrt`] of a worst GPU.
+#[cold]
+fn sqrt_worst(m: u64, x: f32) -> f32 {
+    let x = flush(x);
+    flush(move_ulps(
+        x.sqrt(),
+        SQRT_ULPS,
+        moves_up(m, Builtin::Sqrt, &[x]),
+    ))
+}
+
+/// WGSL `atan(x)`: 4096 ULP.
+#[inline]
+pub fn atan(x: f32) -> f32 {
+    match worst() {
+        None => x.atan(),
+        Some(m) => {
+            let x = flush(x);
+            let up = moves_up(m, Builtin::Atan, &[x]);
+            flush(move_ulps(x.atan(), ATAN_ULPS, up))
+        }
+    }
+}
+
+/// WGSL `atan2(y, x)`: 4096 ULP.
+#[inline]
+pub fn atan2(y: f32, x: f32) -> f32 {
+    match worst() {
+        None => y.atan2(x),
+        Some(m) => {
+            let (y, x) = (flush(y), flush(x));
+            let up = moves_up(m, Builtin::Atan2, &[y, x]);
+            flush(move_ulps(y.atan2(x), ATAN_ULPS, up))
+        }
+    }
+}
+
+/// `asin` or `acos` of a worst GPU: the worse of 6.77 × 10⁻⁵ absolute and 4096 ULP (the
+/// error inherited from `atan2`).
+#[cold]
+fn asin_acos_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
+    let x = flush(x);
+    let exact = match builtin {
+        Builtin::Asin => x.asin(),
+        _ => x.acos(),
+    };
+    let up = moves_up(m, builtin, &[x]);
+    let by_ulps = move_ulps(exact, ATAN_ULPS, up);
+    let by_abs = move_abs(exact, ASIN_ACOS_ABS, up);
+    flush(if (by_ulps - exact).abs() > (by_abs - exact).abs() {
+        by_ulps
+    } else {
+        by_abs
+    })
+}
+
+/// WGSL `asin(x)`.
+#[inline]
+pub fn asin(x: f32) -> f32 {
+    match worst() {
+        None => x.asin(),
+        Some(m) => asin_acos_worst(m, x, Builtin::Asin),
+    }
+}
+
+/// WGSL `acos(x)`.
+#[inline]
+pub fn acos(x: f32) -> f32 {
+    match worst() {
+        None => x.acos(),
+        Some(m) => asin_acos_worst(m, x, Builtin::Acos),
+    }
+}
+
+/// The vector builtins `length` and `normalize`, over glam's vectors.
+pub trait VectorBuiltins: Copy {
+    /// `dot(v, v)`.
+    fn self_dot(self) -> f32;
+    /// `v * s`.
+    fn scale(self, s: f32) -> Self;
+}
+
+impl VectorBuiltins for Vec2 {
+    fn self_dot(self) -> f32 {
+        self.dot(self)
+    }
+    fn scale(self, s: f32) -> Self {
+        self * s
+    }
+}
+impl VectorBuiltins for Vec3 {
+    fn self_dot(self) -> f32 {
+        self.dot(self)
+    }
+    fn scale(self, s: f32) -> Self {
+        self * s
+    }
+}
+impl VectorBuiltins for Vec4 {
+    fn self_dot(self) -> f32 {
+        self.dot(self)
+    }
+    fn scale(self, s: f32) -> Self {
+        self * s
+    }
+}
+
+/// WGSL `length(v)`: inherited from `sqrt(dot(v, v))`.
+#[inline]
+pub fn length<V: VectorBuiltins>(v: V) -> f32 {
+    sqrt(v.self_dot())
+}
+
+/// WGSL `normalize(v)`: inherited from `v / length(v)`; computed as `v · (1 / length(v))`,
+/// as glam does (NaN for a zero vector, as WGSL leaves it undefined).
+#[inline]
+pub fn normalize<V: VectorBuiltins>(v: V) -> V {
+    v.scale(1.0 / length(v))
+}
+
+/// WGSL `distance(a, b)`: inherited from `length(a − b)`.
+#[inline]
+pub fn distance(a: Vec3, b: Vec3) -> f32 {
+    length(a - b)
+}
+
+/// WGSL `cross(a, b)`: inherited from `a[i]·b[j] − a[j]·b[i]`, which a compiler may contract
+/// into a fused multiply-add: a worst GPU fuses one of the two products of each component
+/// (the one chosen by the direction), so the difference of two equal products is the
+/// rounding error of one of them rather than 0.
+#[inline]
+pub fn cross(a: Vec3, b: Vec3) -> Vec3 {
+    match worst() {
+        None => a.cross(b),
+        Some(m) => cross_worst(m, a, b),
+    }
+}
+
+/// [`cross`] of a worst GPU.
+#[cold]
+fn cross_worst(m: u64, a: Vec3, b: Vec3) -> Vec3 {
+    let component = |p: f32, q: f32, r: f32, s: f32| {
+        // p·q − r·s with one product exact.
+        if moves_up(m, Builtin::Cross, &[p, q, r, s]) {
+            p.mul_add(q, -(r * s))
+        } else {
+            -(r.mul_add(s, -(p * q)))
+        }
+    };
+    Vec3::new(
+        component(a.y, b.z, a.z, b.y),
+        component(a.z, b.x, a.x, b.z),
+        component(a.x, b.y, a.y, b.x),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    //! The mode is process-global and other unit tests run beside these, so these call the
+    //! worst-GPU paths with a packed mode of their own and never set it.
+    use super::*;
+
+    const UP: u64 = 1;
+    const DOWN: u64 = 2;
+
+    #[test]
+    fn exact_mode_is_the_libm_result() {
+        assert_eq!(mode(), Mode::Exact);
+        for x in [0.3f32, 1.7, -2.9, 1000.0] {
+            assert_eq!(sin(x), x.sin());
+            assert_eq!(exp2(x / 100.0), (x / 100.0).exp2());
+            assert_eq!(sqrt(x.abs()), x.abs().sqrt());
+        }
+        for mode in [
+            Mode::Exact,
+            Mode::WorstGpu(Direction::Up),
+            Mode::WorstGpu(Direction::Down),
+            Mode::WorstGpu(Direction::Mixed(0xdead_beef)),
+        ] {
+            let packed = pack(mode);
+            assert_eq!(
+                match packed & 3 {
+                    0 => Mode::Exact,
+                    1 => Mode::WorstGpu(Direction::Up),
+                    2 => Mode::WorstGpu(Direction::Down),
+                    _ => Mode::WorstGpu(Direction::Mixed((packed >> 32) as u32)),
+                },
+                mode
+            );
+        }
+    }
+
+    #[test]
+    fn worst_results_move_by_the_stated_error() {
+        // sin(1) = 0.8414709848078965 (closed form, f64); moved by 2⁻¹¹ = 4.8828125e-4.
+        let up = sin_cos_worst(UP, 1.0, Builtin::Sin) as f64;
+        let down = sin_cos_worst(DOWN, 1.0, Builtin::Sin) as f64;
+        assert!(
+            (up - (0.8414709848078965 + 4.8828125e-4)).abs() < 1e-7,
+            "{up}"
+        );
+        assert!(
+            (down - (0.8414709848078965 - 4.8828125e-4)).abs() < 1e-7,
+            "{down}"
+        );
+        // exp2(10) = 1024 exactly; 3 + 20 = 23 ULP of 1024 (2⁻¹³ each) up, and below a power
+        // of two the ULP halves: 1024 − 23·2⁻¹⁴.
+        assert_eq!(exp_worst(UP, 10.0, Builtin::Exp2), 1024.0 + 23.0 / 8192.0);
+        assert_eq!(
+            exp_worst(DOWN, 10.0, Builtin::Exp2),
+            1024.0 - 23.0 / 16384.0
+        );
+        // log2 inside [0.5, 2]: 2⁻²¹ absolute even where the result is 0; outside, 3 ULP.
+        assert_eq!(log_worst(UP, 1.0, Builtin::Log2), 1.0 / 2_097_152.0);
+        assert_eq!(
+            log_worst(DOWN, 8.0, Builtin::Log2),
+            f32::from_bits(3.0f32.to_bits() - 3)
+        );
+        // pow(2, 3) = exp2(3 · log2 2): log2 2 = 1 + 2⁻²¹, times 3, then 3 + 2·3 ULP up.
+        let t = (3.0f64 * (1.0 + 1.0 / 2_097_152.0)) as f32;
+        let want = f32::from_bits(t.exp2().to_bits() + (3.0 + 2.0 * t) as u32);
+        assert_eq!(pow_worst(UP, 2.0, 3.0), want);
+        // A subnormal argument is flushed: exp(−1e−40) = exp(0) = 1, then 3 ULP.
+        assert_eq!(
+            exp_worst(UP, -1e-40, Builtin::Exp),
+            f32::from_bits(1.0f32.to_bits() + 3)
+        );
+        // sqrt(4) = 2, 4 ULP down (below 2 the ULP is 2⁻²³).
+        assert_eq!(sqrt_worst(DOWN, 4.0), 2.0 - 4.0 / 8_388_608.0);
+    }
+
+    #[test]
+    fn mixed_moves_both_ways_and_repeats_itself() {
+        let mixed = pack(Mode::WorstGpu(Direction::Mixed(7)));
+        let at = |k: i32| sin_cos_worst(mixed, k as f32 * 0.01, Builtin::Sin);
+        let ups = (0..256)
+            .filter(|&k| at(k) > (k as f32 * 0.01).sin())
+            .count();
+        assert!((64..192).contains(&ups), "{ups} of 256 moved up");
+        assert!((0..256).all(|k| at(k) == at(k)));
+    }
+
+    #[test]
+    fn a_worst_cross_of_parallel_vectors_is_a_rounding_error_not_zero() {
+        let a = Vec3::new(1.1, 1.3, 1.7);
+        assert_eq!(a.cross(a), Vec3::ZERO);
+        let worst = cross_worst(UP, a, a);
+        assert_ne!(worst, Vec3::ZERO);
+        // Each component is at most the rounding error of one product: ≤ 2⁻²⁴ · 2.21.
+        assert!(
+            worst.abs().max_element() <= 2.21 * 2f32.powi(-24),
+            "{worst}"
+        );
+    }
+
+    #[test]
+    fn sin_outside_pi_is_reduced_in_f32() {
+        // cos(1000) = 0.5623790762907029 (f64). A plain f32 reduction by 2π (6.2831855, 1.7e-7
+        // above 2π) takes 159 · 6.2831855 = 999.0265 (rounded to f32) from 1000: the argument
+        // moves by about 3e-5 and the result by about 2.5e-5, besides the 2⁻¹¹.
+        let off = sin_cos_worst(UP, 1000.0, Builtin::Cos) as f64 - 0.5623790762907029;
+        assert!(off > 4.8828125e-4 && off < 4.8828125e-4 + 1e-4, "{off}");
+    }
+}
