@@ -11,7 +11,8 @@
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
-use crate::precision::{cos, pow, sin, sqrt};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::precision::{pow, sqrt};
 use crate::value::Value;
 use glam::{Vec2, Vec3};
 use std::f32::consts::TAU;
@@ -227,13 +228,14 @@ fn $fn(v: vec3<f32>, environment: vec3<f32>, reading: i32) -> vec3<f32> {
 #[inline]
 pub fn texture_flow(uv: Vec2, time: f32, speed: f32, amplitude: f32) -> Vec2 {
     let phase = wrap_phase(speed * time);
-    uv + amplitude * Vec2::new(sin(phase), cos(phase))
+    let (s, c) = sin_cos(phase);
+    uv + amplitude * Vec2::new(s, c)
 }
 
 const FLOW_WGSL: &str = r#"
 fn $fn(uv: vec2<f32>, time: f32, speed: f32, amplitude: f32) -> vec2<f32> {
     let phase = mg_bubble_wrap_phase(speed * time);
-    return uv + amplitude * vec2<f32>(sin(phase), cos(phase));
+    return uv + amplitude * mg_sincos(phase);
 }
 "#;
 
@@ -266,7 +268,12 @@ fn $fn(view: vec3<f32>, normal: vec3<f32>, power: f32) -> f32 {
 pub fn wobble(position: Vec3, time: f32, frequency: f32, amplitude: f32, wavenumber: f32) -> Vec3 {
     let ft = frequency * time;
     let s = |c: f32| wrap_phase(ft + wavenumber * c);
-    amplitude * Vec3::new(sin(s(position.y)), cos(s(position.z)), sin(s(position.x)))
+    amplitude
+        * Vec3::new(
+            sin_cos(s(position.y)).0,
+            sin_cos(s(position.z)).1,
+            sin_cos(s(position.x)).0,
+        )
 }
 
 const WOBBLE_WGSL: &str = r#"
@@ -275,7 +282,7 @@ fn $fn(p: vec3<f32>, time: f32, frequency: f32, amplitude: f32, wavenumber: f32)
     let x = mg_bubble_wrap_phase(ft + wavenumber * p.y);
     let y = mg_bubble_wrap_phase(ft + wavenumber * p.z);
     let z = mg_bubble_wrap_phase(ft + wavenumber * p.x);
-    return amplitude * vec3<f32>(sin(x), cos(y), sin(z));
+    return amplitude * vec3<f32>(mg_sincos(x).x, mg_sincos(y).y, mg_sincos(z).x);
 }
 "#;
 
@@ -495,7 +502,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("amplitude", 1.0).range(0.0, 2.0).doc("Radius of the circle in uv (1 in our reading of eq. 9)."))
             .output(Out::vec2("uv").doc("The flowed texture coordinates."))
             .wgsl(FLOW_WGSL)
-            .wgsl_uses(&[WRAP_PHASE_WGSL])
+            .wgsl_uses(&[WRAP_PHASE_WGSL, SIN_COS_WGSL])
             .hard_case("a minute in", &[("time", f(60.0)), ("speed", f(4.0))])
             .hard_case("phase at π", &[("time", f(std::f32::consts::PI)), ("speed", f(1.0))])
             .compute(texture_flow),
@@ -527,7 +534,7 @@ pub fn all() -> Vec<NodeType> {
             .input(In::float("wavenumber", 3.0).range(0.0, 10.0).doc("Phase k per unit of position."))
             .output(Out::vec3("displacement").unit("m").doc("Offset of the vertex."))
             .wgsl(WOBBLE_WGSL)
-            .wgsl_uses(&[WRAP_PHASE_WGSL])
+            .wgsl_uses(&[WRAP_PHASE_WGSL, SIN_COS_WGSL])
             .hard_case("rigid shake", &[("wavenumber", f(0.0)), ("time", f(1.0))])
             .hard_case("a minute in", &[("time", f(60.0)), ("frequency", f(10.0))])
             .compute(wobble),

@@ -12,8 +12,9 @@
 //! Fdez-Agüera 2019 (see [`env_brdf`]); `r = reflect(−v, n)`.
 
 use crate::node::{Category, In, NodeType, Out, TextureSampler};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
 use crate::plan::TILE;
-use crate::precision::{self, log2, sqrt};
+use crate::precision::{log2, sqrt};
 use crate::scene::ibl::{GGX_LEVELS, LUT_SIZE};
 use crate::texture::{Filter, Wrap};
 use crate::value::Value;
@@ -140,10 +141,8 @@ fn ggx_half_vector(u: Vec2, a2: f32) -> (Vec3, f32) {
     let cos = sqrt((1.0 - u.x) / q);
     let sin = sqrt(sin2);
     let phi = 2.0 * PI * u.y;
-    (
-        Vec3::new(sin * precision::cos(phi), sin * precision::sin(phi), cos),
-        sin2,
-    )
+    let (sin_phi, cos_phi) = sin_cos(phi);
+    (Vec3::new(sin * cos_phi, sin * sin_phi, cos), sin2)
 }
 
 /// An orthonormal frame `(t, b)` completing unit `n` (Duff et al. 2017, "Building an
@@ -306,7 +305,8 @@ fn mg_ibl_ggx_half_vector(u: vec2<f32>, a2: f32) -> vec4<f32> {
     let c = sqrt((1.0 - u.x) / q);
     let s = sqrt(sin2);
     let phi = 6.2831855 * u.y;
-    return vec4<f32>(s * cos(phi), s * sin(phi), c, sin2);
+    let sc = mg_sincos(phi);
+    return vec4<f32>(s * sc.y, s * sc.x, c, sin2);
 }
 fn mg_ibl_filtered_lod(count: u32, pdf: f32) -> f32 {
     let texel = 12.566371 / f32(512u * 256u);
@@ -515,6 +515,7 @@ pub fn all() -> Vec<NodeType> {
             EQUIRECT_WGSL,
             crate::texture::SAMPLE_WGSL,
             MC_HELPERS_WGSL,
+            SIN_COS_WGSL,
         ])
         .hard_case("grazing view", &[("view", v3([1.0, 0.0, 1e-4]))])
         .hard_case("view past the silhouette", &[("view", v3([1.0, 0.0, -0.05]))])

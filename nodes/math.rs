@@ -291,13 +291,27 @@ fn cross(a: Vec3, b: Vec3) -> Vec3 {
         cross_rescaled(a, b)
     }
 }
-/// [`cross`] of vectors whose products overflow.
+/// [`cross`] of vectors whose products overflow: the cross product of the rescaled vectors
+/// `u`, `v` (components at most 4), with each component whose magnitude is within the
+/// rounding of its two products (2⁻²¹ · max|uᵢ| · max|vᵢ|) set to 0 before scaling back.
+/// A GPU may fuse one product into the subtraction (WGSL §15.7.5), which turns the 0 of
+/// parallel vectors into that rounding error, and scaling it back by |a||b| ≥ 10¹⁸ gives ±∞
+/// (found on an NVIDIA H200: `cross([1e30]³, [1e30]³)` was ∞). The cost: a component below
+/// 2⁻²¹ of |a||b| is returned as 0, in this path only (vectors beyond 10¹⁸).
 #[cold]
 #[inline(never)]
 fn cross_rescaled(a: Vec3, b: Vec3) -> Vec3 {
     let (sa, sb) = (magnitude(a), magnitude(b));
-    (precision::cross(a / sa, b / sb) * sa) * sb
+    let (u, v) = (a / sa, b / sb);
+    let c = precision::cross(u, v);
+    let noise = CROSS_NOISE * u.abs().max_element() * v.abs().max_element();
+    let c = Vec3::select(c.abs().cmple(Vec3::splat(noise)), Vec3::ZERO, c);
+    (c * sa) * sb
 }
+
+/// 2⁻²¹: the relative rounding [`cross_rescaled`] treats as zero (a product's rounding is at
+/// most 2⁻²⁴ of it; two products and the subtraction, with room).
+const CROSS_NOISE: f32 = 1.0 / 2_097_152.0;
 fn split<T: Vector>(v: T) -> (f32, f32, f32, f32) {
     let [x, y, z, w] = v.xyzw();
     (x, y, z, w)
@@ -381,7 +395,11 @@ fn $fn(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
     let sa = dot(abs(a), vec3<f32>(0.25));
     let sb = dot(abs(b), vec3<f32>(0.25));
     if (sa > 1e18 || sb > 1e18) {
-        return (cross(a / sa, b / sb) * sa) * sb;
+        let u = a / sa;
+        let v = b / sb;
+        let c = cross(u, v);
+        let noise = 0x1p-21f * max(max(abs(u.x), abs(u.y)), abs(u.z)) * max(max(abs(v.x), abs(v.y)), abs(v.z));
+        return (select(c, vec3<f32>(0.0), abs(c) <= vec3<f32>(noise)) * sa) * sb;
     }
     return cross(a, b);
 }

@@ -16,6 +16,7 @@
 
 use super::math::Components;
 use crate::node::{Category, In, NodeType, Out};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
 use crate::precision;
 use crate::types::SocketType::*;
 use crate::value::Value;
@@ -50,7 +51,7 @@ pub fn atan2_total(y: f32, x: f32) -> f32 {
     if hi == 0.0 {
         return 0.0;
     }
-    let t = precision::atan(lo / hi);
+    let t = (lo / hi).atan();
     let a = if ay > ax {
         std::f32::consts::FRAC_PI_2 - t
     } else {
@@ -102,19 +103,22 @@ pub fn fract(x: f32) -> f32 {
 }
 
 fn sin<T: Components>(x: T) -> T {
-    x.map(precision::sin)
+    x.map(|x| sin_cos(x).0)
 }
 fn cos<T: Components>(x: T) -> T {
-    x.map(precision::cos)
+    x.map(|x| sin_cos(x).1)
 }
 fn tan<T: Components>(x: T) -> T {
-    x.map(precision::tan)
+    x.map(|x| {
+        let (s, c) = sin_cos(x);
+        s / c
+    })
 }
 fn asin<T: Components>(x: T) -> T {
-    x.map(|x| precision::asin(x.clamp(-1.0, 1.0)))
+    x.map(|x| x.clamp(-1.0, 1.0).asin())
 }
 fn acos<T: Components>(x: T) -> T {
-    x.map(|x| precision::acos(x.clamp(-1.0, 1.0)))
+    x.map(|x| x.clamp(-1.0, 1.0).acos())
 }
 fn atan2<T: Components>(y: T, x: T) -> T {
     y.zip(x, atan2_total)
@@ -317,6 +321,38 @@ fn $fn(a: $T, b: $T, epsilon: f32) -> $out {
 }
 "#;
 
+/// WGSL of a component-wise node at widths 1–4 whose scalar form is `$e` of `x` (an
+/// expression of the scalar `mg_sincos(x)`).
+macro_rules! per_width {
+    ($e:literal) => {
+        [
+            concat!("fn $fn(x: f32) -> f32 { let v = x; return ", $e, "; }"),
+            concat!(
+                "fn $fn(x: vec2<f32>) -> vec2<f32> { var r: vec2<f32>; for (var i = 0u; i < 2u; i++) { let v = x[i]; r[i] = ",
+                $e,
+                "; } return r; }"
+            ),
+            concat!(
+                "fn $fn(x: vec3<f32>) -> vec3<f32> { var r: vec3<f32>; for (var i = 0u; i < 3u; i++) { let v = x[i]; r[i] = ",
+                $e,
+                "; } return r; }"
+            ),
+            concat!(
+                "fn $fn(x: vec4<f32>) -> vec4<f32> { var r: vec4<f32>; for (var i = 0u; i < 4u; i++) { let v = x[i]; r[i] = ",
+                $e,
+                "; } return r; }"
+            ),
+        ]
+    };
+}
+
+/// WGSL of `sin` at widths 1–4: [`sin_cos`](crate::nodes::precise::sin_cos)'s sine.
+const SIN_WGSL: [&str; 4] = per_width!("mg_sincos(v).x");
+/// WGSL of `cos` at widths 1–4.
+const COS_WGSL: [&str; 4] = per_width!("mg_sincos(v).y");
+/// WGSL of `tan` at widths 1–4: sine over cosine.
+const TAN_WGSL: [&str; 4] = per_width!("mg_sincos(v).x / mg_sincos(v).y");
+
 /// A one-input component-wise node.
 fn unary(
     name: &'static str,
@@ -366,14 +402,19 @@ pub fn all() -> Vec<NodeType> {
             unary(
                 "sin",
                 "Sine of x (radians), component-wise.",
-                "Closed form. The GPU uses WGSL's sin, specified to 2⁻¹¹ absolute on [-π, π]; \
-                 beyond it nothing is promised, and hardware sine units lose digits as |x| grows \
-                 (lavapipe matches the CPU to 6e-8 up to |x| = 1e5, docs/models/math.md), so \
-                 keep arguments to a few periods: wrap a growing phase with floored_modulo first.",
+                "Computed by the node, not by WGSL's sin (specified only to 2⁻¹¹ absolute on [−π, π] \
+                 and not at all beyond, docs/precision.md): Cody–Waite reduction by π/2 and Cephes' \
+                 sinf/cosf polynomials, the same f32 steps on the CPU and the GPU \
+                 (nodes/precise.rs). A few ULP for |x| < 1.2e4; beyond, the argument's own \
+                 rounding dominates (one ULP of x is 0.06 rad at 1e6).",
                 (0.0, -10.0, 10.0),
                 "sin x.",
-                "fn $fn(x: $T) -> $T { return sin(x); }",
+                SIN_WGSL[0],
             )
+            .wgsl_variant(Vec2, SIN_WGSL[1])
+            .wgsl_variant(Vec3, SIN_WGSL[2])
+            .wgsl_variant(Vec4, SIN_WGSL[3])
+            .wgsl_uses(&[SIN_COS_WGSL])
             .hard_case("large argument", &[("x", v(1000.0))]),
             sin
         ),
@@ -381,12 +422,16 @@ pub fn all() -> Vec<NodeType> {
             unary(
                 "cos",
                 "Cosine of x (radians), component-wise.",
-                "Closed form. GPU accuracy as for sin: 2⁻¹¹ absolute on [-π, π] by the WGSL \
-                 specification, less beyond on some drivers.",
+                "Computed by the node as sin is (nodes/precise.rs): a few ULP for |x| < 1.2e4 on \
+                 the CPU and on every GPU.",
                 (0.0, -10.0, 10.0),
                 "cos x.",
-                "fn $fn(x: $T) -> $T { return cos(x); }",
+                COS_WGSL[0],
             )
+            .wgsl_variant(Vec2, COS_WGSL[1])
+            .wgsl_variant(Vec3, COS_WGSL[2])
+            .wgsl_variant(Vec4, COS_WGSL[3])
+            .wgsl_uses(&[SIN_COS_WGSL])
             .hard_case("large argument", &[("x", v(1000.0))]),
             cos
         ),
@@ -396,12 +441,17 @@ pub fn all() -> Vec<NodeType> {
                 "Tangent of x (radians), component-wise.",
                 "Closed form, no clamp: tan is finite at every f32 (none is exactly π/2; at the \
                  nearest, 1.5707964, it is −2.3e7). Near a pole tan is ill-conditioned (relative \
-                 condition number 2x/sin 2x: 21 at x = 1.5, 2000 at 1.57), and the GPU forms it \
-                 as sin/cos, so the soft range stops at ±1.5.",
+                 condition number 2x/sin 2x: 21 at x = 1.5, 2000 at 1.57), so the soft range stops at ±1.5. \
+                 Formed as sin/cos from the node's own sine and cosine (nodes/precise.rs), not \
+                 WGSL's.",
                 (0.0, -1.5, 1.5),
                 "tan x.",
-                "fn $fn(x: $T) -> $T { return sin(x) / cos(x); }",
+                TAN_WGSL[0],
             )
+            .wgsl_variant(Vec2, TAN_WGSL[1])
+            .wgsl_variant(Vec3, TAN_WGSL[2])
+            .wgsl_variant(Vec4, TAN_WGSL[3])
+            .wgsl_uses(&[SIN_COS_WGSL])
             .hard_case("steep", &[("x", v(1.5))]),
             tan
         ),

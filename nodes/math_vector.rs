@@ -8,7 +8,8 @@
 
 use super::math::{Vector, normalize};
 use crate::node::{Category, In, NodeType, Out};
-use crate::precision::{cos, cross, sin};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::precision::cross;
 use crate::types::SocketType::*;
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
@@ -43,7 +44,7 @@ pub fn rotate(v: Vec3, center: Vec3, axis: Vec3, angle: f32) -> Vec3 {
         return v;
     }
     let p = v - center;
-    let (s, c) = (sin(angle), cos(angle));
+    let (s, c) = sin_cos(angle);
     p * c + cross(k, p) * s + k * (k.dot(p) * (1.0 - c)) + center
 }
 
@@ -78,8 +79,9 @@ fn $fn(v: vec3<f32>, center: vec3<f32>, axis: vec3<f32>, angle: f32) -> vec3<f32
     }
     let k = u * (1.0 / l);
     let p = v - center;
-    let sn = sin(angle);
-    let c = cos(angle);
+    let sc = mg_sincos(angle);
+    let sn = sc.x;
+    let c = sc.y;
     return p * c + cross(k, p) * sn + k * (dot(k, p) * (1.0 - c)) + center;
 }
 "#;
@@ -164,6 +166,7 @@ pub fn all() -> Vec<NodeType> {
         )
         .output(Out::vec3("result").doc("The rotated vector."))
         .wgsl(ROTATE_WGSL)
+        .wgsl_uses(&[SIN_COS_WGSL])
         .hard_case(
             "zero axis",
             &[("axis", v3([0.0, 0.0, 0.0])), ("angle", Value::float(1.0))],

@@ -10,6 +10,7 @@ pub mod math_scalar;
 pub mod math_vector;
 pub mod optics;
 pub mod pbr;
+pub mod precise;
 pub mod skin;
 pub mod sunshine;
 pub mod texture;

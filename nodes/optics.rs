@@ -79,7 +79,7 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
     let rs = (a - b) * inv_s;
     let rp = (ap - bp) * inv_p;
     let r = 0.5 * (rs * rs + rp * rp);
-    // Each factor is at most 1: no overflow for indices up to f32::MAX (f0_to_ior of a mirror).
+    // Each factor is at most 1: no overflow for indices up to f32::MAX.
     let ts = 2.0 * (a * inv_s) * (b * inv_s);
     let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
     // Selects rather than early returns, so a tile of samples vectorises.
@@ -158,14 +158,27 @@ pub fn ior_to_f0(ior_outside: f32, ior_inside: f32) -> f32 {
 
 /// Inverse of [`ior_to_f0`] from air: `n = (1 + √R0)/(1 − √R0)`, written
 /// `(1 + √R0)²/(1 − R0)`, which keeps its precision as `R0 → 1` (`1 − R0` is exact, `1 − √R0`
-/// is not). R0 is taken in [0, 1]; R0 = 1 (a perfect mirror, n = ∞) gives `f32::MAX`.
-/// Source: seed 003 (inverting Hecht eq. 4.47).
+/// is not). R0 is taken in [0, 1]. Source: seed 003 (inverting Hecht eq. 4.47).
+///
+/// Capped at [`IOR_MAX`] = 2⁴⁰ (R0 = 1, a perfect mirror, is n = ∞): at 2⁴⁰ the normal
+/// reflectance `((n − 1)/(n + 1))²` is 1 − 2⁻³⁸, which is 1 in f32, so the cap changes no f32
+/// reflectance; it keeps `n²`, `n·cosθ` and their quotients inside [2⁻¹²⁶, 2¹²⁶], where WGSL
+/// specifies division. The cap was `f32::MAX`, whose reciprocal is subnormal: a GPU that
+/// flushes subnormals (WGSL §15.7.4.1 allows it) made the exact-Fresnel pbr_brdf 0 at normal
+/// incidence on an NVIDIA H200, where the CPU gives 1.2732.
 #[inline]
 pub fn f0_to_ior(f0: f32) -> f32 {
     let f0 = f0.clamp(0.0, 1.0);
     let one_plus_s = 1.0 + sqrt(f0);
-    (one_plus_s * one_plus_s / (1.0 - f0)).min(f32::MAX)
+    if f0 >= 1.0 {
+        IOR_MAX
+    } else {
+        (one_plus_s * one_plus_s / (1.0 - f0)).min(IOR_MAX)
+    }
 }
+
+/// 2⁴⁰: the largest index [`f0_to_ior`] returns.
+pub const IOR_MAX: f32 = 1_099_511_627_776.0;
 
 /// Unreal's non-metal Specular input: `specular = R0 / 0.08`. Source: seed 003 (Unreal
 /// Engine 4 material docs: Specular 0.5 ↔ 4%).
@@ -245,16 +258,16 @@ fn mg_opth_fresnel(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> vec2<f3
 }
 "#;
 
-/// WGSL of [`f0_to_ior`] as a helper, `mg_opth_f0_to_ior(f0)`; the largest f32 is written in hex,
+/// WGSL of [`f0_to_ior`] as a helper, `mg_opth_f0_to_ior(f0)`; the cap 2⁴⁰ is written in hex,
 /// which every WGSL compiler reads exactly.
 pub const F0_TO_IOR_HELPER_WGSL: &str = r#"
 fn mg_opth_f0_to_ior(f0_in: f32) -> f32 {
     let f0 = min(max(f0_in, 0.0), 1.0);
     let one_plus_s = 1.0 + sqrt(f0);
     if (f0 >= 1.0) {
-        return 0x1.fffffep+127f;
+        return 0x1p40f;
     }
-    return min(one_plus_s * one_plus_s / (1.0 - f0), 0x1.fffffep+127f);
+    return min(one_plus_s * one_plus_s / (1.0 - f0), 0x1p40f);
 }
 "#;
 
@@ -402,7 +415,7 @@ pub fn all() -> Vec<NodeType> {
         NodeType::new("f0_to_ior", Category::Optics, "Index of refraction (from air) giving a normal-incidence reflectance.")
             .source(
                 "n = (1 + √R0)/(1 − √R0) (seed 003), evaluated as (1 + √R0)²/(1 − R0), exact as R0 → 1; \
-                 R0 = 1 (a perfect mirror, n = ∞) gives the largest f32, 3.4e38.",
+                 R0 = 1 (a perfect mirror, n = ∞) gives 2⁴⁰ (1.1e12), whose R0 is 1 in f32.",
             )
             .input(In::float("f0", 0.04).range(0.0, 0.9).hard(0.0, 1.0).doc("Reflectance at normal incidence."))
             .output(Out::float("ior").doc("Index of refraction relative to air."))

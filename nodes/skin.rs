@@ -137,8 +137,11 @@ pub fn skin_sebum(specularity: f32, power: f32, r_dot_v: f32) -> f32 {
     let b = r_dot_v.clamp(0.0, 1.0);
     let p = if b == 0.0 {
         if power == 0.0 { 1.0 } else { 0.0 }
-    } else {
+    } else if b < 0.5 {
         pow(b, power)
+    } else {
+        // The WGSL takes its own ln series here, not WGSL's pow (SEBUM_WGSL).
+        b.powf(power)
     };
     specularity * p
 }

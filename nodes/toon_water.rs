@@ -13,7 +13,8 @@
 //! `n`, `l`, `v` are the normal, the direction to the light and to the eye.
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice};
-use crate::precision::{cos, cross, exp, pow, sin, sqrt};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::precision::{cross, exp, pow, sqrt};
 use crate::value::Value;
 use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::{LN_2, TAU};
@@ -441,7 +442,7 @@ pub fn gerstner(position: Vec3, time: f32, waves: &[Wave]) -> GerstnerSample {
         let freq = sqrt(GRAVITY / (TAU * lambda));
         let c = (dx * position.x + dz * position.z) / lambda - time * freq + w.phase / TAU;
         let theta = TAU * (c - c.floor());
-        let (s, co) = (sin(theta), cos(theta));
+        let (s, co) = sin_cos(theta);
         let (a, q) = (w.amplitude, w.steepness);
         let qak = q * a * k;
         let ak = a * k;
@@ -550,8 +551,9 @@ fn mg_tw_wave(acc: MgTwGerstner, p: vec3<f32>, t: f32, d: vec2<f32>, wavelength:
     let freq = sqrt(9.80665 / (6.2831855 * lambda));
     let c = (dx * p.x + dz * p.z) / lambda - t * freq + phase / 6.2831855;
     let theta = 6.2831855 * (c - floor(c));
-    let s = sin(theta);
-    let co = cos(theta);
+    let sc = mg_sincos(theta);
+    let s = sc.x;
+    let co = sc.y;
     let qak = q * a * k;
     let ak = a * k;
     var r = acc;
@@ -716,7 +718,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::vec3("normal_gems").doc("GPU Gems eq. 12's unit normal, for comparison."))
             .output(Out::boolean("folds").doc("Whether Σ Q k a > 1 (the surface can loop over itself)."))
             .wgsl(GERSTNER_WGSL)
-            .wgsl_uses(&[NORMALIZE_WGSL, GERSTNER_HELPERS_WGSL])
+            .wgsl_uses(&[NORMALIZE_WGSL, SIN_COS_WGSL, GERSTNER_HELPERS_WGSL])
             .hard_case("no waves", &[("count", i(0))])
             .hard_case("one wave", &[("count", i(1))])
             .hard_case("folding", &[("steepness_0_3", v4([10.0, 10.0, 10.0, 10.0])), ("steepness_4_7", v4([10.0, 10.0, 10.0, 10.0]))])

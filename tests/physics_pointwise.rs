@@ -502,11 +502,15 @@ fn schlick_empirical_and_conversions_pointwise() {
         "{} vs {want}",
         o["ior"][0]
     );
+    // Documented: a mirror gives 2^40 = 1099511627776, whose normal reflectance
+    // ((n − 1)/(n + 1))² = 1 − 2^-38 is 1 in f32.
     assert_eq!(
         optics::f0_to_ior(1.0),
-        f32::MAX,
-        "documented: a mirror gives f32::MAX"
+        1_099_511_627_776.0,
+        "documented: a mirror gives 2^40"
     );
+    let n = 1_099_511_627_776.0f64;
+    assert_eq!((((n - 1.0) / (n + 1.0)).powi(2)) as f32, 1.0);
     // Documented: below the surface Schlick is taken at grazing, F = 1.
     for c in [-1.0f32, -0.5, -1e-7] {
         assert_eq!(optics::fresnel_schlick(c, 0.04f32), 1.0, "cos {c}");

@@ -25,7 +25,8 @@ pub use cie_tables::{
 
 use crate::node::{Category, In, NodeType, Out, WgslChoice, WgslTable};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
-use crate::precision::{cos, exp, sin, sqrt};
+use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::precision::{exp, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 use std::f32::consts::{PI, TAU};
@@ -242,7 +243,7 @@ impl Film {
         let cycles = self.opd.re * inv_lambda_nm;
         let half = PI * (cycles - (cycles + 0.5).floor());
         let (decay, em1) = if self.opd.im == 0.0 {
-            let (s, c) = (sin(half), cos(half));
+            let (s, c) = sin_cos(half);
             (
                 1.0,
                 C {
@@ -344,7 +345,7 @@ fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
     let o2 = opd_nm * opd_nm;
     let lobe = |k: usize| {
         let cycles = BB_POS_NM[k] * opd_nm;
-        let c = cos(TAU * (cycles - (cycles + 0.5).floor()));
+        let c = sin_cos(TAU * (cycles - (cycles + 0.5).floor())).1;
         let c2 = 2.0 * (c * c) - 1.0;
         let c3 = c * (4.0 * (c * c) - 3.0);
         let e = exp(-BB_VAR_NM[k] * o2);
@@ -620,8 +621,9 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     var decay = 1.0;
     var em1: vec2<f32>;
     if (f.opd.y == 0.0) {
-        let s = sin(half);
-        let c = cos(half);
+        let sc = mg_sincos(half);
+        let s = sc.x;
+        let c = sc.y;
         em1 = vec2<f32>(-2.0 * (s * s), 2.0 * (s * c));
     } else {
         decay = exp(-6.28318530717958648 * (f.opd.y * inv_lambda_nm));
@@ -711,7 +713,7 @@ struct MgTfBbS {
 }
 fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32) -> vec4<f32> {
     let cycles = pos * opd_nm;
-    let c = cos(6.28318530717958648 * (cycles - floor(cycles + 0.5)));
+    let c = mg_sincos(6.28318530717958648 * (cycles - floor(cycles + 0.5))).y;
     let c2 = 2.0 * (c * c) - 1.0;
     let c3 = c * (4.0 * (c * c) - 3.0);
     let e = exp(-var_nm * o2);
@@ -890,7 +892,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("reflectance").doc("Reflected colour for white (D65) light, linear sRGB."))
             .output(Out::color("transmittance").doc("Transmitted colour for white (D65) light, linear sRGB."))
             .wgsl(THIN_FILM_WGSL)
-            .wgsl_uses(&[COS2_T_WGSL, FILM_WGSL])
+            .wgsl_uses(&[COS2_T_WGSL, SIN_COS_WGSL, FILM_WGSL])
             .wgsl_per_choice("method", &[METHOD_WGSL], method_choices())
             .hard_case("black film (d = 0)", &[("thickness_nm", f(0.0))])
             .hard_case("thickest film", &[("thickness_nm", f(THICKNESS_MAX_NM))])
