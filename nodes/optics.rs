@@ -42,7 +42,8 @@ pub fn cos2_transmitted(cos_i: f32, eta: f32) -> f32 {
 /// `k = cos²θt = (1 − η²) + η²(N·I)²`; TIR when `k < 0`; else `T = η I − (η (N·I) + √k) N`.
 ///
 /// Under total internal reflection the result is the reflected direction and `tir` is true,
-/// so a graph never receives a silent zero vector. Source: Hecht §4.4 (Snell's law) in the
+/// so a graph never receives a silent zero vector. Near the critical angle `k` inherits the
+/// limit of [`cos2_transmitted`]: at η = 2.4, 0.001° from it, `T.z` is 0.44% off. Source: Hecht §4.4 (Snell's law) in the
 /// vector form of GLSL `refract`, with `k` rearranged ([`cos2_transmitted`]).
 #[inline]
 pub fn refract(i: Vec3, n: Vec3, eta: f32) -> (Vec3, bool) {
@@ -343,7 +344,10 @@ pub fn all() -> Vec<NodeType> {
                  GLSL refract with k rearranged so grazing rays at an index match pass straight; \
                  docs/models/optics.md), \
                  eta = n_incident / n_transmitted. Under total internal reflection (k < 0) t is the \
-                 reflected direction and tir is true.",
+                 reflected direction and tir is true. Limit, stated: near the critical angle k is the \
+                 difference of two terms near 1 − η², so its f32 rounding (about 2⁻²³) is amplified \
+                 by the square root: at η = 2.4, 0.001° from the critical angle, t.z is 0.44% off \
+                 (Mitsuba 3.9 and a 40-digit reference), as for fresnel_dielectric.",
             )
             .input(In::vec3("i", [0.0, 0.0, -1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit incident direction, towards the surface."))
             .input(In::vec3("n", [0.0, 0.0, 1.0]).range(-1.0, 1.0).hard(-1.0, 1.0).doc("Unit normal on the incident side."))

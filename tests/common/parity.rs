@@ -88,22 +88,29 @@ impl Errors {
     }
 }
 
-/// The draws these tests make from the shared seeded generator.
-impl Rng {
+/// The draws these suites make from the shared seeded generator (a trait, so test binaries
+/// with inherent draws of their own on [`Rng`] still build).
+pub trait Draws {
     /// Uniform in [lo, hi].
-    pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
+    fn draw(&mut self, lo: f32, hi: f32) -> f32;
+    /// Over a hard range (see the impl).
+    fn draw_hard(&mut self, lo: f32, hi: f32) -> f32;
+}
+
+impl Draws for Rng {
+    fn draw(&mut self, lo: f32, hi: f32) -> f32 {
         let u = (self.next() >> 40) as f64 / (1u64 << 24) as f64;
         (lo as f64 + (hi as f64 - lo as f64) * u) as f32
     }
     /// Over a hard range: uniform half the time; otherwise, where the range spans more than
     /// three decades, a log-uniform magnitude (signed where the range allows it), so that
     /// 1e-6 and 1e4 are both drawn from [0, 1e6].
-    pub fn hard(&mut self, lo: f32, hi: f32) -> f32 {
+    fn draw_hard(&mut self, lo: f32, hi: f32) -> f32 {
         let span = hi.abs().max(lo.abs());
         if self.next() & 1 == 0 || span < 1e3 {
-            return self.range(lo, hi);
+            return self.draw(lo, hi);
         }
-        let mag = (self.range((span * 1e-9).ln(), span.ln())).exp();
+        let mag = (self.draw((span * 1e-9).ln(), span.ln())).exp();
         let x = if lo < 0.0 && self.next() & 1 == 1 {
             -mag
         } else {
@@ -168,16 +175,16 @@ pub fn node_samples(t: &NodeType, generic: SocketType, seed: u64) -> NodeSamples
                     }
                     SocketType::Int => {
                         let (lo, hi) = input_range(t, k);
-                        Value::int(rng.range(lo, hi).round() as i32)
+                        Value::int(rng.draw(lo, hi).round() as i32)
                     }
                     _ => {
                         let lanes: Vec<f32> = match hard_range(t, k) {
                             Some((lo, hi)) if hard => {
-                                (0..ty.width()).map(|_| rng.hard(lo, hi)).collect()
+                                (0..ty.width()).map(|_| rng.draw_hard(lo, hi)).collect()
                             }
                             _ => {
                                 let (lo, hi) = input_range(t, k);
-                                (0..ty.width()).map(|_| rng.range(lo, hi)).collect()
+                                (0..ty.width()).map(|_| rng.draw(lo, hi)).collect()
                             }
                         };
                         Value::from_lanes(ty, &lanes)
