@@ -321,24 +321,24 @@ fn $fn(a: $T, b: $T, epsilon: f32) -> $out {
 }
 "#;
 
-/// WGSL of a component-wise node at widths 1–4 whose scalar form is `$e` of `x` (an
-/// expression of the scalar `mg_sincos(x)`).
+/// WGSL of a component-wise node at widths 1–4 whose value at each component is `$e`, an
+/// expression of `sc = mg_sincos(x)` (that component's sine and cosine).
 macro_rules! per_width {
     ($e:literal) => {
         [
-            concat!("fn $fn(x: f32) -> f32 { let v = x; return ", $e, "; }"),
+            concat!("fn $fn(x: f32) -> f32 { let sc = mg_sincos(x); return ", $e, "; }"),
             concat!(
-                "fn $fn(x: vec2<f32>) -> vec2<f32> { var r: vec2<f32>; for (var i = 0u; i < 2u; i++) { let v = x[i]; r[i] = ",
+                "fn $fn(x: vec2<f32>) -> vec2<f32> { var r: vec2<f32>; for (var i = 0u; i < 2u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
             concat!(
-                "fn $fn(x: vec3<f32>) -> vec3<f32> { var r: vec3<f32>; for (var i = 0u; i < 3u; i++) { let v = x[i]; r[i] = ",
+                "fn $fn(x: vec3<f32>) -> vec3<f32> { var r: vec3<f32>; for (var i = 0u; i < 3u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
             concat!(
-                "fn $fn(x: vec4<f32>) -> vec4<f32> { var r: vec4<f32>; for (var i = 0u; i < 4u; i++) { let v = x[i]; r[i] = ",
+                "fn $fn(x: vec4<f32>) -> vec4<f32> { var r: vec4<f32>; for (var i = 0u; i < 4u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
@@ -347,11 +347,11 @@ macro_rules! per_width {
 }
 
 /// WGSL of `sin` at widths 1–4: [`sin_cos`](crate::nodes::precise::sin_cos)'s sine.
-const SIN_WGSL: [&str; 4] = per_width!("mg_sincos(v).x");
+const SIN_WGSL: [&str; 4] = per_width!("sc.x");
 /// WGSL of `cos` at widths 1–4.
-const COS_WGSL: [&str; 4] = per_width!("mg_sincos(v).y");
+const COS_WGSL: [&str; 4] = per_width!("sc.y");
 /// WGSL of `tan` at widths 1–4: sine over cosine.
-const TAN_WGSL: [&str; 4] = per_width!("mg_sincos(v).x / mg_sincos(v).y");
+const TAN_WGSL: [&str; 4] = per_width!("sc.x / sc.y");
 
 /// A one-input component-wise node.
 fn unary(

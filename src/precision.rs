@@ -9,20 +9,25 @@
 //! functions of this module, so the CPU can run as the least accurate GPU the specification
 //! allows: [`set_mode`] with [`Mode::WorstGpu`] moves each result by the full error its builtin
 //! is allowed (up, down, or a seeded choice per call), flushes subnormal arguments and results
-//! to zero as GPUs may, reduces `sin`/`cos` arguments outside [−π, π] in plain f32 as
-//! hardware does, and fuses one product of `cross` as a contracting compiler may. The parity
-//! suites run the node and graph plans in that mode (tests/worst_gpu.rs), so CI on a software
-//! driver predicts what a real GPU may do.
+//! to zero as GPUs may, and fuses one product of `cross` as a contracting compiler may. The
+//! parity suites run the node and graph plans in that mode (tests/worst_gpu.rs), so CI on a
+//! software driver predicts what a real GPU may do.
+//!
+//! The module holds the builtins node WGSL calls whose results WGSL does not fix: `exp`,
+//! `exp2`, `log`, `log2`, `pow`, `sqrt`, `atan2` and `cross`. Nodes compute `sin` and `cos`
+//! themselves (`nodes/precise.rs`: WGSL promises 2⁻¹¹ absolute on [−π, π] and nothing beyond),
+//! and tests/worst_gpu.rs fails if a node's WGSL calls a builtin with a stated error that this
+//! module does not model.
 //!
 //! In [`Mode::Exact`] (the default) each function is the plain correctly rounded or libm
 //! result the kernels always computed: renders and `eval` do not change. The mode costs one
 //! relaxed atomic load per call.
 //!
 //! Not modelled (stated in docs/precision.md): the 2.5 ULP of `x / y` (the CPU divides
-//! correctly rounded), contraction of `a·b + c` outside [`cross`] and [`dot`]-free code, and
-//! subnormal flushing in plain arithmetic.
+//! correctly rounded), contraction of `a·b + c` anywhere but [`cross`], and subnormal flushing
+//! in plain arithmetic.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::Vec3;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// How the builtins of this module compute.
@@ -66,7 +71,11 @@ fn pack(mode: Mode) -> u64 {
 
 /// The current mode.
 pub fn mode() -> Mode {
-    let packed = MODE.load(Ordering::Relaxed);
+    unpack(MODE.load(Ordering::Relaxed))
+}
+
+/// The mode packed by [`pack`].
+fn unpack(packed: u64) -> Mode {
     match packed & 3 {
         0 => Mode::Exact,
         1 => Mode::WorstGpu(Direction::Up),
@@ -87,18 +96,12 @@ fn worst() -> Option<u64> {
 /// The builtins whose results [`Mode::WorstGpu`] moves, for the per-call hash.
 #[derive(Clone, Copy)]
 enum Builtin {
-    Sin = 1,
-    Cos,
-    Exp,
+    Exp = 1,
     Exp2,
     Log,
     Log2,
-    InverseSqrt,
     Sqrt,
-    Atan,
     Atan2,
-    Asin,
-    Acos,
     Cross,
 }
 
@@ -123,9 +126,9 @@ fn moves_up(m: u64, builtin: Builtin, args: &[f32]) -> bool {
     }
 }
 
-/// Zero for a subnormal `x` (sign kept), as a GPU may flush it (WGSL §15.7.4.1); else `x`.
+/// Zero for a subnormal `x` (sign kept), as a GPU may flush it (WGSL §15.7.2); else `x`.
 #[inline]
-pub fn flush(x: f32) -> f32 {
+fn flush(x: f32) -> f32 {
     if x != 0.0 && x.abs() < f32::MIN_POSITIVE {
         0.0f32.copysign(x)
     } else {
@@ -162,17 +165,10 @@ fn move_abs(r: f32, e: f64, up: bool) -> f32 {
     (r as f64 + if up { e } else { -e }) as f32
 }
 
-/// 2⁻¹¹: the absolute error WGSL allows `sin` and `cos` inside [−π, π].
-pub const SIN_COS_ABS: f64 = 1.0 / 2048.0;
 /// 2⁻²¹: the absolute error WGSL allows `log` and `log2` inside [0.5, 2].
 pub const LOG_ABS: f64 = 1.0 / 2_097_152.0;
-/// 6.77 × 10⁻⁵: the absolute error WGSL allows `asin` and `acos` (the worse of this and the
-/// error inherited from `atan2`).
-pub const ASIN_ACOS_ABS: f64 = 6.77e-5;
-/// The ULP WGSL allows `atan` and `atan2`.
+/// The ULP WGSL allows `atan2`.
 pub const ATAN_ULPS: u32 = 4096;
-/// The ULP WGSL allows `inverseSqrt`.
-pub const INVERSE_SQRT_ULPS: u32 = 2;
 /// The ULP a worst GPU's `sqrt` may be off: inherited from `1.0 / inverseSqrt(x)`, 2 ULP of
 /// `inverseSqrt` and 2.5 of the division, rounded down to whole ULP.
 pub const SQRT_ULPS: u32 = 4;
@@ -180,53 +176,6 @@ pub const SQRT_ULPS: u32 = 4;
 /// The ULP WGSL allows `exp(x)` and `exp2(x)`: 3 + 2|x|.
 fn exp_ulps(x: f32) -> u32 {
     (3.0 + 2.0 * x.abs()).min(1e9) as u32
-}
-
-/// `sin` and `cos` of a worst GPU: the argument reduced in plain f32 outside [−π, π] (as
-/// hardware does; WGSL promises nothing there), then the result moved by 2⁻¹¹ and kept in
-/// [−1, 1].
-#[cold]
-fn sin_cos_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
-    let x = flush(x);
-    let up = moves_up(m, builtin, &[x]);
-    let reduced = if x.abs() <= std::f32::consts::PI {
-        x
-    } else {
-        let tau = std::f32::consts::TAU;
-        x - (x / tau).round() * tau
-    };
-    let exact = match builtin {
-        Builtin::Sin => (reduced as f64).sin(),
-        _ => (reduced as f64).cos(),
-    };
-    flush(move_abs(exact as f32, SIN_COS_ABS, up).clamp(-1.0, 1.0))
-}
-
-/// WGSL `sin(x)`.
-#[inline]
-pub fn sin(x: f32) -> f32 {
-    match worst() {
-        None => x.sin(),
-        Some(m) => sin_cos_worst(m, x, Builtin::Sin),
-    }
-}
-
-/// WGSL `cos(x)`.
-#[inline]
-pub fn cos(x: f32) -> f32 {
-    match worst() {
-        None => x.cos(),
-        Some(m) => sin_cos_worst(m, x, Builtin::Cos),
-    }
-}
-
-/// WGSL `tan(x)`: inherited from `sin(x) / cos(x)`.
-#[inline]
-pub fn tan(x: f32) -> f32 {
-    match worst() {
-        None => x.tan(),
-        Some(m) => sin_cos_worst(m, x, Builtin::Sin) / sin_cos_worst(m, x, Builtin::Cos),
-    }
 }
 
 /// `exp` or `exp2` of a worst GPU: 3 + 2|x| ULP.
@@ -308,46 +257,6 @@ fn pow_worst(m: u64, x: f32, y: f32) -> f32 {
     exp_worst(m, flush(y) * log_worst(m, x, Builtin::Log2), Builtin::Exp2)
 }
 
-/// WGSL `sinh(x)`: inherited from `(exp(x) − exp(−x)) / 2`.
-#[inline]
-pub fn sinh(x: f32) -> f32 {
-    match worst() {
-        None => x.sinh(),
-        Some(m) => (exp_worst(m, x, Builtin::Exp) - exp_worst(m, -x, Builtin::Exp)) * 0.5,
-    }
-}
-
-/// WGSL `cosh(x)`: inherited from `(exp(x) + exp(−x)) / 2`.
-#[inline]
-pub fn cosh(x: f32) -> f32 {
-    match worst() {
-        None => x.cosh(),
-        Some(m) => (exp_worst(m, x, Builtin::Exp) + exp_worst(m, -x, Builtin::Exp)) * 0.5,
-    }
-}
-
-/// WGSL `tanh(x)`: inherited from `sinh(x) / cosh(x)`.
-#[inline]
-pub fn tanh(x: f32) -> f32 {
-    match worst() {
-        None => x.tanh(),
-        Some(_) => sinh(x) / cosh(x),
-    }
-}
-
-/// WGSL `inverseSqrt(x)`: 2 ULP.
-#[inline]
-pub fn inverse_sqrt(x: f32) -> f32 {
-    match worst() {
-        None => 1.0 / x.sqrt(),
-        Some(m) => {
-            let x = flush(x);
-            let up = moves_up(m, Builtin::InverseSqrt, &[x]);
-            flush(move_ulps(1.0 / x.sqrt(), INVERSE_SQRT_ULPS, up))
-        }
-    }
-}
-
 /// WGSL `sqrt(x)`: inherited from `1.0 / inverseSqrt(x)` ([`SQRT_ULPS`]).
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
@@ -368,119 +277,21 @@ fn sqrt_worst(m: u64, x: f32) -> f32 {
     ))
 }
 
-/// WGSL `atan(x)`: 4096 ULP.
-#[inline]
-pub fn atan(x: f32) -> f32 {
-    match worst() {
-        None => x.atan(),
-        Some(m) => {
-            let x = flush(x);
-            let up = moves_up(m, Builtin::Atan, &[x]);
-            flush(move_ulps(x.atan(), ATAN_ULPS, up))
-        }
-    }
-}
-
 /// WGSL `atan2(y, x)`: 4096 ULP.
 #[inline]
 pub fn atan2(y: f32, x: f32) -> f32 {
     match worst() {
         None => y.atan2(x),
-        Some(m) => {
-            let (y, x) = (flush(y), flush(x));
-            let up = moves_up(m, Builtin::Atan2, &[y, x]);
-            flush(move_ulps(y.atan2(x), ATAN_ULPS, up))
-        }
+        Some(m) => atan2_worst(m, y, x),
     }
 }
 
-/// `asin` or `acos` of a worst GPU: the worse of 6.77 × 10⁻⁵ absolute and 4096 ULP (the
-/// error inherited from `atan2`).
+/// [`atan2`] of a worst GPU.
 #[cold]
-fn asin_acos_worst(m: u64, x: f32, builtin: Builtin) -> f32 {
-    let x = flush(x);
-    let exact = match builtin {
-        Builtin::Asin => x.asin(),
-        _ => x.acos(),
-    };
-    let up = moves_up(m, builtin, &[x]);
-    let by_ulps = move_ulps(exact, ATAN_ULPS, up);
-    let by_abs = move_abs(exact, ASIN_ACOS_ABS, up);
-    flush(if (by_ulps - exact).abs() > (by_abs - exact).abs() {
-        by_ulps
-    } else {
-        by_abs
-    })
-}
-
-/// WGSL `asin(x)`.
-#[inline]
-pub fn asin(x: f32) -> f32 {
-    match worst() {
-        None => x.asin(),
-        Some(m) => asin_acos_worst(m, x, Builtin::Asin),
-    }
-}
-
-/// WGSL `acos(x)`.
-#[inline]
-pub fn acos(x: f32) -> f32 {
-    match worst() {
-        None => x.acos(),
-        Some(m) => asin_acos_worst(m, x, Builtin::Acos),
-    }
-}
-
-/// The vector builtins `length` and `normalize`, over glam's vectors.
-pub trait VectorBuiltins: Copy {
-    /// `dot(v, v)`.
-    fn self_dot(self) -> f32;
-    /// `v * s`.
-    fn scale(self, s: f32) -> Self;
-}
-
-impl VectorBuiltins for Vec2 {
-    fn self_dot(self) -> f32 {
-        self.dot(self)
-    }
-    fn scale(self, s: f32) -> Self {
-        self * s
-    }
-}
-impl VectorBuiltins for Vec3 {
-    fn self_dot(self) -> f32 {
-        self.dot(self)
-    }
-    fn scale(self, s: f32) -> Self {
-        self * s
-    }
-}
-impl VectorBuiltins for Vec4 {
-    fn self_dot(self) -> f32 {
-        self.dot(self)
-    }
-    fn scale(self, s: f32) -> Self {
-        self * s
-    }
-}
-
-/// WGSL `length(v)`: inherited from `sqrt(dot(v, v))`.
-#[inline]
-pub fn length<V: VectorBuiltins>(v: V) -> f32 {
-    sqrt(v.self_dot())
-}
-
-/// WGSL `normalize(v)`: inherited from `v / length(v)`; computed as `v · (1 / length(v))`,
-/// as glam does (NaN for a zero vector, as WGSL leaves it undefined).
-#[inline]
-pub fn normalize<V: VectorBuiltins>(v: V) -> V {
-    v.scale(1.0 / length(v))
-}
-
-/// WGSL `distance(a, b)`: inherited from `length(a − b)`.
-#[inline]
-pub fn distance(a: Vec3, b: Vec3) -> f32 {
-    length(a - b)
+fn atan2_worst(m: u64, y: f32, x: f32) -> f32 {
+    let (y, x) = (flush(y), flush(x));
+    let up = moves_up(m, Builtin::Atan2, &[y, x]);
+    flush(move_ulps(y.atan2(x), ATAN_ULPS, up))
 }
 
 /// WGSL `cross(a, b)`: inherited from `a[i]·b[j] − a[j]·b[i]`, which a compiler may contract
@@ -526,7 +337,7 @@ mod tests {
     fn exact_mode_is_the_libm_result() {
         assert_eq!(mode(), Mode::Exact);
         for x in [0.3f32, 1.7, -2.9, 1000.0] {
-            assert_eq!(sin(x), x.sin());
+            assert_eq!(exp(x / 100.0), (x / 100.0).exp());
             assert_eq!(exp2(x / 100.0), (x / 100.0).exp2());
             assert_eq!(sqrt(x.abs()), x.abs().sqrt());
         }
@@ -536,31 +347,28 @@ mod tests {
             Mode::WorstGpu(Direction::Down),
             Mode::WorstGpu(Direction::Mixed(0xdead_beef)),
         ] {
-            let packed = pack(mode);
-            assert_eq!(
-                match packed & 3 {
-                    0 => Mode::Exact,
-                    1 => Mode::WorstGpu(Direction::Up),
-                    2 => Mode::WorstGpu(Direction::Down),
-                    _ => Mode::WorstGpu(Direction::Mixed((packed >> 32) as u32)),
-                },
-                mode
-            );
+            assert_eq!(unpack(pack(mode)), mode);
         }
     }
 
     #[test]
     fn worst_results_move_by_the_stated_error() {
-        // sin(1) = 0.8414709848078965 (closed form, f64); moved by 2⁻¹¹ = 4.8828125e-4.
-        let up = sin_cos_worst(UP, 1.0, Builtin::Sin) as f64;
-        let down = sin_cos_worst(DOWN, 1.0, Builtin::Sin) as f64;
+        // log(1.5) = 0.4054651081081644 (f64), inside [0.5, 2]: moved by 2⁻²¹ either way.
+        let up = log_worst(UP, 1.5, Builtin::Log) as f64;
+        let down = log_worst(DOWN, 1.5, Builtin::Log) as f64;
         assert!(
-            (up - (0.8414709848078965 + 4.8828125e-4)).abs() < 1e-7,
+            (up - (0.4054651081081644 + 1.0 / 2_097_152.0)).abs() < 3e-8,
             "{up}"
         );
         assert!(
-            (down - (0.8414709848078965 - 4.8828125e-4)).abs() < 1e-7,
+            (down - (0.4054651081081644 - 1.0 / 2_097_152.0)).abs() < 3e-8,
             "{down}"
+        );
+        // atan2(1, 1) = π/4 = 0.7853981633974483: 4096 ULP of 2⁻²⁴ each (result in [0.5, 1)).
+        let up = atan2_worst(UP, 1.0, 1.0) as f64;
+        assert!(
+            (up - (0.7853981633974483 + 4096.0 / 16_777_216.0)).abs() < 6e-8,
+            "{up}"
         );
         // exp2(10) = 1024 exactly; 3 + 20 = 23 ULP of 1024 (2⁻¹³ each) up, and below a power
         // of two the ULP halves: 1024 − 23·2⁻¹⁴.
@@ -591,9 +399,9 @@ mod tests {
     #[test]
     fn mixed_moves_both_ways_and_repeats_itself() {
         let mixed = pack(Mode::WorstGpu(Direction::Mixed(7)));
-        let at = |k: i32| sin_cos_worst(mixed, k as f32 * 0.01, Builtin::Sin);
+        let at = |k: i32| exp_worst(mixed, k as f32 * 0.01, Builtin::Exp);
         let ups = (0..256)
-            .filter(|&k| at(k) > (k as f32 * 0.01).sin())
+            .filter(|&k| at(k) > (k as f32 * 0.01).exp())
             .count();
         assert!((64..192).contains(&ups), "{ups} of 256 moved up");
         assert!((0..256).all(|k| at(k) == at(k)));
@@ -610,14 +418,5 @@ mod tests {
             worst.abs().max_element() <= 2.21 * 2f32.powi(-24),
             "{worst}"
         );
-    }
-
-    #[test]
-    fn sin_outside_pi_is_reduced_in_f32() {
-        // cos(1000) = 0.5623790762907029 (f64). A plain f32 reduction by 2π (6.2831855, 1.7e-7
-        // above 2π) takes 159 · 6.2831855 = 999.0265 (rounded to f32) from 1000: the argument
-        // moves by about 3e-5 and the result by about 2.5e-5, besides the 2⁻¹¹.
-        let off = sin_cos_worst(UP, 1000.0, Builtin::Cos) as f64 - 0.5623790762907029;
-        assert!(off > 4.8828125e-4 && off < 4.8828125e-4 + 1e-4, "{off}");
     }
 }

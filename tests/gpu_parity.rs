@@ -95,84 +95,74 @@ fn every_node_type_matches_its_cpu_kernel() {
     };
     let started = std::time::Instant::now();
     eprintln!("adapter: {}", ctx.describe());
-    let registry = Registry::builtin();
     let mut missing: Vec<String> = Vec::new();
     let mut failures: Vec<String> = Vec::new();
     let mut table = String::new();
     let mut harnesses: BTreeMap<(String, SocketType), GpuHarness> = BTreeMap::new();
-    for (seed, t) in registry.types().iter().enumerate() {
-        if t.evaluation() != Evaluation::Compute {
-            continue;
-        }
-        let generics = if t.is_generic() {
-            t.generic_types()
-        } else {
-            vec![SocketType::Float]
-        };
+    for NodeCase {
+        t,
+        generic,
+        label,
+        seed,
+    } in node_cases()
+    {
         let bound = bound_for(t.name());
-        for generic in generics {
-            // Colour runs the vec3 harness (and the vec3 CPU variant).
-            let harness_type = if generic == SocketType::Color {
-                SocketType::Vec3
-            } else {
-                generic
-            };
-            let key = (t.name().to_owned(), harness_type);
-            if !harnesses.contains_key(&key) {
-                let module = match node_harness(t, harness_type) {
-                    Ok(m) => m,
-                    Err(ShaderError::MissingWgsl { .. }) => {
-                        let name = if t.is_generic() {
-                            format!("{} ({harness_type})", t.name())
-                        } else {
-                            t.name().to_owned()
-                        };
-                        if !missing.contains(&name) {
-                            missing.push(name);
-                        }
-                        continue;
+        // Colour runs the vec3 harness (and the vec3 CPU variant).
+        let harness_type = if generic == SocketType::Color {
+            SocketType::Vec3
+        } else {
+            generic
+        };
+        let key = (t.name().to_owned(), harness_type);
+        if !harnesses.contains_key(&key) {
+            let module = match node_harness(t, harness_type) {
+                Ok(m) => m,
+                Err(ShaderError::MissingWgsl { .. }) => {
+                    let name = if t.is_generic() {
+                        format!("{} ({harness_type})", t.name())
+                    } else {
+                        t.name().to_owned()
+                    };
+                    if !missing.contains(&name) {
+                        missing.push(name);
                     }
-                    Err(e) => {
-                        failures.push(format!(
-                            "{} ({generic}): harness does not validate: {e}",
-                            t.name()
-                        ));
-                        continue;
-                    }
-                };
-                match GpuHarness::new(ctx, &module) {
-                    Ok(h) => harnesses.insert(key.clone(), h),
-                    Err(e) => {
-                        failures.push(format!(
-                            "{} ({generic}): the driver rejected the harness: {e}\n{}",
-                            t.name(),
-                            module.source
-                        ));
-                        continue;
-                    }
-                };
-            }
-            let harness = &harnesses[&key];
-            let label = if t.is_generic() {
-                format!("{} ({generic})", t.name())
-            } else {
-                t.name().to_owned()
+                    continue;
+                }
+                Err(e) => {
+                    failures.push(format!(
+                        "{} ({generic}): harness does not validate: {e}",
+                        t.name()
+                    ));
+                    continue;
+                }
             };
-            let samples = node_samples(t, generic, 0x5eed_0000 + seed as u64 * 16 + generic as u64);
-            let Some(errors) =
-                run_and_compare(t, generic, harness, &samples, bound, &label, &mut failures)
-            else {
-                continue;
+            match GpuHarness::new(ctx, &module) {
+                Ok(h) => harnesses.insert(key.clone(), h),
+                Err(e) => {
+                    failures.push(format!(
+                        "{} ({generic}): the driver rejected the harness: {e}\n{}",
+                        t.name(),
+                        module.source
+                    ));
+                    continue;
+                }
             };
-            let _ = writeln!(
-                table,
-                "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound",
-                samples.n,
-                errors.max_abs,
-                errors.max_rel,
-                errors.worst * 100.0
-            );
         }
+        let harness = &harnesses[&key];
+        let samples = node_samples(t, generic, seed);
+        let Some(errors) =
+            run_and_compare(t, generic, harness, &samples, bound, &label, &mut failures)
+        else {
+            continue;
+        };
+        let _ = writeln!(
+            table,
+            "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound",
+            samples.n,
+            errors.max_abs,
+            errors.max_rel,
+            errors.worst * 100.0
+        );
     }
     eprintln!("node parity (bound {ABS:e} + {REL:e}·|cpu|):\n{table}");
     eprintln!("node parity took {:.1?}", started.elapsed());
@@ -275,29 +265,24 @@ fn every_shipped_graph_matches_the_cpu_plan() {
         return;
     };
     let mut failures = Vec::new();
-    for GraphCase { name, graph, batch } in shipped_graph_cases() {
-        let options = PlanOptions::default();
-        let plan = Plan::compile(&graph, &options).unwrap();
-        let gpu = match GpuPlan::compile(ctx, &graph, &options) {
+    for GraphCase {
+        name,
+        graph,
+        plan,
+        batch,
+    } in shipped_graph_cases()
+    {
+        let gpu = match GpuPlan::compile(ctx, &graph, &PlanOptions::default()) {
             Ok(g) => g,
             Err(e) => {
                 failures.push(format!("{name}: {e}"));
                 continue;
             }
         };
-        let mut params = plan.default_parameters();
         // The file's values, then every float parameter scaled by 1.1 (no recompile).
-        for round in 0..2 {
-            if round == 1 {
-                for p in plan.parameters() {
-                    let v = params.get(&p.name).unwrap();
-                    if v.ty() == SocketType::Float {
-                        params.set(&p.name, Value::float(v.as_f32() * 1.1)).unwrap();
-                    }
-                }
-            }
-            let want = plan.execute(&batch, &params).unwrap();
-            let got = match gpu.execute(&batch, &params) {
+        for (round, params) in parameter_rounds(&plan).iter().enumerate() {
+            let want = plan.execute(&batch, params).unwrap();
+            let got = match gpu.execute(&batch, params) {
                 Ok(g) => g,
                 Err(e) => {
                     failures.push(format!("{name}: {e}"));
@@ -339,10 +324,10 @@ fn the_monte_carlo_variant_matches_the_cpu_plan() {
     };
     let mut failures = Vec::new();
     for fresnel in ["schlick", "exact"] {
-        let GraphCase { graph, batch, .. } = monte_carlo_case(fresnel);
-        let options = PlanOptions::default();
-        let plan = Plan::compile(&graph, &options).unwrap();
-        let gpu = GpuPlan::compile(ctx, &graph, &options).unwrap();
+        let GraphCase {
+            graph, plan, batch, ..
+        } = monte_carlo_case(fresnel);
+        let gpu = GpuPlan::compile(ctx, &graph, &PlanOptions::default()).unwrap();
         let params = plan.default_parameters();
         let want = plan.execute(&batch, &params).unwrap();
         let got = gpu.execute(&batch, &params).unwrap();

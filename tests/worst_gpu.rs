@@ -13,9 +13,8 @@
 mod common;
 
 use common::parity::*;
-use matgraph::node::Evaluation;
 use matgraph::precision::{self, Direction, Mode};
-use matgraph::{OutputBatch, Plan, PlanOptions, Registry, SocketType, Value};
+use matgraph::{OutputBatch, ParamValues, SocketType};
 use std::fmt::Write as _;
 use std::sync::Mutex;
 
@@ -160,60 +159,51 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
     let mut table = String::new();
     let mut checked = 0;
     let mut still_open: Vec<String> = Vec::new();
-    for (seed, t) in Registry::builtin().types().iter().enumerate() {
-        if t.evaluation() != Evaluation::Compute {
-            continue;
-        }
-        let generics = if t.is_generic() {
-            t.generic_types()
-        } else {
-            vec![SocketType::Float]
-        };
+    for NodeCase {
+        t,
+        generic,
+        label,
+        seed,
+    } in node_cases()
+    {
         let bound = bound_for(t.name());
-        for generic in generics {
-            let label = if t.is_generic() {
-                format!("{} ({generic})", t.name())
-            } else {
-                t.name().to_owned()
-            };
-            // The seeds of tests/gpu_parity.rs: the same samples a GPU is checked at.
-            let samples = node_samples(t, generic, 0x5eed_0000 + seed as u64 * 16 + generic as u64);
-            let exact = run_cpu(t, generic, &samples);
-            let mut errors = Errors::default();
-            let open = is_open(OPEN_NODES, t.name());
-            let mut misses = Vec::new();
-            for direction in DIRECTIONS {
-                let worst = in_mode(Mode::WorstGpu(direction), || run_cpu(t, generic, &samples));
-                let label = format!("{label} [{direction:?}]");
-                compare_columns(
-                    t,
-                    generic,
-                    &samples,
-                    &exact,
-                    &worst,
-                    bound,
-                    &label,
-                    &mut errors,
-                    &mut misses,
-                );
-            }
-            match (open, misses.is_empty()) {
-                (false, _) => failures.extend(misses),
-                (true, true) => failures.push(format!(
-                    "{label} passes now: take it off OPEN_NODES (and its graphs off OPEN_GRAPHS)"
-                )),
-                (true, false) => still_open.push(label.clone()),
-            }
-            checked += 1;
-            let _ = writeln!(
-                table,
-                "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:7.1}% of bound",
-                samples.n,
-                errors.max_abs,
-                errors.max_rel,
-                errors.worst * 100.0
+        // The seeds of tests/gpu_parity.rs: the same samples a GPU is checked at.
+        let samples = node_samples(t, generic, seed);
+        let exact = run_cpu(t, generic, &samples);
+        let mut errors = Errors::default();
+        let open = is_open(OPEN_NODES, t.name());
+        let mut misses = Vec::new();
+        for direction in DIRECTIONS {
+            let worst = in_mode(Mode::WorstGpu(direction), || run_cpu(t, generic, &samples));
+            let label = format!("{label} [{direction:?}]");
+            compare_columns(
+                t,
+                generic,
+                &samples,
+                &exact,
+                &worst,
+                bound,
+                &label,
+                &mut errors,
+                &mut misses,
             );
         }
+        match (open, misses.is_empty()) {
+            (false, _) => failures.extend(misses),
+            (true, true) => failures.push(format!(
+                "{label} passes now: take it off OPEN_NODES (and its graphs off OPEN_GRAPHS)"
+            )),
+            (true, false) => still_open.push(label.clone()),
+        }
+        checked += 1;
+        let _ = writeln!(
+            table,
+            "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:7.1}% of bound",
+            samples.n,
+            errors.max_abs,
+            errors.max_rel,
+            errors.worst * 100.0
+        );
     }
     eprintln!("node parity on a worst conformant GPU (up, down, mixed):\n{table}");
     eprintln!("still open (OPEN_NODES): {}", still_open.join(", "));
@@ -229,14 +219,9 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
     );
 }
 
-/// Executes `plan` over `case`'s batch at `params` in `mode`.
-fn execute(
-    plan: &Plan,
-    case: &GraphCase,
-    params: &matgraph::ParamValues,
-    mode: Mode,
-) -> OutputBatch {
-    in_mode(mode, || plan.execute(&case.batch, params).unwrap())
+/// Executes `case`'s plan over its batch at `params` in `mode`.
+fn execute(case: &GraphCase, params: &ParamValues, mode: Mode) -> OutputBatch {
+    in_mode(mode, || case.plan.execute(&case.batch, params).unwrap())
 }
 
 #[test]
@@ -257,22 +242,12 @@ fn every_shipped_graph_stays_within_its_bound_on_a_worst_gpu() {
         if let Some(n) = open {
             open_seen.insert(n);
         }
-        let plan = Plan::compile(&case.graph, &PlanOptions::default()).unwrap();
         let bound = graph_bound(&case.graph);
-        let mut params = plan.default_parameters();
         // The file's values, then every float parameter scaled by 1.1, as on the GPU.
-        for round in 0..2 {
-            if round == 1 {
-                for p in plan.parameters() {
-                    let v = params.get(&p.name).unwrap();
-                    if v.ty() == SocketType::Float {
-                        params.set(&p.name, Value::float(v.as_f32() * 1.1)).unwrap();
-                    }
-                }
-            }
-            let exact = execute(&plan, case, &params, Mode::Exact);
+        for (round, params) in parameter_rounds(&case.plan).iter().enumerate() {
+            let exact = execute(case, params, Mode::Exact);
             for direction in DIRECTIONS {
-                let worst = execute(&plan, case, &params, Mode::WorstGpu(direction));
+                let worst = execute(case, params, Mode::WorstGpu(direction));
                 let (errors, bad) = compare_batches_within(&exact, &worst, bound);
                 for (output, e) in errors {
                     eprintln!(

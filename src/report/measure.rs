@@ -37,11 +37,13 @@ pub fn expression_count(graph: &Graph) -> Result<usize, ShaderError> {
             .sum::<usize>())
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): the seeded stream of the report's samples.
-struct SplitMix(u64);
+/// SplitMix64 (Steele, Lea & Flood 2014): the seeded stream of the report's samples (and of
+/// the crate's unit tests that draw random points).
+pub(crate) struct SplitMix(pub(crate) u64);
 
 impl SplitMix {
-    fn next(&mut self) -> u64 {
+    /// The next 64 random bits.
+    pub(crate) fn next(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

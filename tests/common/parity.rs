@@ -3,9 +3,10 @@
 //! against the CPU executor in its worst-conformant-GPU mode (`matgraph::precision`).
 
 use super::rng::Rng;
-use matgraph::node::NodeType;
+use matgraph::node::{Evaluation, NodeType};
 use matgraph::{
-    Attribute, Graph, OutputBatch, Plan, PlanOptions, Registry, SampleBatch, SocketType, Value,
+    Attribute, Graph, OutputBatch, ParamValues, Plan, PlanOptions, Registry, SampleBatch,
+    SocketType, Value,
 };
 use std::path::PathBuf;
 
@@ -375,6 +376,8 @@ pub struct GraphCase {
     pub name: String,
     /// The graph.
     pub graph: Graph,
+    /// Its CPU plan (default options).
+    pub plan: Plan,
     /// [`grid_batch`] with the graph's images and a stand-in for each scene texture.
     pub batch: SampleBatch,
 }
@@ -414,7 +417,12 @@ pub fn shipped_graph_cases() -> Vec<GraphCase> {
                 }
             }
             batch.set_textures(std::sync::Arc::new(textures));
-            GraphCase { name, graph, batch }
+            GraphCase {
+                name,
+                graph,
+                plan,
+                batch,
+            }
         })
         .collect()
 }
@@ -457,6 +465,64 @@ pub fn monte_carlo_case(fresnel: &str) -> GraphCase {
     GraphCase {
         name: format!("pbr_glass.json ibl=monte_carlo fresnel={fresnel}"),
         graph,
+        plan,
         batch,
     }
+}
+
+/// The parameter values each graph is checked at: the file's, then every float parameter
+/// scaled by 1.1 (on a GPU, without recompiling).
+pub fn parameter_rounds(plan: &Plan) -> [ParamValues; 2] {
+    let file = plan.default_parameters();
+    let mut scaled = file.clone();
+    for p in plan.parameters() {
+        let v = scaled.get(&p.name).unwrap();
+        if v.ty() == SocketType::Float {
+            scaled.set(&p.name, Value::float(v.as_f32() * 1.1)).unwrap();
+        }
+    }
+    [file, scaled]
+}
+
+/// One node type at one of its generic types, as the node parity suites check it.
+pub struct NodeCase {
+    /// The node type.
+    pub t: &'static NodeType,
+    /// The generic type (`Float` for a node that is not generic).
+    pub generic: SocketType,
+    /// `name`, or `name (generic)`.
+    pub label: String,
+    /// The seed of its samples ([`node_samples`]): the same in every suite, so a GPU and the
+    /// worst-GPU mode are checked at the same points.
+    pub seed: u64,
+}
+
+/// Every compute node type of the built-in registry at each of its generic types.
+pub fn node_cases() -> Vec<NodeCase> {
+    let mut cases = Vec::new();
+    for (index, t) in Registry::builtin().types().iter().enumerate() {
+        if t.evaluation() != Evaluation::Compute {
+            continue;
+        }
+        let generics = if t.is_generic() {
+            t.generic_types()
+        } else {
+            vec![SocketType::Float]
+        };
+        for generic in generics {
+            let label = if t.is_generic() {
+                format!("{} ({generic})", t.name())
+            } else {
+                t.name().to_owned()
+            };
+            let seed = 0x5eed_0000 + index as u64 * 16 + generic as u64;
+            cases.push(NodeCase {
+                t: t.as_ref(),
+                generic,
+                label,
+                seed,
+            });
+        }
+    }
+    cases
 }
