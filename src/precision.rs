@@ -20,8 +20,10 @@
 //! module does not model.
 //!
 //! In [`Mode::Exact`] (the default) each function is the plain correctly rounded or libm
-//! result the kernels always computed: renders and `eval` do not change. The mode costs one
-//! relaxed atomic load per call.
+//! result the kernels always computed: renders and `eval` do not change. The worst-GPU modes
+//! exist only in builds with the `worst-gpu` feature ([`AVAILABLE`]): there each call tests
+//! the mode, which keeps the tile loops from vectorising (the executor runs 60% longer), so
+//! the default build leaves the test out and costs nothing.
 //!
 //! Not modelled (stated in docs/precision.md): the 2.5 ULP of `x / y` (the CPU divides
 //! correctly rounded), contraction of `a·b + c` anywhere but [`cross`], and subnormal flushing
@@ -54,9 +56,24 @@ pub enum Direction {
 /// The mode, packed: 0 exact, 1 up, 2 down, 3 mixed with the seed in the high 32 bits.
 static MODE: AtomicU64 = AtomicU64::new(0);
 
+/// Whether this build has the worst-GPU mode: the `worst-gpu` feature. Without it every
+/// builtin is the plain function, with no test of the mode (the test costs the executor 60%:
+/// it keeps LLVM from vectorising the tile loops; docs/benchmarks.md).
+pub const AVAILABLE: bool = cfg!(feature = "worst-gpu");
+
+/// [`set_mode`] of a worst-GPU mode in a build without the `worst-gpu` feature.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the worst-conformant-GPU mode needs matgraph built with the `worst-gpu` feature")]
+pub struct Unavailable;
+
 /// Sets the mode for the whole process (every thread, the executor's pool included).
-pub fn set_mode(mode: Mode) {
+/// [`Mode::Exact`] is always available; the worst-GPU modes only where [`AVAILABLE`].
+pub fn set_mode(mode: Mode) -> Result<(), Unavailable> {
+    if !AVAILABLE && mode != Mode::Exact {
+        return Err(Unavailable);
+    }
     MODE.store(pack(mode), Ordering::Relaxed);
+    Ok(())
 }
 
 /// The packed form of `mode` (see [`MODE`]).
@@ -84,9 +101,13 @@ fn unpack(packed: u64) -> Mode {
     }
 }
 
-/// The packed mode when it is not exact (the slow path's entry test).
+/// The packed mode when it is not exact (the slow path's entry test); always `None`
+/// without the `worst-gpu` feature, so the builtins compile to the plain functions.
 #[inline(always)]
 fn worst() -> Option<u64> {
+    if !AVAILABLE {
+        return None;
+    }
     match MODE.load(Ordering::Relaxed) {
         0 => None,
         m => Some(m),
