@@ -11,7 +11,7 @@
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{COS2_T_WGSL, cos2_transmitted};
-use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::nodes::precise::{self, SIN_COS_WGSL, sin_cos};
 use crate::precision::{pow, sqrt};
 use crate::value::Value;
 use glam::{Vec2, Vec3};
@@ -144,7 +144,14 @@ fn $fn(height: f32, time: f32, top_start: f32, top_end: f32, bottom_start: f32, 
 /// equations are applied as written.
 ///
 /// Returns `(vector, direction, reflected, internal, tir)`, `direction` the unit vector
-/// along `vector`, or `R` where `vector` is zero (`d = 0`).
+/// along `vector`, or `R` where `vector` is zero (`d = 0`, or normal incidence).
+///
+/// Near normal incidence `R` and `T` cancel: `R + T` is summed regrouped as
+/// `(1 + η)(I + cos_i N) + (cos_i − cos_t) N` with `cos_i − cos_t` written
+/// `(1 − η)(1 + η)(cos_i − 1)(cos_i + 1)/(cos_i + cos_t)` (for `cos_i ≥ 0`), so nothing cancels
+/// and the sum is exactly 0 at normal incidence, whatever `√` returns. Summed as written, the
+/// rounding of `cos_t` (up to 4 ULP on a conformant GPU) decided the sign of that zero, and the
+/// direction came out as `+N` or `−N`.
 #[inline]
 pub fn internal_vector(
     view: Vec3,
@@ -164,7 +171,13 @@ pub fn internal_vector(
     } else {
         eta * i + (eta * cos_i - sqrt(cos2_t)) * normal
     };
-    let vector = thickness * reflected + thickness * internal;
+    let vector = if tir || cos_i < 0.0 {
+        thickness * reflected + thickness * internal
+    } else {
+        let along =
+            (1.0 - eta) * (1.0 + eta) * (cos_i - 1.0) * (cos_i + 1.0) / (cos_i + sqrt(cos2_t));
+        thickness * ((1.0 + eta) * (i + cos_i * normal) + along * normal)
+    };
     let len2 = vector.dot(vector);
     let direction = if len2 > 0.0 && len2.is_finite() {
         vector / sqrt(len2)
@@ -186,7 +199,11 @@ fn $fn(view: vec3<f32>, normal: vec3<f32>, thickness: f32, n1: f32, n2: f32) -> 
     if (!tir) {
         internal = eta * i + (eta * cos_i - sqrt(cos2_t)) * normal;
     }
-    let v = thickness * reflected + thickness * internal;
+    var v = thickness * reflected + thickness * internal;
+    if (!tir && cos_i >= 0.0) {
+        let along = (1.0 - eta) * (1.0 + eta) * (cos_i - 1.0) * (cos_i + 1.0) / (cos_i + sqrt(cos2_t));
+        v = thickness * ((1.0 + eta) * (i + cos_i * normal) + along * normal);
+    }
     let len2 = dot(v, v);
     var direction = reflected;
     if (len2 > 0.0 && len2 <= 0x1.fffffep+127f) {
@@ -235,7 +252,7 @@ pub fn texture_flow(uv: Vec2, time: f32, speed: f32, amplitude: f32) -> Vec2 {
 const FLOW_WGSL: &str = r#"
 fn $fn(uv: vec2<f32>, time: f32, speed: f32, amplitude: f32) -> vec2<f32> {
     let phase = mg_bubble_wrap_phase(speed * time);
-    return uv + amplitude * mg_sincos(phase);
+    return uv + amplitude * mg_prec_sincos(phase);
 }
 "#;
 
@@ -282,7 +299,7 @@ fn $fn(p: vec3<f32>, time: f32, frequency: f32, amplitude: f32, wavenumber: f32)
     let x = mg_bubble_wrap_phase(ft + wavenumber * p.y);
     let y = mg_bubble_wrap_phase(ft + wavenumber * p.z);
     let z = mg_bubble_wrap_phase(ft + wavenumber * p.x);
-    return amplitude * vec3<f32>(mg_sincos(x).x, mg_sincos(y).y, mg_sincos(z).x);
+    return amplitude * vec3<f32>(mg_prec_sincos(x).x, mg_prec_sincos(y).y, mg_prec_sincos(z).x);
 }
 "#;
 
@@ -380,7 +397,9 @@ pub fn underwater(
     let lit = if c == 0.0 {
         if sharpness == 0.0 { 1.0 } else { 0.0 }
     } else {
-        pow(c, sharpness)
+        // The node's own pow (nodes/precise.rs): WGSL's log2 near 1 times a sharpness of 256
+        // would be 3.7e-4 of the streak.
+        precise::pow(c, sharpness)
     };
     (tint * (strength * lit), (alpha * opacity).clamp(0.0, 1.0))
 }
@@ -412,7 +431,7 @@ fn $fn(normal_a: vec3<f32>, normal_b: vec3<f32>, alpha: f32, light: vec3<f32>, t
     let n = mg_bubble_safe_unit((2.0 * normal_a - vec3<f32>(1.0)) + (2.0 * normal_b - vec3<f32>(1.0)));
     let l = mg_bubble_safe_unit(light);
     let c = min(max(dot(n, l), 0.0), 1.0);
-    let lit = select(pow(select(c, 1.0, c == 0.0), sharpness), select(0.0, 1.0, sharpness == 0.0), c == 0.0);
+    let lit = select(mg_prec_pow(select(c, 1.0, c == 0.0), sharpness), select(0.0, 1.0, sharpness == 0.0), c == 0.0);
     return $out(tint * (strength * lit), min(max(alpha * opacity, 0.0), 1.0));
 }
 "#;
@@ -602,7 +621,7 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("color").doc("Light of the shimmer."))
             .output(Out::float("alpha").doc("Coverage of the quad in [0, 1]."))
             .wgsl(UNDERWATER_WGSL)
-            .wgsl_uses(&[SAFE_UNIT_WGSL])
+            .wgsl_uses(&[SAFE_UNIT_WGSL, precise::LOG2_EXACT_WGSL, precise::POW_WGSL])
             .hard_case("flat, opposite normals", &[("normal_a", v3([0.0, 0.0, 0.5])), ("normal_b", v3([1.0, 1.0, 0.5]))])
             .hard_case("zero light, sharpness 0", &[("light", v3([0.0, 0.0, 0.0])), ("sharpness", f(0.0))])
             .hard_case("light from below", &[("light", v3([0.0, 0.0, -1.0]))])

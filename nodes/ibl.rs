@@ -21,7 +21,8 @@ use crate::value::Value;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
-use super::image::equirect_uv_of;
+use super::image::{EQUIRECT_WGSL, equirect_uv_of};
+use super::math_scalar::ATAN2_HELPER_WGSL;
 use super::pbr::{
     FRESNEL_NAMES, MIN_COS, PBR_HELPERS_WGSL, alpha2, fresnel, ggx_d_sin2, safe_normalize,
     smith_visibility_n_dot_l, with_fresnel_choices,
@@ -227,20 +228,10 @@ pub fn env_ggx_monte_carlo(
     sum / count as f32
 }
 
-/// WGSL of [`equirect_uv_of`] (the `equirect_uv` node's body).
-const EQUIRECT_WGSL: &str = r#"
-fn mg_ibl_equirect_uv(d: vec3<f32>) -> vec2<f32> {
-    let horizontal = d.x * d.x + d.z * d.z;
-    let u = select(0.5 + atan2(d.x, -d.z) / 6.2831855, 0.5, horizontal == 0.0);
-    let v = select(atan2(sqrt(horizontal), d.y) / 3.1415927, 0.5, all(d == vec3<f32>(0.0)));
-    return vec2<f32>(u, v);
-}
-"#;
-
 /// WGSL of [`env_specular`] (5 = GGX_LEVELS − 1; wrap 1 clamp, filter 1 bilinear).
 const ENV_SPECULAR_WGSL: &str = r#"
 fn $fn(tex: u32, direction: vec3<f32>, roughness: f32) -> vec3<f32> {
-    let uv = mg_ibl_equirect_uv(direction);
+    let uv = mg_img_equirect_uv(direction);
     let lod = clamp(roughness, 0.0, 1.0) * 5.0;
     return mg_sample_texture(tex, uv, lod, 1u, 1u).xyz;
 }
@@ -305,7 +296,7 @@ fn mg_ibl_ggx_half_vector(u: vec2<f32>, a2: f32) -> vec4<f32> {
     let c = sqrt((1.0 - u.x) / q);
     let s = sqrt(sin2);
     let phi = 6.2831855 * u.y;
-    let sc = mg_sincos(phi);
+    let sc = mg_prec_sincos(phi);
     return vec4<f32>(s * sc.y, s * sc.x, c, sin2);
 }
 fn mg_ibl_filtered_lod(count: u32, pdf: f32) -> f32 {
@@ -346,7 +337,7 @@ fn $fn(tex: u32, normal: vec3<f32>, view: vec3<f32>, roughness: f32, f0_in: vec3
         let nl = clamp(nl0, 1e-30, 1.0);
         let nh = hs.z;
         let pdf = mg_pbrh_ggx_d_sin2(nh, hs.w, a2) * nh / (4.0 * vh);
-        let uv = mg_ibl_equirect_uv(l);
+        let uv = mg_img_equirect_uv(l);
         let radiance = mg_sample_texture(tex, uv, mg_ibl_filtered_lod(count, pdf), 1u, 1u);
         let f = vec3<f32>(mg_pbrh_fresnel${fresnel}(vh, f0.x, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.y, fresnel), mg_pbrh_fresnel${fresnel}(vh, f0.z, fresnel));
         let weight = 4.0 * mg_pbrh_smith_v_nl(nv, nl, a2) * vh / nh;
@@ -423,7 +414,7 @@ pub fn all() -> Vec<NodeType> {
         .input(In::float("roughness", 0.5).range(0.0, 1.0).hard(0.0, 1.0).doc("Perceptual roughness (α = roughness²); clamped to [0, 1]."))
         .output(Out::color("color").doc("Prefiltered radiance, linear RGB."))
         .wgsl(ENV_SPECULAR_WGSL)
-        .wgsl_uses(&[EQUIRECT_WGSL, crate::texture::SAMPLE_WGSL])
+        .wgsl_uses(&[ATAN2_HELPER_WGSL, EQUIRECT_WGSL, crate::texture::SAMPLE_WGSL])
         .hard_case("zenith, mirror", &[("direction", v3([0.0, 1.0, 0.0])), ("roughness", f(0.0))])
         .hard_case("zero direction", &[("direction", v3([0.0, 0.0, 0.0]))])
         .hard_case("roughest", &[("direction", v3([0.3, -0.8, 0.5])), ("roughness", f(1.0))])
@@ -512,6 +503,7 @@ pub fn all() -> Vec<NodeType> {
         .wgsl(ENV_GGX_MONTE_CARLO_WGSL)
         .wgsl_uses(&[
             PBR_HELPERS_WGSL,
+            ATAN2_HELPER_WGSL,
             EQUIRECT_WGSL,
             crate::texture::SAMPLE_WGSL,
             MC_HELPERS_WGSL,

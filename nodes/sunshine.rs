@@ -4,54 +4,19 @@
 //!
 //! Both nodes run the same f32 operations in the same order on the CPU and in WGSL, with no
 //! built-in transcendental: `mip_level` takes its logarithm from the float's exponent bits
-//! and a polynomial ([`log2_exact`]), so the two paths give the same bits wherever the GPU
+//! and a polynomial ([`log2_exact`](super::precise::log2_exact)), so the two paths give the same bits wherever the GPU
 //! backend does not contract a multiply and an add into a fused multiply-add (Vulkan on
 //! lavapipe does not; llvmpipe's GL may, and then differs by an ulp).
 
+use super::precise::{LOG2_EXACT_WGSL, log2_exact};
 use crate::node::{Category, In, NodeType, Out};
 use crate::value::Value;
 use glam::Vec2;
-
-/// Coefficients `c1 … c8` of `log2(1 + x) ≈ x·(c1 + x·(c2 + … + x·c8))` on
-/// x ∈ [√½ − 1, √2 − 1]: a least-squares fit on 4000 Chebyshev nodes (ours, in f64, rounded
-/// to f32). Evaluated by Horner's rule in f32, the error is below 1e-7 over the interval.
-pub const LOG2_COEFFS: [f32; 8] = [
-    1.442_694_8,
-    -0.721_357_6,
-    0.480_932_3,
-    -0.360_064_66,
-    0.286_885_1,
-    -0.250_497_34,
-    0.235_715_54,
-    -0.143_023_82,
-];
 
 /// The smallest footprint² [`mip_level`] uses (2⁻¹²⁶, the least normal f32): lod ≥ −63.
 const MIN_RHO2: f32 = f32::MIN_POSITIVE;
 /// The largest footprint² [`mip_level`] uses (2¹²⁶): lod ≤ 63.
 const MAX_RHO2: f32 = 8.507_059e37;
-
-/// log2 of a positive normal f32, from its bits: `x = m · 2^e` with m ∈ [√½, √2),
-/// `log2 x = e + log2(m)`, the second term by the polynomial [`LOG2_COEFFS`] in `m − 1`
-/// (exact by Sterbenz's lemma). Absolute error below 1e-7 + ulp(e); written with integer
-/// operations, multiplies and adds only so that WGSL gives the same bits.
-#[inline]
-pub fn log2_exact(x: f32) -> f32 {
-    let bits = x.to_bits();
-    let mut e = (bits >> 23) as i32 - 127;
-    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
-    if m > std::f32::consts::SQRT_2 {
-        m *= 0.5;
-        e += 1;
-    }
-    let t = m - 1.0;
-    let c = LOG2_COEFFS;
-    let mut p = c[7];
-    for k in (0..7).rev() {
-        p = p * t + c[k];
-    }
-    e as f32 + p * t
-}
 
 /// The mip level of a footprint: with the derivatives in texels, `a = uv_dx · size`,
 /// `b = uv_dy · size`, `ρ² = max(|a|², |b|²)` clamped to [2⁻¹²⁶, 2¹²⁶], and
@@ -70,29 +35,6 @@ pub fn mip_level(uv_dx: Vec2, uv_dy: Vec2, size: Vec2, bias: f32) -> f32 {
         .clamp(MIN_RHO2, MAX_RHO2);
     0.5 * log2_exact(rho2) + bias
 }
-
-/// WGSL of [`log2_exact`], the same operations in the same order.
-const LOG2_EXACT_WGSL: &str = r#"
-fn mg_log2_exact(x: f32) -> f32 {
-    let bits = bitcast<u32>(x);
-    var e = i32(bits >> 23u) - 127;
-    var m = bitcast<f32>((bits & 0x007fffffu) | 0x3f800000u);
-    if (m > 1.4142135) {
-        m = m * 0.5;
-        e = e + 1;
-    }
-    let t = m - 1.0;
-    var p = -0.14302382;
-    p = p * t + 0.23571554;
-    p = p * t + -0.25049734;
-    p = p * t + 0.2868851;
-    p = p * t + -0.36006466;
-    p = p * t + 0.4809323;
-    p = p * t + -0.7213576;
-    p = p * t + 1.4426948;
-    return f32(e) + p * t;
-}
-"#;
 
 const MIP_LEVEL_WGSL: &str = r#"
 fn $fn(uv_dx: vec2<f32>, uv_dy: vec2<f32>, size: vec2<f32>, bias: f32) -> f32 {
@@ -253,30 +195,6 @@ mod tests {
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
-    }
-
-    #[test]
-    fn log2_exact_against_f64() {
-        // Powers of two are exact.
-        for k in -126..=127 {
-            let x = 2f32.powi(k);
-            assert_eq!(log2_exact(x), k as f32, "2^{k}");
-        }
-        // Seeded random normal floats over the whole exponent range.
-        let mut s = 7u64;
-        let mut worst = 0.0f64;
-        for _ in 0..200_000 {
-            let bits = (splitmix(&mut s) as u32 % (0x7f00_0000 - 0x0080_0000)) + 0x0080_0000;
-            let x = f32::from_bits(bits);
-            let want = (x as f64).log2();
-            let got = log2_exact(x) as f64;
-            // The error budget: the polynomial's 1e-7 plus rounding of the sum e + p.
-            let err = (got - want).abs();
-            let budget = 1.2e-7 + f32::EPSILON as f64 * want.abs();
-            assert!(err <= budget, "log2({x:e}) = {got}, want {want}");
-            worst = worst.max(err / budget);
-        }
-        assert!(worst > 0.0);
     }
 
     #[test]

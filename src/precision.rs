@@ -14,7 +14,7 @@
 //! software driver predicts what a real GPU may do.
 //!
 //! The module holds the builtins node WGSL calls whose results WGSL does not fix: `exp`,
-//! `exp2`, `log`, `log2`, `pow`, `sqrt`, `atan2` and `cross`. Nodes compute `sin` and `cos`
+//! `exp2`, `log`, `log2`, `pow`, `sqrt` and `cross`. Nodes compute `sin` and `cos`
 //! themselves (`nodes/precise.rs`: WGSL promises 2⁻¹¹ absolute on [−π, π] and nothing beyond),
 //! and tests/worst_gpu.rs fails if a node's WGSL calls a builtin with a stated error that this
 //! module does not model.
@@ -122,7 +122,6 @@ enum Builtin {
     Log,
     Log2,
     Sqrt,
-    Atan2,
     Cross,
 }
 
@@ -188,8 +187,6 @@ fn move_abs(r: f32, e: f64, up: bool) -> f32 {
 
 /// 2⁻²¹: the absolute error WGSL allows `log` and `log2` inside [0.5, 2].
 pub const LOG_ABS: f64 = 1.0 / 2_097_152.0;
-/// The ULP WGSL allows `atan2`.
-pub const ATAN_ULPS: u32 = 4096;
 /// The ULP a worst GPU's `sqrt` may be off: inherited from `1.0 / inverseSqrt(x)`, 2 ULP of
 /// `inverseSqrt` and 2.5 of the division, rounded down to whole ULP.
 pub const SQRT_ULPS: u32 = 4;
@@ -298,23 +295,6 @@ fn sqrt_worst(m: u64, x: f32) -> f32 {
     ))
 }
 
-/// WGSL `atan2(y, x)`: 4096 ULP.
-#[inline]
-pub fn atan2(y: f32, x: f32) -> f32 {
-    match worst() {
-        None => y.atan2(x),
-        Some(m) => atan2_worst(m, y, x),
-    }
-}
-
-/// [`atan2`] of a worst GPU.
-#[cold]
-fn atan2_worst(m: u64, y: f32, x: f32) -> f32 {
-    let (y, x) = (flush(y), flush(x));
-    let up = moves_up(m, Builtin::Atan2, &[y, x]);
-    flush(move_ulps(y.atan2(x), ATAN_ULPS, up))
-}
-
 /// WGSL `cross(a, b)`: inherited from `a[i]·b[j] − a[j]·b[i]`, which a compiler may contract
 /// into a fused multiply-add: a worst GPU fuses one of the two products of each component
 /// (the one chosen by the direction), so the difference of two equal products is the
@@ -384,12 +364,6 @@ mod tests {
         assert!(
             (down - (0.4054651081081644 - 1.0 / 2_097_152.0)).abs() < 3e-8,
             "{down}"
-        );
-        // atan2(1, 1) = π/4 = 0.7853981633974483: 4096 ULP of 2⁻²⁴ each (result in [0.5, 1)).
-        let up = atan2_worst(UP, 1.0, 1.0) as f64;
-        assert!(
-            (up - (0.7853981633974483 + 4096.0 / 16_777_216.0)).abs() < 6e-8,
-            "{up}"
         );
         // exp2(10) = 1024 exactly; 3 + 20 = 23 ULP of 1024 (2⁻¹³ each) up, and below a power
         // of two the ULP halves: 1024 − 23·2⁻¹⁴.

@@ -621,7 +621,7 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     var decay = 1.0;
     var em1: vec2<f32>;
     if (f.opd.y == 0.0) {
-        let sc = mg_sincos(half);
+        let sc = mg_prec_sincos(half);
         let s = sc.x;
         let c = sc.y;
         em1 = vec2<f32>(-2.0 * (s * s), 2.0 * (s * c));
@@ -713,7 +713,7 @@ struct MgTfBbS {
 }
 fn mg_tf_bb_lobe(amp: f32, pos: f32, var_nm: f32, opd_nm: f32, o2: f32) -> vec4<f32> {
     let cycles = pos * opd_nm;
-    let c = mg_sincos(6.28318530717958648 * (cycles - floor(cycles + 0.5))).y;
+    let c = mg_prec_sincos(6.28318530717958648 * (cycles - floor(cycles + 0.5))).y;
     let c2 = 2.0 * (c * c) - 1.0;
     let c3 = c * (4.0 * (c * c) - 3.0);
     let e = exp(-var_nm * o2);
