@@ -385,6 +385,27 @@ fn fresnel_dielectric_pointwise() {
             }
         }
     }
+    // Near an index match at grazing (peers' report: 1.5 | 1.5000001 at cos 1e-4 gave
+    // R = 0.31889 where the 40-digit value is 0.37043): n2 one to eight f32 steps above or below
+    // n1, at round and seeded cosines. cos²θt is about 2(n2 − n1)/n1 + cos², which the node
+    // forms without rounding n1/n2, so only ABS + REL is allowed, with no critical-angle term.
+    let mut near = Check::new("fresnel_dielectric near an index match");
+    for n1 in [1.0f32, 1.33, 1.5, 2.42] {
+        for steps in [1i32, 2, 8, -1, -8] {
+            let n2 = f32::from_bits((n1.to_bits() as i32 + steps) as u32);
+            let mut cosines = vec![1e-4f32, 1e-3, 1e-2, 3e-4];
+            cosines.extend((0..20).map(|_| rng.log(1e-5, 1e-1)));
+            for c in cosines {
+                let (r, t) = optics::fresnel_dielectric(c, n1, n2);
+                let want = ref_fresnel(c as f64, n1 as f64, n2 as f64);
+                near.near_tol(r, want, ABS, REL, || format!("R cos {c:e} n {n1} | {n2}"));
+                near.near_tol(t, 1.0 - want, ABS, REL, || {
+                    format!("T cos {c:e} n {n1} | {n2}")
+                });
+            }
+        }
+    }
+    near.finish();
     ch.finish();
     // The audit's reproducers through the node: index match near grazing, T at grazing.
     let o = eval(
@@ -392,6 +413,14 @@ fn fresnel_dielectric_pointwise() {
         json!({"cos_theta": 0.0001, "ior_inside": 1.0}),
     );
     assert_eq!(o["reflectance"][0], 0.0, "index match: nothing reflects");
+    // The peers' reproducer: 0.3704348430634738 in f64 from the f32 inputs (the formula above,
+    // through (n2 − n1)(n2 + n1) in f64).
+    let o = eval(
+        "fresnel_dielectric",
+        json!({"cos_theta": 0.0001, "ior_outside": 1.5, "ior_inside": 1.5000001}),
+    );
+    let r = o["reflectance"][0] as f64;
+    assert!((r - 0.3704348430634738).abs() < 1e-6, "R = {r}");
     let o = eval("fresnel_dielectric", json!({"cos_theta": 1e-7}));
     let want_t = 1.0 - ref_fresnel(1e-7f32 as f64, 1.0, 1.5);
     let t = o["transmittance"][0] as f64;
