@@ -64,27 +64,34 @@ fn run_and_compare(
             return None;
         }
     };
-    let mut errors = Errors::default();
-    let mut shown = 0;
+    // The harness's per-sample rows, as planar columns per output.
     let ow = harness.output_width();
     let mut at = 0;
-    for (k, d) in t.outputs().iter().enumerate() {
-        let w = d.ty.resolve(generic).width();
-        for i in 0..samples.n {
-            for c in 0..w {
-                let (a, b) = (cpu[k][c * samples.n + i], gpu[i * ow + at + c]);
-                if !errors.check(a, b, bound) && shown < 3 {
-                    shown += 1;
-                    failures.push(format!(
-                        "{label}: output {}[{c}] cpu {a:e} gpu {b:e} at {}",
-                        d.name,
-                        describe_inputs(t, generic, samples, i)
-                    ));
-                }
-            }
-        }
-        at += w;
-    }
+    let gpu: Vec<Vec<f32>> = t
+        .outputs()
+        .iter()
+        .map(|d| {
+            let w = d.ty.resolve(generic).width();
+            let col = (0..w)
+                .flat_map(|c| (0..samples.n).map(move |i| (i, c)))
+                .map(|(i, c)| gpu[i * ow + at + c])
+                .collect();
+            at += w;
+            col
+        })
+        .collect();
+    let mut errors = Errors::default();
+    compare_node_outputs(
+        t,
+        generic,
+        samples,
+        (&cpu, &gpu),
+        bound,
+        label,
+        ("cpu", "gpu"),
+        &mut errors,
+        failures,
+    );
     Some(errors)
 }
 

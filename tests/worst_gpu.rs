@@ -107,38 +107,6 @@ fn in_mode<R>(mode: Mode, f: impl FnOnce() -> R) -> R {
     r
 }
 
-/// Compares planar output columns of one node: `exact` against `worst`, per component.
-#[allow(clippy::too_many_arguments)]
-fn compare_columns(
-    t: &matgraph::NodeType,
-    generic: SocketType,
-    samples: &NodeSamples,
-    exact: &[Vec<f32>],
-    worst: &[Vec<f32>],
-    bound: (f64, f64),
-    label: &str,
-    errors: &mut Errors,
-    failures: &mut Vec<String>,
-) {
-    let mut shown = 0;
-    for (k, d) in t.outputs().iter().enumerate() {
-        let w = d.ty.resolve(generic).width();
-        for i in 0..samples.n {
-            for c in 0..w {
-                let (a, b) = (exact[k][c * samples.n + i], worst[k][c * samples.n + i]);
-                if !errors.check(a, b, bound) && shown < 3 {
-                    shown += 1;
-                    failures.push(format!(
-                        "{label}: output {}[{c}] exact {a:e} worst GPU {b:e} at {}",
-                        d.name,
-                        describe_inputs(t, generic, samples, i)
-                    ));
-                }
-            }
-        }
-    }
-}
-
 #[test]
 fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
     let Some(_guard) = worst_gpu("every_node_type_stays_within_its_bound_on_a_worst_gpu") else {
@@ -165,14 +133,14 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
         for direction in DIRECTIONS {
             let worst = in_mode(Mode::WorstGpu(direction), || run_cpu(t, generic, &samples));
             let label = format!("{label} [{direction:?}]");
-            compare_columns(
+            compare_node_outputs(
                 t,
                 generic,
                 &samples,
-                &exact,
-                &worst,
+                (&exact, &worst),
                 bound,
                 &label,
+                ("exact", "worst GPU"),
                 &mut errors,
                 &mut misses,
             );

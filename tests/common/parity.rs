@@ -532,3 +532,39 @@ pub fn node_cases() -> Vec<NodeCase> {
     }
     cases
 }
+
+/// Compares one node's outputs, planar columns per output as [`run_cpu`] returns them: `got`
+/// against `want`, per component within `bound`, into `errors`; the first three misses are
+/// added to `failures`, labelled with `sides` (what `want` and `got` are).
+#[allow(clippy::too_many_arguments)]
+pub fn compare_node_outputs(
+    t: &NodeType,
+    generic: SocketType,
+    samples: &NodeSamples,
+    (want, got): (&[Vec<f32>], &[Vec<f32>]),
+    bound: (f64, f64),
+    label: &str,
+    sides: (&str, &str),
+    errors: &mut Errors,
+    failures: &mut Vec<String>,
+) {
+    let mut shown = 0;
+    for (k, d) in t.outputs().iter().enumerate() {
+        let w = d.ty.resolve(generic).width();
+        for i in 0..samples.n {
+            for c in 0..w {
+                let (a, b) = (want[k][c * samples.n + i], got[k][c * samples.n + i]);
+                if !errors.check(a, b, bound) && shown < 3 {
+                    shown += 1;
+                    failures.push(format!(
+                        "{label}: output {}[{c}] {} {a:e} {} {b:e} at {}",
+                        d.name,
+                        sides.0,
+                        sides.1,
+                        describe_inputs(t, generic, samples, i)
+                    ));
+                }
+            }
+        }
+    }
+}
