@@ -196,7 +196,7 @@ pub fn transmission_sphere(
 /// incident one (its lateral shift is ignored), every internal bounce leaves along it, and
 /// their incoherent sum is closed:
 /// `T = T_in T_out a / (1 − R_out² a²)`, `a = exp(−σ d / cosθt)`, `R_out = R_in` at the same
-/// angle by reciprocity (computed from the inside all the same). Returns
+/// angle by reciprocity, and `T_out = T_in` (both taken from the entry, not recomputed from cosθt). Returns
 /// `(R_in, T, d / cosθt)`; under TIR at the entry `T = 0` and the path is 0.
 /// Source: Hecht §4.6; the geometric series of a plate (Born & Wolf §1.6 without the phase:
 /// the incoherent limit).
@@ -214,7 +214,11 @@ pub fn slab_path(
         return (r_in, 0.0, 0.0);
     }
     let cos_t = sqrt(k).min(1.0);
-    let (r_out, t_out) = fresnel_dielectric(-cos_t, ior_outside, ior);
+    // The exit face is parallel to the entry and the same medium lies beyond both, so the
+    // exit meets the outside at the entry's angle: by reciprocity (Stokes relations; Hecht
+    // §4.10) R_out = R_in and T_out = T_in exactly. Computing them again from cosθt would
+    // recover cosθi through cos²θt's cancellation, which at grazing entry is all rounding.
+    let (r_out, t_out) = (r_in, t_in);
     let path = thickness / cos_t;
     let a = exp(-sigma * path);
     let ra = r_out * a;
@@ -326,14 +330,13 @@ fn mg_tr_slab_path(cos_i: f32, thickness: f32, ior: f32, ior_outside: f32, sigma
         return vec3<f32>(rt_in.x, 0.0, 0.0);
     }
     let cos_t = min(sqrt(k), 1.0);
-    let rt_out = mg_opth_fresnel(-cos_t, ior_outside, ior);
     let path = thickness / cos_t;
     let a = exp(-sigma * path);
-    let ra = rt_out.x * a;
+    let ra = rt_in.x * a;
     let denom = 1.0 - ra * ra;
     var t = 0.0;
     if (denom > 0.0) {
-        t = rt_in.y * rt_out.y * a / denom;
+        t = rt_in.y * rt_in.y * a / denom;
     }
     return vec3<f32>(rt_in.x, t, path);
 }

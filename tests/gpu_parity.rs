@@ -164,11 +164,12 @@ fn every_node_type_matches_its_cpu_kernel() {
         };
         let _ = writeln!(
             table,
-            "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound",
+            "  {label:<32} {:>6} samples  max abs {:9.3e}  max rel {:9.3e}  {:5.1}% of bound  {:>4} by conditioning",
             samples.n,
             errors.max_abs,
             errors.max_rel,
-            errors.worst * 100.0
+            errors.worst * 100.0,
+            errors.conditioned
         );
     }
     eprintln!("node parity (bound {ABS:e} + {REL:e}·|cpu|):\n{table}");
@@ -243,10 +244,11 @@ fn every_literal_choice_matches_its_cpu_kernel() {
             };
             checked += 1;
             eprintln!(
-                "  {label:<40} {:>6} samples  max abs {:9.3e}  {:5.1}% of bound",
+                "  {label:<40} {:>6} samples  max abs {:9.3e}  {:5.1}% of bound  {:>4} by conditioning",
                 samples.n,
                 errors.max_abs,
-                errors.worst * 100.0
+                errors.worst * 100.0,
+                errors.conditioned
             );
         }
     }
