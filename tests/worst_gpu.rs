@@ -326,39 +326,45 @@ fn no_node_calls_a_builtin_the_worst_gpu_mode_does_not_model() {
 /// discontinuity and nothing else: at toon_water_shade's band edge (N = (1, 0, 0),
 /// L = (0.8, 0.6, 0), 5 steps: N·L is the edge), the value of the neighbouring band, which the
 /// forward bound refuses, passes; the same band moved by 100 bounds does not, and neither does
-/// a 1% error at the node's defaults, far from any edge. Needs no GPU and no mode.
+/// a 1% error at the node's defaults, far from any edge. Needs no GPU and no mode (it holds
+/// [`LOCK`], so the suites cannot switch the mode under it).
 #[test]
 fn the_conditioned_comparison_admits_a_band_edge_and_nothing_more() {
+    // The kernels run in the process-global mode, which the suites switch: hold it exact.
+    let _guard = LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let registry = Registry::builtin();
     let t = registry.get("toon_water_shade").unwrap();
     let g = SocketType::Float;
     let index = |name: &str| t.input_index(name).unwrap();
-    // Two samples: the band edge, and the defaults.
-    let mut samples = node_samples(t, g, 1);
-    samples.n = 2;
-    for (k, col) in samples.columns.iter_mut().enumerate() {
-        let w = t.inputs()[k].ty.resolve(g).width();
-        let d = t.default_for(k, g);
-        *col = (0..w).flat_map(|c| [d.raw()[c]; 2]).collect();
-    }
-    let set = |s: &mut NodeSamples, name: &str, lanes: &[f32]| {
-        for (c, x) in lanes.iter().enumerate() {
-            s.columns[index(name)][c * 2] = *x;
-        }
-    };
-    set(&mut samples, "normal", &[1.0, 0.0, 0.0]);
-    set(&mut samples, "light", &[0.8, 0.6, 0.0]);
-    // Int inputs are exact floats.
-    set(&mut samples, "steps", &[5.0]);
+    // Two samples: the node's own "on a band edge" hard case, and the defaults.
+    let edge = t
+        .hard_cases()
+        .iter()
+        .find(|h| h.why == "on a band edge")
+        .expect("toon_water_shade's band-edge hard case");
+    let columns = t
+        .inputs()
+        .iter()
+        .enumerate()
+        .map(|(k, d)| {
+            let ty = d.ty.resolve(g);
+            let default = t.default_for(k, g);
+            let at_edge = edge
+                .values
+                .iter()
+                .find(|(name, _)| *name == d.name)
+                .map_or(default, |(_, v)| v.convert(ty).unwrap_or(*v));
+            (0..ty.width())
+                .flat_map(|c| [at_edge.raw()[c], default.raw()[c]])
+                .collect()
+        })
+        .collect();
+    let samples = NodeSamples { n: 2, columns };
     let want = run_cpu(t, g, &samples);
     let ramp = t.outputs().iter().position(|o| o.name == "ramp").unwrap();
     // The neighbouring band: light.x a few ULP down puts N·L just below the edge.
-    let mut below = NodeSamples {
-        n: samples.n,
-        columns: samples.columns.clone(),
-    };
-    let light = index("light");
-    below.columns[light][0] = f32::from_bits(0.8f32.to_bits() - 4);
+    let mut below = samples.clone();
+    below.columns[index("light")][0] = f32::from_bits(0.8f32.to_bits() - 4);
     let other = run_cpu(t, g, &below);
     assert_ne!(
         want[ramp][0], other[ramp][0],

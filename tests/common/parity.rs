@@ -61,24 +61,32 @@ pub const SCALED: &[(&str, &str, f64, &str)] = &[(
      sum L + V add a few roundings: 32·2⁻²⁴ in all",
 )];
 
-/// The bound of `node` at sample `i`: `bound` with its relative part grown by the node's
-/// [`SCALED`] entry, if it has one.
-pub fn scaled_bound(
-    t: &NodeType,
+/// `t`'s [`SCALED`] entries as (input index, k), resolved once per node type.
+fn scaled_inputs(t: &NodeType) -> Vec<(usize, f64)> {
+    SCALED
+        .iter()
+        .filter(|s| s.0 == t.name())
+        .map(|&(_, input, k, _)| {
+            let j = t
+                .input_index(input)
+                .unwrap_or_else(|| panic!("SCALED: {} has no input '{input}'", t.name()));
+            (j, k)
+        })
+        .collect()
+}
+
+/// `bound` at sample `i`, its relative part grown by |input| · k · 2⁻²⁴ for each of
+/// `scaled` ([`scaled_inputs`]).
+fn scaled_bound(
+    scaled: &[(usize, f64)],
     samples: &NodeSamples,
     i: usize,
     (abs, rel): (f64, f64),
 ) -> (f64, f64) {
-    SCALED
-        .iter()
-        .filter(|s| s.0 == t.name())
-        .fold((abs, rel), |(abs, rel), (_, input, k, _)| {
-            let j = t
-                .input_index(input)
-                .unwrap_or_else(|| panic!("SCALED: {} has no input '{input}'", t.name()));
-            let x = samples.columns[j][i].abs() as f64;
-            (abs, rel + x * k * 2f64.powi(-24))
-        })
+    scaled.iter().fold((abs, rel), |(abs, rel), &(j, k)| {
+        let x = samples.columns[j][i].abs() as f64;
+        (abs, rel + x * k * 2f64.powi(-24))
+    })
 }
 
 /// Node types whose outputs are ill-conditioned or discontinuous somewhere in their ranges:
@@ -363,6 +371,7 @@ impl Draws for Rng {
 }
 
 /// Inputs of one node instance: per input, planar columns (`width × n`).
+#[derive(Clone, Debug)]
 pub struct NodeSamples {
     /// Samples.
     pub n: usize,
@@ -794,14 +803,16 @@ pub fn compare_node_outputs(
     failures: &mut Vec<String>,
 ) {
     let conditioning = conditioning_for(t.name());
+    let scaled = scaled_inputs(t);
+    let max_shown = misses_shown();
     let mut envelopes = std::collections::HashMap::new();
     let mut shown = 0;
     for (k, d) in t.outputs().iter().enumerate() {
         let w = d.ty.resolve(generic).width();
         for i in 0..samples.n {
+            let bound = scaled_bound(&scaled, samples, i, bound);
             for c in 0..w {
                 let (a, b) = (want[k][c * samples.n + i], got[k][c * samples.n + i]);
-                let bound = scaled_bound(t, samples, i, bound);
                 let mut ratio = errors.measure(a, b, bound);
                 let mut range = String::new();
                 if let (true, Some(kk)) = (ratio > 1.0, conditioning) {
@@ -821,7 +832,7 @@ pub fn compare_node_outputs(
                     );
                 }
                 errors.worst = errors.worst.max(ratio);
-                if ratio > 1.0 && shown < misses_shown() {
+                if ratio > 1.0 && shown < max_shown {
                     shown += 1;
                     failures.push(format!(
                         "{label}: output {}[{c}] {} {a:e} {} {b:e}{range} at {}",
