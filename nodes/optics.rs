@@ -38,6 +38,23 @@ pub fn cos2_transmitted(cos_i: f32, eta: f32) -> f32 {
     (1.0 - eta) * (1.0 + eta) + (eta * cos_i) * (eta * cos_i)
 }
 
+/// [`cos2_transmitted`] for a caller that also knows `sin²θi` (from `|N × V|²`, say):
+/// `1 − η² sin²θi` where `sin²θi < ½`, else [`cos2_transmitted`]. From a denser side
+/// (η > √2) the critical angle is below 45°, where `(η cosθi)²` is within an ULP or two of
+/// `η² − 1`: their difference then carries `2η²` times the relative error of `cosθi`, and a
+/// GPU's `sqrt` leaves 8·2⁻²⁴ in the lengths of the normalised vectors `cosθi` comes from
+/// (2η² = 430 at η = 14.7). `sin²θi` from a cross product carries the same relative error,
+/// but `η² sin²θi` is near 1 there, so the difference keeps it at that size. Where
+/// `sin²θi ≥ ½` (η < √2 near critical) the `cosθi` form is the exact one at an index match.
+#[inline]
+pub fn cos2_transmitted_sin2(cos_i: f32, sin2_i: f32, eta: f32) -> f32 {
+    if sin2_i < 0.5 {
+        1.0 - (eta * eta) * sin2_i
+    } else {
+        cos2_transmitted(cos_i, eta)
+    }
+}
+
 /// Vector Snell refraction with `eta = n1 / n2`:
 /// `k = cos²θt = (1 − η²) + η²(N·I)²`; TIR when `k < 0`; else `T = η I − (η (N·I) + √k) N`.
 ///
@@ -82,6 +99,38 @@ pub fn fresnel_dielectric(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> 
     };
     let (n1, n2) = same_scale(n1, n2);
     let b2 = (n2 - n1) * (n2 + n1) + (n1 * cos_i) * (n1 * cos_i);
+    fresnel_terms(cos_i, n1, n2, b2)
+}
+
+/// [`fresnel_dielectric`] for light arriving from the side of index `n1` (`cos_i` ≥ 0) when
+/// the caller also knows `sin²θi`: where `sin²θi < ½`, `b² = n2² − n1² sin²θi` (see
+/// [`cos2_transmitted_sin2`]: from a much denser side near the critical angle the `cosθi`
+/// form multiplies `cosθi`'s relative error by `2η²`), else as [`fresnel_dielectric`].
+#[inline]
+pub fn fresnel_dielectric_sin2(cos_i: f32, sin2_i: f32, n1: f32, n2: f32) -> (f32, f32) {
+    let cos_i = cos_i.min(1.0);
+    let (n1, n2) = same_scale(n1, n2);
+    let b2 = if sin2_i < 0.5 {
+        n2 * n2 - (n1 * n1) * sin2_i
+    } else {
+        (n2 - n1) * (n2 + n1) + (n1 * cos_i) * (n1 * cos_i)
+    };
+    fresnel_terms(cos_i, n1, n2, b2)
+}
+
+/// [`fresnel_dielectric`] for light arriving from the side of index `n1` (`cos_i` ≥ 0) when
+/// the caller knows `cos²θt` (`cos2_t`, negative under TIR) better than the indices and
+/// `cosθi` give it: `b² = n2² cos²θt`.
+#[inline]
+pub fn fresnel_dielectric_cos2t(cos_i: f32, cos2_t: f32, n1: f32, n2: f32) -> (f32, f32) {
+    let (n1, n2) = same_scale(n1, n2);
+    fresnel_terms(cos_i.min(1.0), n1, n2, (n2 * n2) * cos2_t)
+}
+
+/// `(R, T)` of [`fresnel_dielectric`] from `cosθi`, the indices (already [`same_scale`]d) and
+/// `b² = n2² cos²θt`.
+#[inline]
+fn fresnel_terms(cos_i: f32, n1: f32, n2: f32, b2: f32) -> (f32, f32) {
     let b = sqrt(b2.max(0.0));
     let a = n1 * cos_i;
     let (ap, bp) = ((n2 * n2) * cos_i, n1 * b);
@@ -249,25 +298,28 @@ fn mg_opth_cos2_t(cos_i: f32, eta: f32) -> f32 {
 }
 "#;
 
-/// WGSL of [`fresnel_dielectric`] as a helper, `mg_opth_fresnel(cos_theta, ior_outside, ior_inside)`
-/// returning (R, T): the same steps.
-pub const FRESNEL_HELPER_WGSL: &str = r#"
-fn mg_opth_fresnel(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> vec2<f32> {
-    var n1_in = ior_outside;
-    var n2_in = ior_inside;
-    var cos_i = min(cos_theta, 1.0);
-    if (cos_theta < 0.0) {
-        n1_in = ior_inside;
-        n2_in = ior_outside;
-        cos_i = min(-cos_theta, 1.0);
+/// WGSL of [`cos2_transmitted_sin2`], `mg_opth_cos2_t_sin2(cos_i, sin2_i, eta)`. Needs
+/// [`COS2_T_WGSL`].
+pub const COS2_T_SIN2_WGSL: &str = r#"
+fn mg_opth_cos2_t_sin2(cos_i: f32, sin2_i: f32, eta: f32) -> f32 {
+    if (sin2_i < 0.5) {
+        return 1.0 - (eta * eta) * sin2_i;
     }
-    let e = min(frexp(max(max(n1_in, n2_in), 1.1754944e-38)).exp, 126);
-    let n1 = ldexp(n1_in, -e);
-    let n2 = ldexp(n2_in, -e);
+    return mg_opth_cos2_t(cos_i, eta);
+}
+"#;
+
+/// WGSL of [`fresnel_dielectric`] as a helper, `mg_opth_fresnel(cos_theta, ior_outside, ior_inside)`
+/// returning (R, T), with [`same_scale`] and the shared terms: the same steps.
+pub const FRESNEL_HELPER_WGSL: &str = r#"
+fn mg_opth_same_scale(n1: f32, n2: f32) -> vec2<f32> {
+    let e = min(frexp(max(max(n1, n2), 1.1754944e-38)).exp, 126);
+    return vec2<f32>(ldexp(n1, -e), ldexp(n2, -e));
+}
+fn mg_opth_fresnel_terms(cos_i: f32, n1: f32, n2: f32, b2: f32) -> vec2<f32> {
     if (n1 == n2) {
         return vec2<f32>(0.0, 1.0);
     }
-    let b2 = (n2 - n1) * (n2 + n1) + (n1 * cos_i) * (n1 * cos_i);
     if (b2 < 0.0) {
         return vec2<f32>(1.0, 0.0);
     }
@@ -282,6 +334,38 @@ fn mg_opth_fresnel(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> vec2<f3
     let ts = 2.0 * (a * inv_s) * (b * inv_s);
     let tp = 2.0 * (ap * inv_p) * (bp * inv_p);
     return vec2<f32>(0.5 * (rs * rs + rp * rp), ts + tp);
+}
+fn mg_opth_fresnel(cos_theta: f32, ior_outside: f32, ior_inside: f32) -> vec2<f32> {
+    var n1_in = ior_outside;
+    var n2_in = ior_inside;
+    var cos_i = min(cos_theta, 1.0);
+    if (cos_theta < 0.0) {
+        n1_in = ior_inside;
+        n2_in = ior_outside;
+        cos_i = min(-cos_theta, 1.0);
+    }
+    let n = mg_opth_same_scale(n1_in, n2_in);
+    let b2 = (n.y - n.x) * (n.y + n.x) + (n.x * cos_i) * (n.x * cos_i);
+    return mg_opth_fresnel_terms(cos_i, n.x, n.y, b2);
+}
+"#;
+
+/// WGSL of [`fresnel_dielectric_sin2`], `mg_opth_fresnel_sin2(cos_i, sin2_i, n1, n2)`, and
+/// [`fresnel_dielectric_cos2t`], `mg_opth_fresnel_cos2t(cos_i, cos2_t, n1, n2)`: the same
+/// steps. Needs [`FRESNEL_HELPER_WGSL`].
+pub const FRESNEL_KNOWN_ANGLE_WGSL: &str = r#"
+fn mg_opth_fresnel_cos2t(cos_i: f32, cos2_t: f32, n1_in: f32, n2_in: f32) -> vec2<f32> {
+    let n = mg_opth_same_scale(n1_in, n2_in);
+    return mg_opth_fresnel_terms(min(cos_i, 1.0), n.x, n.y, (n.y * n.y) * cos2_t);
+}
+fn mg_opth_fresnel_sin2(cos_theta: f32, sin2_i: f32, n1_in: f32, n2_in: f32) -> vec2<f32> {
+    let cos_i = min(cos_theta, 1.0);
+    let n = mg_opth_same_scale(n1_in, n2_in);
+    var b2 = (n.y - n.x) * (n.y + n.x) + (n.x * cos_i) * (n.x * cos_i);
+    if (sin2_i < 0.5) {
+        b2 = n.y * n.y - (n.x * n.x) * sin2_i;
+    }
+    return mg_opth_fresnel_terms(cos_i, n.x, n.y, b2);
 }
 "#;
 

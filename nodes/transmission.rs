@@ -9,9 +9,10 @@
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::nodes::optics::{
-    COS2_T_WGSL, FRESNEL_HELPER_WGSL, cos2_transmitted, fresnel_dielectric, reflect,
+    COS2_T_SIN2_WGSL, COS2_T_WGSL, FRESNEL_HELPER_WGSL, FRESNEL_KNOWN_ANGLE_WGSL,
+    cos2_transmitted_sin2, fresnel_dielectric_cos2t, fresnel_dielectric_sin2, reflect,
 };
-use crate::precision::{exp, sqrt};
+use crate::precision::{cross, exp, sqrt};
 use crate::value::Value;
 use glam::Vec3;
 
@@ -83,17 +84,23 @@ pub struct SpherePath {
 
 /// The first transmitted path of one wavelength through a sphere of radius `r` (metres),
 /// given the unit shading normal `n`, unit view `v`, the unit geometric normal `g` at the
-/// entry point (`(p − c)/r`) and `cos_i = n·v` (clamped to [0, 1]).
+/// entry point (`(p − c)/r`), `cos_i = n·v` (clamped to [0, 1]) and `sin2_i = |n × v|²`.
 ///
 /// 1. Entry (Snell, `η = n_out/n`): `t = η I + (η cosθi − cosθt) N`, Fresnel `R_in`, `T_in`
-///    (exact, [`fresnel_dielectric`]).
+///    (exact, [`fresnel_dielectric_sin2`]); cos²θt from `sin²θi` where it is below ½
+///    ([`cos2_transmitted_sin2`]: from a much denser outside, near the critical angle, the
+///    `cosθi` form multiplies the rounding of the normalised N and V by 2η²).
 /// 2. Chord: the second intersection of `p + s t` with the sphere is at
 ///    `s = L = 2 r cosθc`, `cosθc = −t·g` (for `t·g ≥ 0` the ray leaves at once, `L = 0`).
 ///    With `n = g` (the sphere's own normal) `cosθc = cosθt` and `L = 2 r cosθt`.
 /// 3. Exit normal `m = (p + L t − c)/r = g + 2 cosθc t`; the internal angle of incidence is
 ///    again `cosθc` (a sphere's chords meet its surface at equal angles at both ends).
 /// 4. Exit (Snell, `η' = n/n_out`): `e = η' t + (cosθe − η' cosθc) m`, Fresnel `T_out` from
-///    the inside. Under TIR (`cos²θe < 0`) the ray reflects internally; its next chord meets
+///    the inside. `cos²θe = 1 − η'² sin²θc` is taken from the entry rather than from
+///    `cosθc`: with `t × g = η (I × g + β (N − g) × g)`, `β = cosθi − cosθt/η` and `η'η = 1`,
+///    `cos²θe = (I·g)² − β (2 (I × g)·((N − g) × g) + β |(N − g) × g|²)`. For `N = g` the
+///    correction is exactly 0 and `cosθe = cosθi` (the chord's symmetry), where
+///    `1 − η'² sin²θc` would cancel to rounding at grazing entry and flip the TIR flag. Under TIR (`cos²θe < 0`) the ray reflects internally; its next chord meets
 ///    the surface at the same angle, so it is trapped for every bounce: `T = 0` and `exit`
 ///    is the internally reflected direction (0 further bounces are traced; what the cut-off
 ///    costs is nothing, as none of them could leave).
@@ -112,15 +119,16 @@ pub fn sphere_path(
     v: Vec3,
     g: Vec3,
     cos_i: f32,
+    sin2_i: f32,
     radius: f32,
     ior: f32,
     ior_outside: f32,
     sigma: f32,
 ) -> SpherePath {
     let i = -v;
-    let (r_in, t_in) = fresnel_dielectric(cos_i, ior_outside, ior);
+    let (r_in, t_in) = fresnel_dielectric_sin2(cos_i, sin2_i, ior_outside, ior);
     let eta = ior_outside / ior;
-    let k_in = cos2_transmitted(cos_i, eta);
+    let k_in = cos2_transmitted_sin2(cos_i, sin2_i, eta);
     if k_in < 0.0 {
         // Denser outside than inside, past the critical angle: nothing enters.
         return SpherePath {
@@ -131,12 +139,16 @@ pub fn sphere_path(
             tir: true,
         };
     }
-    let t = eta * i + (eta * cos_i - sqrt(k_in)) * n;
+    let gamma = eta * cos_i - sqrt(k_in);
+    let t = eta * i + gamma * n;
     let cos_c = (-t.dot(g)).clamp(0.0, 1.0);
     let length = 2.0 * radius * cos_c;
     let m = g + (2.0 * cos_c) * t;
     let eta_out = ior / ior_outside;
-    let k_out = cos2_transmitted(cos_c, eta_out);
+    let (a, b) = (cross(i, g), cross(n - g, g));
+    let beta = gamma / eta;
+    let ig = i.dot(g);
+    let k_out = ig * ig - beta * (2.0 * a.dot(b) + beta * b.length_squared());
     let absorb = exp(-sigma * length);
     if k_out < 0.0 {
         return SpherePath {
@@ -148,7 +160,7 @@ pub fn sphere_path(
         };
     }
     let exit = eta_out * t + (sqrt(k_out) - eta_out * cos_c) * m;
-    let (_, t_out) = fresnel_dielectric(-cos_c, ior_outside, ior);
+    let (_, t_out) = fresnel_dielectric_cos2t(cos_c, k_out, ior, ior_outside);
     SpherePath {
         exit,
         reflectance: r_in,
@@ -176,11 +188,17 @@ pub fn transmission_sphere(
     let n = unit_or(normal, g);
     let v = unit_or(view, n);
     let cos_i = n.dot(v).clamp(0.0, 1.0);
+    // Light from behind is shaded as grazing (cosθi clamped to 0): sin²θi = 1 with it.
+    let sin2_i = if cos_i > 0.0 {
+        cross(n, v).length_squared()
+    } else {
+        1.0
+    };
     let r = radius.max(0.0);
     let a = absorption.max(Vec3::ZERO);
-    let pr = sphere_path(n, v, g, cos_i, r, ior.x, ior_outside, a.x);
-    let pg = sphere_path(n, v, g, cos_i, r, ior.y, ior_outside, a.y);
-    let pb = sphere_path(n, v, g, cos_i, r, ior.z, ior_outside, a.z);
+    let pr = sphere_path(n, v, g, cos_i, sin2_i, r, ior.x, ior_outside, a.x);
+    let pg = sphere_path(n, v, g, cos_i, sin2_i, r, ior.y, ior_outside, a.y);
+    let pb = sphere_path(n, v, g, cos_i, sin2_i, r, ior.z, ior_outside, a.z);
     (
         pr.exit,
         pg.exit,
@@ -192,24 +210,26 @@ pub fn transmission_sphere(
     )
 }
 
-/// A parallel slab of thickness `d` (metres), one channel: the exit ray is parallel to the
+/// A parallel slab of thickness `d` (metres), one channel, for light at `cos_i = cosθi`
+/// (`sin2_i = sin²θi`, see [`cos2_transmitted_sin2`]): the exit ray is parallel to the
 /// incident one (its lateral shift is ignored), every internal bounce leaves along it, and
 /// their incoherent sum is closed:
 /// `T = T_in T_out a / (1 − R_out² a²)`, `a = exp(−σ d / cosθt)`, `R_out = R_in` at the same
-/// angle by reciprocity, and `T_out = T_in` (both taken from the entry, not recomputed from cosθt). Returns
-/// `(R_in, T, d / cosθt)`; under TIR at the entry `T = 0` and the path is 0.
+/// angle by reciprocity, and `T_out = T_in` (both taken from the entry, not recomputed from
+/// cosθt). Returns `(R_in, T, d / cosθt)`; under TIR at the entry `T = 0` and the path is 0.
 /// Source: Hecht §4.6; the geometric series of a plate (Born & Wolf §1.6 without the phase:
 /// the incoherent limit).
 #[inline]
 pub fn slab_path(
     cos_i: f32,
+    sin2_i: f32,
     thickness: f32,
     ior: f32,
     ior_outside: f32,
     sigma: f32,
 ) -> (f32, f32, f32) {
-    let (r_in, t_in) = fresnel_dielectric(cos_i, ior_outside, ior);
-    let k = cos2_transmitted(cos_i, ior_outside / ior);
+    let (r_in, t_in) = fresnel_dielectric_sin2(cos_i, sin2_i, ior_outside, ior);
+    let k = cos2_transmitted_sin2(cos_i, sin2_i, ior_outside / ior);
     if k <= 0.0 {
         return (r_in, 0.0, 0.0);
     }
@@ -245,11 +265,17 @@ pub fn transmission_slab(
     let n = unit_or(normal, Vec3::Z);
     let v = unit_or(view, n);
     let cos_i = n.dot(v).clamp(0.0, 1.0);
+    // Light from behind is shaded as grazing (cosθi clamped to 0): sin²θi = 1 with it.
+    let sin2_i = if cos_i > 0.0 {
+        cross(n, v).length_squared()
+    } else {
+        1.0
+    };
     let d = thickness.max(0.0);
     let a = absorption.max(Vec3::ZERO);
-    let (rr, tr, lr) = slab_path(cos_i, d, ior.x, ior_outside, a.x);
-    let (rg, tg, lg) = slab_path(cos_i, d, ior.y, ior_outside, a.y);
-    let (rb, tb, lb) = slab_path(cos_i, d, ior.z, ior_outside, a.z);
+    let (rr, tr, lr) = slab_path(cos_i, sin2_i, d, ior.x, ior_outside, a.x);
+    let (rg, tg, lg) = slab_path(cos_i, sin2_i, d, ior.y, ior_outside, a.y);
+    let (rb, tb, lb) = slab_path(cos_i, sin2_i, d, ior.z, ior_outside, a.z);
     (
         -v,
         Vec3::new(rr, rg, rb),
@@ -301,31 +327,36 @@ fn mg_tr_unit_or(v: vec3<f32>, fallback: vec3<f32>) -> vec3<f32> {
     }
     return fallback;
 }
-fn mg_tr_sphere_path(n: vec3<f32>, v: vec3<f32>, g: vec3<f32>, cos_i: f32, radius: f32, ior: f32, ior_outside: f32, sigma: f32) -> MgTrPath {
+fn mg_tr_sphere_path(n: vec3<f32>, v: vec3<f32>, g: vec3<f32>, cos_i: f32, sin2_i: f32, radius: f32, ior: f32, ior_outside: f32, sigma: f32) -> MgTrPath {
     let i = -v;
-    let rt_in = mg_opth_fresnel(cos_i, ior_outside, ior);
+    let rt_in = mg_opth_fresnel_sin2(cos_i, sin2_i, ior_outside, ior);
     let eta = ior_outside / ior;
-    let k_in = mg_opth_cos2_t(cos_i, eta);
+    let k_in = mg_opth_cos2_t_sin2(cos_i, sin2_i, eta);
     if (k_in < 0.0) {
         return MgTrPath(i - 2.0 * dot(n, i) * n, rt_in.x, 0.0, 0.0, true);
     }
-    let t = eta * i + (eta * cos_i - sqrt(k_in)) * n;
+    let gamma = eta * cos_i - sqrt(k_in);
+    let t = eta * i + gamma * n;
     let cos_c = min(max(-dot(t, g), 0.0), 1.0);
     let len = 2.0 * radius * cos_c;
     let m = g + (2.0 * cos_c) * t;
     let eta_out = ior / ior_outside;
-    let k_out = mg_opth_cos2_t(cos_c, eta_out);
+    let a = cross(i, g);
+    let b = cross(n - g, g);
+    let beta = gamma / eta;
+    let ig = dot(i, g);
+    let k_out = ig * ig - beta * (2.0 * dot(a, b) + beta * dot(b, b));
     let absorb = exp(-sigma * len);
     if (k_out < 0.0) {
         return MgTrPath(t - (2.0 * cos_c) * m, rt_in.x, 0.0, len, true);
     }
     let e = eta_out * t + (sqrt(k_out) - eta_out * cos_c) * m;
-    let rt_out = mg_opth_fresnel(-cos_c, ior_outside, ior);
+    let rt_out = mg_opth_fresnel_cos2t(cos_c, k_out, ior, ior_outside);
     return MgTrPath(e, rt_in.x, rt_in.y * rt_out.y * absorb, len, false);
 }
-fn mg_tr_slab_path(cos_i: f32, thickness: f32, ior: f32, ior_outside: f32, sigma: f32) -> vec3<f32> {
-    let rt_in = mg_opth_fresnel(cos_i, ior_outside, ior);
-    let k = mg_opth_cos2_t(cos_i, ior_outside / ior);
+fn mg_tr_slab_path(cos_i: f32, sin2_i: f32, thickness: f32, ior: f32, ior_outside: f32, sigma: f32) -> vec3<f32> {
+    let rt_in = mg_opth_fresnel_sin2(cos_i, sin2_i, ior_outside, ior);
+    let k = mg_opth_cos2_t_sin2(cos_i, sin2_i, ior_outside / ior);
     if (k <= 0.0) {
         return vec3<f32>(rt_in.x, 0.0, 0.0);
     }
@@ -348,11 +379,13 @@ fn $fn(position: vec3<f32>, normal: vec3<f32>, view: vec3<f32>, center: vec3<f32
     let n = mg_tr_unit_or(normal, g);
     let v = mg_tr_unit_or(view, n);
     let cos_i = min(max(dot(n, v), 0.0), 1.0);
+    let nv = cross(n, v);
+    let sin2_i = select(1.0, dot(nv, nv), cos_i > 0.0);
     let r = max(radius, 0.0);
     let a = max(absorption, vec3<f32>(0.0));
-    let pr = mg_tr_sphere_path(n, v, g, cos_i, r, ior.x, ior_outside, a.x);
-    let pg = mg_tr_sphere_path(n, v, g, cos_i, r, ior.y, ior_outside, a.y);
-    let pb = mg_tr_sphere_path(n, v, g, cos_i, r, ior.z, ior_outside, a.z);
+    let pr = mg_tr_sphere_path(n, v, g, cos_i, sin2_i, r, ior.x, ior_outside, a.x);
+    let pg = mg_tr_sphere_path(n, v, g, cos_i, sin2_i, r, ior.y, ior_outside, a.y);
+    let pb = mg_tr_sphere_path(n, v, g, cos_i, sin2_i, r, ior.z, ior_outside, a.z);
     return $out(pr.exit, pg.exit, pb.exit,
         vec3<f32>(pr.reflectance, pg.reflectance, pb.reflectance),
         vec3<f32>(pr.transmittance, pg.transmittance, pb.transmittance),
@@ -366,11 +399,13 @@ fn $fn(normal: vec3<f32>, view: vec3<f32>, thickness: f32, ior: vec3<f32>, ior_o
     let n = mg_tr_unit_or(normal, vec3<f32>(0.0, 0.0, 1.0));
     let v = mg_tr_unit_or(view, n);
     let cos_i = min(max(dot(n, v), 0.0), 1.0);
+    let nv = cross(n, v);
+    let sin2_i = select(1.0, dot(nv, nv), cos_i > 0.0);
     let d = max(thickness, 0.0);
     let a = max(absorption, vec3<f32>(0.0));
-    let pr = mg_tr_slab_path(cos_i, d, ior.x, ior_outside, a.x);
-    let pg = mg_tr_slab_path(cos_i, d, ior.y, ior_outside, a.y);
-    let pb = mg_tr_slab_path(cos_i, d, ior.z, ior_outside, a.z);
+    let pr = mg_tr_slab_path(cos_i, sin2_i, d, ior.x, ior_outside, a.x);
+    let pg = mg_tr_slab_path(cos_i, sin2_i, d, ior.y, ior_outside, a.y);
+    let pb = mg_tr_slab_path(cos_i, sin2_i, d, ior.z, ior_outside, a.z);
     return $out(-v, vec3<f32>(pr.x, pg.x, pb.x), vec3<f32>(pr.y, pg.y, pb.y), vec3<f32>(pr.z, pg.z, pb.z));
 }
 "#;
@@ -442,7 +477,13 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::vec3("path_length").unit("m").doc("Chord length L inside the sphere per channel."))
             .output(Out::boolean("tir").doc("True where a channel is totally internally reflected."))
             .wgsl(SPHERE_WGSL)
-            .wgsl_uses(&[COS2_T_WGSL, FRESNEL_HELPER_WGSL, PATH_HELPER_WGSL])
+            .wgsl_uses(&[
+                COS2_T_WGSL,
+                COS2_T_SIN2_WGSL,
+                FRESNEL_HELPER_WGSL,
+                FRESNEL_KNOWN_ANGLE_WGSL,
+                PATH_HELPER_WGSL,
+            ])
             .hard_case("normal incidence through the centre", &[("position", v3([0.0, 1.0, 1.0])), ("view", v3([0.0, 0.0, 1.0]))])
             .hard_case("grazing", &[("position", v3([1.0, 1.0, 0.0])), ("normal", v3([1.0, 0.0, 0.0])), ("view", v3([1e-4, 0.0, 1.0]))])
             .hard_case("exactly grazing", &[("position", v3([1.0, 1.0, 0.0])), ("normal", v3([1.0, 0.0, 0.0])), ("view", v3([0.0, 0.0, 1.0]))])
@@ -473,7 +514,13 @@ pub fn all() -> Vec<NodeType> {
             .output(Out::color("transmittance").doc("Fraction of the incident power transmitted, per channel."))
             .output(Out::vec3("path_length").unit("m").doc("Path d/cosθt of one crossing, per channel."))
             .wgsl(SLAB_WGSL)
-            .wgsl_uses(&[COS2_T_WGSL, FRESNEL_HELPER_WGSL, PATH_HELPER_WGSL])
+            .wgsl_uses(&[
+                COS2_T_WGSL,
+                COS2_T_SIN2_WGSL,
+                FRESNEL_HELPER_WGSL,
+                FRESNEL_KNOWN_ANGLE_WGSL,
+                PATH_HELPER_WGSL,
+            ])
             .hard_case("grazing", &[("view", v3([1.0, 0.0, 1e-4]))])
             .hard_case("exactly grazing", &[("view", v3([1.0, 0.0, 0.0]))])
             .hard_case("denser outside, TIR", &[("view", v3([0.8, 0.0, 0.6])), ("ior", v3([1.0, 1.0, 1.0])), ("ior_outside", f(1.5))])

@@ -337,6 +337,78 @@ fn ref_hk(cos: f64, g: f64, mu_i: f64, mu_o: f64, d: f64) -> f64 {
 // Optics
 // ------------------------------------------------------------------------------------------
 
+/// The forms for callers that know sin²θi or cos²θt (the transmission nodes): against the f64
+/// Fresnel at the angle their f32 inputs were rounded from, at seeded angles and index pairs
+/// (soft and hard, denser side included), within 0.01°–1° of each side's critical angle, and
+/// grazing; the same tolerance as `fresnel_dielectric`, whose critical term covers the
+/// inputs' rounding.
+#[test]
+fn fresnel_from_sin2_and_cos2t_pointwise() {
+    let mut ch = Check::new("fresnel_dielectric_sin2 / _cos2t, cos2_transmitted_sin2");
+    let mut rng = Rng(0x5152);
+    let check = |ch: &mut Check, theta: f64, n1: f32, n2: f32, why: &str| {
+        let (c64, s64) = (theta.cos(), theta.sin());
+        let (c, s2) = (c64 as f32, (s64 * s64) as f32);
+        let (n1d, n2d) = (n1 as f64, n2 as f64);
+        let want = ref_fresnel(c64, n1d, n2d);
+        let tol = ABS + critical_term(ref_fresnel_dk(c64, n1d, n2d), (n1d / n2d).max(n2d / n1d));
+        let k64 = 1.0 - (n1d / n2d).powi(2) * s64 * s64;
+        let k = optics::cos2_transmitted_sin2(c, s2, n1 / n2);
+        ch.near_tol(
+            k,
+            k64,
+            8.0 * f32::EPSILON as f64 * (n1d / n2d).powi(2).max(1.0),
+            0.0,
+            || format!("{why}: cos²θt at θ {theta} n {n1} | {n2}"),
+        );
+        let k32 = (k64 as f32).max(-1.0);
+        for (form, (r, t)) in [
+            ("sin2", optics::fresnel_dielectric_sin2(c, s2, n1, n2)),
+            ("cos2t", optics::fresnel_dielectric_cos2t(c, k32, n1, n2)),
+        ] {
+            ch.near_tol(r, want, tol, REL, || {
+                format!("{why} ({form}): R at θ {theta} n {n1} | {n2}")
+            });
+            ch.near_tol(t, 1.0 - want, tol, REL, || {
+                format!("{why} ({form}): T at θ {theta} n {n1} | {n2}")
+            });
+        }
+    };
+    for _ in 0..N {
+        let theta = rng.f(0.0, std::f64::consts::FRAC_PI_2) as f64;
+        let (n1, n2) = (rng.f(1.0, 3.0), rng.f(1.0, 3.0));
+        check(&mut ch, theta, n1, n2, "random soft");
+        let (n1, n2) = (rng.log(1.0, 100.0), rng.log(1.0, 100.0));
+        check(&mut ch, theta, n1, n2, "random hard");
+    }
+    for (n1, n2) in [(1.33f32, 1.0f32), (2.42, 1.0), (14.7, 1.0), (97.0, 6.6)] {
+        let crit = (n2 as f64 / n1 as f64).asin();
+        for delta_deg in [0.01f64, 0.03, 0.1, 0.3, 1.0] {
+            for side in [-1.0, 1.0] {
+                check(
+                    &mut ch,
+                    crit + side * delta_deg.to_radians(),
+                    n1,
+                    n2,
+                    "near critical",
+                );
+            }
+        }
+    }
+    for k in 2..=7 {
+        for (n1, n2) in [(1.0f32, 1.5f32), (1.5, 1.0), (1.5, 1.5000001)] {
+            check(
+                &mut ch,
+                std::f64::consts::FRAC_PI_2 - 10f64.powi(-k),
+                n1,
+                n2,
+                "grazing",
+            );
+        }
+    }
+    ch.finish();
+}
+
 #[test]
 fn fresnel_dielectric_pointwise() {
     let mut ch = Check::new("fresnel_dielectric");

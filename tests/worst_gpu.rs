@@ -50,31 +50,6 @@ const DIRECTIONS: [Direction; 3] = [
     Direction::Mixed(0x5eed_0f32),
 ];
 
-/// Node types that still exceed their bound on a worst conformant GPU: the open part of
-/// issue 33, each with what a GPU may do to it. The test fails if one of them passes, so the
-/// list only shrinks.
-const OPEN_NODES: &[(&str, &str)] = &[(
-    "transmission_sphere",
-    "entering from a denser outside near its critical angle (ior_outside 97 | ior 6.6, the hard \
-     ranges): cos²θt = (1 − η)(1 + η) + (η cosθi)² with η = 14.7 multiplies the 4 ULP that a \
-     GPU's sqrt leaves in the lengths of the normalised N and V (their dot is cosθi) by 2η² = \
-     430, and the entry Fresnel's b² = (n2 − n1)(n2 + n1) + (n1 cosθi)² cancels alike; an input \
-     perturbation only turns N and V, which moves cosθi to second order there, so even the \
-     conditioned comparison cannot admit it (the exit beam 4.4e-1 against 4.46e-1). The fix is \
-     at the cause: cos²θt from sin²θi = |N × V|² as 1 − η² sin²θi where sin²θi < ½, handed \
-     to a Fresnel that takes cosθt instead of recomputing it",
-)];
-
-/// Graphs (by name prefix) that still exceed their bound, for the reasons of [`OPEN_NODES`]:
-/// none since the equirectangular lookups take `mg_math_atan2` (the pbr and bubble graphs were
-/// listed while they took WGSL's `atan2`).
-const OPEN_GRAPHS: &[(&str, &str)] = &[];
-
-/// Whether the node type `name` is on `list` (by its exact name).
-fn is_open(list: &[(&str, &str)], name: &str) -> bool {
-    list.iter().any(|(n, _)| name == *n)
-}
-
 /// Runs `f` in `mode`, then returns to the exact mode.
 fn in_mode<R>(mode: Mode, f: impl FnOnce() -> R) -> R {
     precision::set_mode(mode).expect("the suites run only where the mode is available");
@@ -91,7 +66,6 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
     let mut failures: Vec<String> = Vec::new();
     let mut table = String::new();
     let mut checked = 0;
-    let mut still_open: Vec<String> = Vec::new();
     for NodeCase {
         t,
         generic,
@@ -104,7 +78,6 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
         let samples = node_samples(t, generic, seed);
         let exact = run_cpu(t, generic, &samples);
         let mut errors = Errors::default();
-        let open = is_open(OPEN_NODES, t.name());
         let mut misses = Vec::new();
         for direction in DIRECTIONS {
             let worst = in_mode(Mode::WorstGpu(direction), || run_cpu(t, generic, &samples));
@@ -121,16 +94,7 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
                 &mut misses,
             );
         }
-        match (open, misses.is_empty()) {
-            (false, _) => failures.extend(misses),
-            (true, true) => failures.push(format!(
-                "{label} passes now: take it off OPEN_NODES (and its graphs off OPEN_GRAPHS)"
-            )),
-            (true, false) => {
-                eprintln!("{label} (open): {}", misses.join("\n  "));
-                still_open.push(label.clone())
-            }
-        }
+        failures.extend(misses);
         checked += 1;
         let _ = writeln!(
             table,
@@ -143,7 +107,6 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
         );
     }
     eprintln!("node parity on a worst conformant GPU (up, down, mixed):\n{table}");
-    eprintln!("still open (OPEN_NODES): {}", still_open.join(", "));
     assert!(
         checked > 100,
         "only {checked} node types and generics checked"
@@ -172,16 +135,7 @@ fn every_shipped_graph_stays_within_its_bound_on_a_worst_gpu() {
     cases.push(monte_carlo_case("schlick"));
     cases.push(monte_carlo_case("exact"));
     assert!(cases.len() > 25, "{} graphs", cases.len());
-    let mut open_failing = std::collections::BTreeSet::new();
-    let mut open_seen = std::collections::BTreeSet::new();
     for case in &cases {
-        let open = OPEN_GRAPHS
-            .iter()
-            .find(|(n, _)| case.name.starts_with(n))
-            .map(|(n, _)| *n);
-        if let Some(n) = open {
-            open_seen.insert(n);
-        }
         let bound = graph_bound(&case.graph);
         // The file's values, then every float parameter scaled by 1.1, as on the GPU.
         for (round, params) in parameter_rounds(&case.plan).iter().enumerate() {
@@ -198,23 +152,13 @@ fn every_shipped_graph_stays_within_its_bound_on_a_worst_gpu() {
                         e.worst * 100.0
                     );
                 }
-                match open {
-                    Some(n) if !bad.is_empty() => {
-                        open_failing.insert(n);
-                    }
-                    Some(_) => {}
-                    None => failures.extend(
-                        bad.into_iter()
-                            .map(|b| format!("{} round {round} [{direction:?}]: {b}", case.name)),
-                    ),
-                }
+                failures.extend(
+                    bad.into_iter()
+                        .map(|b| format!("{} round {round} [{direction:?}]: {b}", case.name)),
+                );
             }
         }
     }
-    for n in open_seen.difference(&open_failing) {
-        failures.push(format!("{n} passes now: take it off OPEN_GRAPHS"));
-    }
-    eprintln!("still open (OPEN_GRAPHS): {open_failing:?}");
     assert!(
         failures.is_empty(),
         "graph parity on a worst conformant GPU failed:\n{}",

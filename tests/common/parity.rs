@@ -106,18 +106,16 @@ pub const CONDITIONED: &[(&str, f64, &str)] = &[
     ),
     (
         "transmission_sphere",
-        64.0,
-        "at grazing entry the ray meets the back of the sphere at the critical angle itself, so \
-         its TIR flag, and the outputs it selects, flip under any rounding (the same 64·2⁻²⁴ as \
-         the slab; the sphere is still open in tests/worst_gpu.rs for its near-critical entry)",
+        4.0,
+        "from a denser outside, at the critical angle of the entry, the TIR flag and the outputs \
+         it selects flip under any rounding, and near it cosθt = √(1 − η² sin²θi) has the \
+         condition number 1/cos²θt",
     ),
     (
         "transmission_slab",
-        64.0,
-        "near a critical angle from a denser outside (indices to 100) cosθt, the path d/cosθt \
-         and the Fresnel terms have the condition number 1/cos²θt, and cosθi comes from the \
-         normalised N and V, whose lengths a GPU's sqrt leaves 8·2⁻²⁴ from 1: measured, inputs \
-         within 16·2⁻²⁴ leave the worst GPU at 123× its bound there, within 64·2⁻²⁴ at 0.98×",
+        4.0,
+        "as transmission_sphere: the entry's TIR flag at its critical angle, and 1/cos²θt near \
+         it in the path d/cosθt and the Fresnel terms",
     ),
     (
         "pbr_brdf",
