@@ -21,7 +21,26 @@ pub fn all() -> Vec<NodeType> {
         geometry(),
         time(),
         uv_derivatives(),
+        reroute(),
     ]
+}
+
+/// Blender's Reroute: a wire's elbow. The CPU plan and the WGSL read its source in its
+/// place, so it costs nothing.
+fn reroute() -> NodeType {
+    identity_variants(
+        NodeType::new(
+            crate::group::REROUTE,
+            Category::Input,
+            "Passes its input on unchanged (a wire's elbow).",
+        )
+        .source(
+            "Blender's Reroute node. Its type is that of what is connected; the plan and the \
+             WGSL read the source in its place (no step, no call).",
+        )
+        .input(In::generic("input", 0.0).doc("The value passed on."))
+        .output(Out::generic("output").doc("The same value.")),
+    )
 }
 
 fn constant() -> NodeType {

@@ -1,5 +1,7 @@
-//! The JSON graph file format, version 1: the serde model, parsing with located errors,
-//! and deterministic pretty saving.
+//! The JSON graph file format, versions 1 and 2: the serde model, parsing with located
+//! errors, and deterministic pretty saving. Version 2 adds node groups (`groups`, nodes of
+//! type `group`), `reroute` nodes, `muted` nodes and `frames` (see [`crate::group`]); a
+//! version-1 file that uses one of them is refused with the version it needs.
 //!
 //! ```json
 //! {
@@ -30,14 +32,17 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// The newest graph file format version this build reads, and the one it writes.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
-/// A graph file (format version 1).
+/// The version that brought node groups, reroutes, muted nodes and frames.
+pub const GROUPS_VERSION: u32 = 2;
+
+/// A graph file (format version 1 or 2).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(title = "matgraph graph", extend("$id" = "https://matgraph.dev/graph.schema.json"))]
 pub struct GraphDocument<N = NodeDocument> {
-    /// Format version; this build reads versions up to 1.
+    /// Format version; this build reads versions 1 and 2 and saves a file in its own.
     pub version: u32,
     /// The graph's name.
     pub name: String,
@@ -56,6 +61,13 @@ pub struct GraphDocument<N = NodeDocument> {
     /// `switch` nodes that name them (see [`crate::variant`]).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub variants: BTreeMap<String, VariantDocument>,
+    /// Node groups (version 2): subgraphs with their own interface, used by nodes of type
+    /// `group` (see [`crate::group`]).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub groups: BTreeMap<String, GroupDocument>,
+    /// Frames (version 2): labelled boxes around nodes in the editor; layout only.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub frames: Vec<FrameDocument>,
     /// The scene the graph is previewed in: a preset name (`"ball"`, `"water"`) or a scene
     /// object (see `matgraph::scene`); `matgraph render --scene` overrides it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -80,6 +92,15 @@ pub struct NodeDocument {
     /// For `switch` nodes: the variant whose choice picks the input passed on.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub variant: Option<String>,
+    /// For `group` nodes (version 2): the group used, `NAME` (a group of this file),
+    /// `PATH#NAME` (a group of another file) or `PATH` (a whole graph file), paths relative
+    /// to the file that names them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
+    /// Muted (version 2): each output passes through the node's first input of the same
+    /// type, else gives its type's zero (Blender's rule).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub muted: bool,
     /// Input values and links by input name; absent inputs take their defaults.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     #[schemars(with = "BTreeMap<String, InputSchema>")]
@@ -137,14 +158,88 @@ impl TextureSource {
     }
 }
 
+/// A node group (version 2): a subgraph used as a node, with its own interface.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GroupDocument {
+    /// What the group computes and where it comes from.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub doc: String,
+    /// The group's inputs, read inside it by links to `@in.NAME`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<GroupInputDocument>,
+    /// The nodes inside the group, as in a graph.
+    pub nodes: Vec<NodeDocument>,
+    /// The group's outputs, as a graph's.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outputs: Vec<OutputDocument>,
+}
+
+/// One input of a group's interface.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct GroupInputDocument {
+    /// The name instances set it by and the group reads it by (`@in.NAME`).
+    pub name: String,
+    /// Its type: float, vec2, vec3, vec4 or color.
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Its value where an instance leaves it unset (the type's zero when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<InputSchema>")]
+    pub default: Option<serde_json::Value>,
+    /// The range a slider offers, `[min, max]`.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "shortest_array"
+    )]
+    pub soft_range: Option<[f32; 2]>,
+    /// The range a literal on an instance must lie in, `[min, max]`.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "shortest_array"
+    )]
+    pub hard_range: Option<[f32; 2]>,
+    /// Its unit, as the node reference writes units ("nm", "rad", "1/m").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// What it means.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub doc: String,
+}
+
+/// A frame (version 2): a labelled box around nodes in the editor. Layout only.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FrameDocument {
+    /// Stable id, unique among the frames.
+    pub id: String,
+    /// The text shown on the frame.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub label: String,
+    /// The ids of the (top-level) nodes it holds.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nodes: Vec<String>,
+    /// Its colour, sRGB components in [0, 1].
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "shortest_array"
+    )]
+    pub color: Option<[f32; 3]>,
+}
+
 /// One output of the graph.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputDocument {
     /// The name callers ask for.
     pub name: String,
-    /// The node output it reads, written `node_id.output`.
-    #[schemars(regex(pattern = r"^[A-Za-z0-9_-]+\.[a-z0-9_]+$"))]
+    /// The node output it reads, written `node_id.output` (inside a group also
+    /// `@in.NAME`).
+    #[schemars(regex(pattern = r"^(@in|[A-Za-z0-9_-]+)\.[A-Za-z0-9_]+$"))]
     pub from: String,
 }
 
@@ -200,8 +295,8 @@ enum InputSchema {
 #[serde(deny_unknown_fields)]
 #[allow(dead_code)]
 struct LinkSchema {
-    /// The source, written `node_id.output`.
-    #[schemars(regex(pattern = r"^[A-Za-z0-9_-]+\.[a-z0-9_]+$"))]
+    /// The source, written `node_id.output`; inside a group `@in.NAME` reads its input.
+    #[schemars(regex(pattern = r"^(@in|[A-Za-z0-9_-]+)\.[A-Za-z0-9_]+$"))]
     link: String,
 }
 
@@ -238,7 +333,44 @@ impl GraphDocument {
             }]
         })?;
         check_version(&raw)?;
-        serde_json::from_str::<GraphDocument>(text).map_err(|e| structure_errors(text, &e))
+        let doc =
+            serde_json::from_str::<GraphDocument>(text).map_err(|e| structure_errors(text, &e))?;
+        doc.check_features()?;
+        Ok(doc)
+    }
+
+    /// The first version-2 feature the document uses, named as the format names it.
+    pub fn newer_feature(&self) -> Option<&'static str> {
+        let nodes = || {
+            self.nodes
+                .iter()
+                .chain(self.groups.values().flat_map(|g| &g.nodes))
+        };
+        if !self.groups.is_empty() {
+            Some("\"groups\"")
+        } else if !self.frames.is_empty() {
+            Some("\"frames\"")
+        } else if nodes().any(|n| n.node_type == crate::group::GROUP || n.group.is_some()) {
+            Some("nodes of type \"group\"")
+        } else if nodes().any(|n| n.node_type == crate::group::REROUTE) {
+            Some("nodes of type \"reroute\"")
+        } else if nodes().any(|n| n.muted) {
+            Some("\"muted\" nodes")
+        } else {
+            None
+        }
+    }
+
+    /// Refuses a document whose version is older than a feature it uses.
+    pub fn check_features(&self) -> Result<(), Vec<GraphError>> {
+        match self.newer_feature() {
+            Some(feature) if self.version < GROUPS_VERSION => Err(vec![GraphError::NeedsVersion {
+                feature: feature.to_owned(),
+                found: self.version,
+                needed: GROUPS_VERSION,
+            }]),
+            _ => Ok(()),
+        }
     }
 
     /// Saves as pretty JSON with a trailing newline; the same document gives the same bytes.
@@ -251,9 +383,17 @@ impl GraphDocument {
 
 /// Serialises an editor position with the shortest decimals that read back to the same f32s.
 fn shortest_pair<S: serde::Serializer>(p: &Option<[f32; 2]>, s: S) -> Result<S::Ok, S::Error> {
+    shortest_array(p, s)
+}
+
+/// Serialises f32 components with the shortest decimals that read back to the same f32s.
+fn shortest_array<S: serde::Serializer, const N: usize>(
+    p: &Option<[f32; N]>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
     use crate::value::shortest_f64;
     match p {
-        Some([x, y]) => [shortest_f64(*x), shortest_f64(*y)].serialize(s),
+        Some(v) => v.map(shortest_f64).serialize(s),
         None => s.serialize_none(),
     }
 }
@@ -398,14 +538,26 @@ mod tests {
 
     #[test]
     fn newer_versions_are_rejected_before_anything_else() {
-        let err = GraphDocument::parse(r#"{"version": 2, "future": true}"#).unwrap_err();
+        let err = GraphDocument::parse(r#"{"version": 3, "future": true}"#).unwrap_err();
         assert_eq!(
             err,
             vec![GraphError::UnsupportedVersion {
-                found: 2,
-                supported: 1
+                found: 3,
+                supported: 2
             }]
         );
+    }
+
+    #[test]
+    fn a_version_1_file_using_a_version_2_feature_names_both() {
+        let text =
+            r#"{"version": 1, "name": "g", "nodes": [{"id": "a", "type": "add", "muted": true}]}"#;
+        let err = GraphDocument::parse(text).unwrap_err();
+        assert_eq!(
+            err[0].to_string(),
+            "\"muted\" nodes need format version 2, the file says version 1: set \"version\": 2 (matgraph fmt --upgrade)"
+        );
+        assert!(GraphDocument::parse(&text.replace("\"version\": 1", "\"version\": 2")).is_ok());
     }
 
     #[test]

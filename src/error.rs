@@ -56,6 +56,88 @@ pub enum GraphError {
         /// The newest version this build reads.
         supported: u32,
     },
+    /// A version-1 file that uses a version-2 feature.
+    #[error(
+        "{feature} need format version {needed}, the file says version {found}: set \"version\": {needed} (matgraph fmt --upgrade)"
+    )]
+    NeedsVersion {
+        /// The feature, as the format names it.
+        feature: String,
+        /// The file's version.
+        found: u32,
+        /// The version the feature needs.
+        needed: u32,
+    },
+    /// A problem inside a group instance: `node` is the instance (in the graph the error is
+    /// reported for), `group` the group it uses, `error` the problem inside, itself possibly
+    /// inside a nested instance.
+    #[error("node '{node}' (group {group}) → {error}")]
+    InGroup {
+        /// The instance node.
+        node: String,
+        /// The group it uses, as written (`NAME`, `PATH#NAME`, `PATH`).
+        group: String,
+        /// The problem inside.
+        error: Box<GraphError>,
+    },
+    /// A group node whose group cannot be found or read.
+    #[error("node '{node}': group '{group}': {message}{}", did_you_mean(.suggestion))]
+    BadGroup {
+        /// The instance node.
+        node: String,
+        /// The group reference as written.
+        group: String,
+        /// What is wrong (no such group, the file cannot be read, ...).
+        message: String,
+        /// The nearest group name.
+        suggestion: Option<String>,
+    },
+    /// A group that uses itself, directly or through other groups and files.
+    #[error("group recursion: {}", .chain.join(" → "))]
+    GroupRecursion {
+        /// The groups from the first to its repetition, `file#name`.
+        chain: Vec<String>,
+    },
+    /// A link that reads a group's input it has not (`@in.x`), `@in` outside a group, or an
+    /// output a group node has not.
+    #[error("node '{node}': input '{input}': {message}")]
+    GroupLink {
+        /// The node.
+        node: String,
+        /// The input.
+        input: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Groups nested deeper than [`crate::group::MAX_DEPTH`].
+    #[error("node '{node}': groups nest deeper than {max} levels (through {group})")]
+    GroupTooDeep {
+        /// The instance at the limit.
+        node: String,
+        /// The group it uses.
+        group: String,
+        /// The limit.
+        max: usize,
+    },
+    /// An input of a group's interface that is malformed (unknown type, default of the wrong
+    /// type or outside its hard range, ranges the wrong way round, a repeated name).
+    #[error("group '{group}': input '{input}': {message}")]
+    BadGroupInput {
+        /// The group.
+        group: String,
+        /// The interface input.
+        input: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A frame that is malformed (repeated id, a node that does not exist).
+    #[error("frame '{frame}': {message}")]
+    BadFrame {
+        /// The frame.
+        frame: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Two nodes share an id.
     #[error("node '{node}': duplicate node id")]
     DuplicateId {
@@ -332,7 +414,69 @@ impl GraphError {
             | TypeMismatch { node, .. }
             | BadSwitch { node, .. }
             | BadSwitchInput { node, .. } => Some(node),
+            InGroup { node, .. }
+            | BadGroup { node, .. }
+            | GroupTooDeep { node, .. }
+            | GroupLink { node, .. } => Some(node),
             Cycle { nodes } => nodes.first().map(String::as_str),
+            _ => None,
+        }
+    }
+
+    /// The other node an error names (a link's target, a mismatched link's source), to be
+    /// rewritten with [`GraphError::node_mut`].
+    pub(crate) fn target_mut(&mut self) -> Option<&mut String> {
+        use GraphError::*;
+        match self {
+            MissingNode { target, .. } | MissingOutput { target, .. } => Some(target),
+            TypeMismatch { from, .. } => Some(from),
+            _ => None,
+        }
+    }
+
+    /// The node id at fault, to be rewritten (see [`crate::group`]'s error paths).
+    pub(crate) fn node_mut(&mut self) -> Option<&mut String> {
+        use GraphError::*;
+        match self {
+            Structure { node, .. } => node.as_mut(),
+            DuplicateId { node }
+            | InvalidId { node }
+            | BadPosition { node }
+            | BadTexture { node, .. }
+            | UnknownNodeType { node, .. }
+            | BadDataType { node, .. }
+            | UnknownInput { node, .. }
+            | WrongValueType { node, .. }
+            | OutOfRange { node, .. }
+            | BadLink { node, .. }
+            | MissingNode { node, .. }
+            | MissingOutput { node, .. }
+            | TypeMismatch { node, .. }
+            | BadSwitch { node, .. }
+            | BadSwitchInput { node, .. }
+            | InGroup { node, .. }
+            | BadGroup { node, .. }
+            | GroupTooDeep { node, .. }
+            | GroupLink { node, .. } => Some(node),
+            ParameterOutOfRange { target, .. } => Some(target),
+            _ => None,
+        }
+    }
+
+    /// The input at fault, when there is one.
+    pub(crate) fn input_mut(&mut self) -> Option<&mut String> {
+        use GraphError::*;
+        match self {
+            UnknownInput { input, .. }
+            | WrongValueType { input, .. }
+            | OutOfRange { input, .. }
+            | BadLink { input, .. }
+            | MissingNode { input, .. }
+            | MissingOutput { input, .. }
+            | TypeMismatch { input, .. }
+            | BadSwitchInput { input, .. }
+            | GroupLink { input, .. }
+            | ParameterOutOfRange { input, .. } => Some(input),
             _ => None,
         }
     }

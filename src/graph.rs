@@ -58,9 +58,40 @@ pub struct Node {
     pub texture: Option<crate::document::TextureSource>,
     /// Editor position.
     pub position: Option<[f32; 2]>,
+    /// Muted: each output passes through [`Node::passthrough`] (Blender's rule).
+    pub muted: bool,
 }
 
 impl Node {
+    /// Whether the node only passes values on (a `reroute`, or a muted node other than a
+    /// `parameter`): the CPU plan and the WGSL read its source in its place, at no cost.
+    pub fn forwards(&self) -> bool {
+        self.node_type.name() == crate::group::REROUTE
+            || (self.muted && self.node_type.evaluation() != Evaluation::Parameter)
+    }
+
+    /// For a forwarding node ([`Node::forwards`]): the input output `k` passes on, the
+    /// first of the output's type (Blender's rule for muted nodes); `None` where there is
+    /// none, and the output is its type's zero.
+    pub fn passthrough(&self, k: usize) -> Option<usize> {
+        let ty = self.output_type(k);
+        (0..self.inputs.len()).find(|&j| self.input_type(j) == ty)
+    }
+
+    /// The inputs whose values the node uses: all of them, or for a forwarding node the
+    /// ones it passes on.
+    pub fn used_inputs(&self) -> impl Iterator<Item = &InputSource> + '_ {
+        let forwards = self.forwards();
+        let outputs = self.node_type.outputs().len();
+        self.inputs
+            .iter()
+            .enumerate()
+            .filter(move |&(j, _)| {
+                !forwards || (0..outputs).any(|k| self.passthrough(k) == Some(j))
+            })
+            .map(|(_, s)| s)
+    }
+
     /// The concrete type of input `k`.
     pub fn input_type(&self, k: usize) -> SocketType {
         self.node_type.inputs()[k].ty.resolve(self.generic)
@@ -146,13 +177,74 @@ pub struct Graph {
     pub scene: Option<serde_json::Value>,
     /// The variants and switches as written, when the file has any.
     written: Option<Arc<crate::variant::Written>>,
+    /// The file's format version (saved back unchanged).
+    version: u32,
+    /// The frames, as written.
+    frames: Vec<crate::document::FrameDocument>,
+    /// For a graph with groups: the document as written (what it saves as; the nodes of
+    /// this graph are its groups inlined, see [`crate::group`]).
+    source: Option<Arc<GraphDocument>>,
+    /// For a graph with groups: where the files its groups name were read from.
+    files: Option<Arc<dyn crate::group::GroupFiles>>,
+    /// For a graph with groups: where its instances lie.
+    instances: Option<Arc<crate::group::Instances>>,
 }
 
 impl Graph {
-    /// Parses and validates a graph file's text against `registry`.
+    /// Parses and validates a graph file's text against `registry`. Groups of other files
+    /// cannot be read from text alone: see [`Graph::from_json_in`].
     pub fn from_json(text: &str, registry: &Registry) -> Result<Graph, Vec<GraphError>> {
         let doc = GraphDocument::parse(text)?;
         Graph::from_document(&doc, registry)
+    }
+
+    /// [`Graph::from_json`], reading the files its groups name through `files`.
+    pub fn from_json_in(
+        text: &str,
+        registry: &Registry,
+        files: Arc<dyn crate::group::GroupFiles>,
+    ) -> Result<Graph, Vec<GraphError>> {
+        let doc = GraphDocument::parse(text)?;
+        Graph::with_variants_in(&doc, registry, &[], files)
+    }
+
+    /// [`Graph::from_document`], reading the files its groups name through `files`.
+    pub fn from_document_in(
+        doc: &GraphDocument,
+        registry: &Registry,
+        files: Arc<dyn crate::group::GroupFiles>,
+    ) -> Result<Graph, Vec<GraphError>> {
+        Graph::with_variants_in(doc, registry, &[], files)
+    }
+
+    /// [`Graph::with_variants`], reading the files its groups name through `files`. A
+    /// document with groups is inlined first ([`crate::group`]); its errors are reported
+    /// inside the instances they come from.
+    pub fn with_variants_in(
+        doc: &GraphDocument,
+        registry: &Registry,
+        selection: &crate::variant::Selection,
+        files: Arc<dyn crate::group::GroupFiles>,
+    ) -> Result<Graph, Vec<GraphError>> {
+        if !crate::group::uses_groups(doc) {
+            return Graph::with_variants(doc, registry, selection);
+        }
+        doc.check_features()?;
+        let (x, errors) = crate::group::expand(doc, &*files);
+        let relocate = |errors: Vec<GraphError>| -> Vec<GraphError> {
+            errors
+                .into_iter()
+                .map(|e| crate::group::relocate(e, &x.scopes, &x.inputs))
+                .collect()
+        };
+        if !errors.is_empty() {
+            return Err(relocate(errors));
+        }
+        let mut graph = Graph::flat_with_variants(&x.doc, registry, selection).map_err(relocate)?;
+        graph.instances = Some(Arc::new(crate::group::Instances::new(&graph, &x)));
+        graph.source = Some(Arc::new(doc.clone()));
+        graph.files = Some(files);
+        Ok(graph)
     }
 
     /// Validates a document, its variants at their defaults; returns every problem found.
@@ -173,6 +265,24 @@ impl Graph {
         registry: &Registry,
         selection: &crate::variant::Selection,
     ) -> Result<Graph, Vec<GraphError>> {
+        if crate::group::uses_groups(doc) {
+            return Graph::with_variants_in(
+                doc,
+                registry,
+                selection,
+                Arc::new(crate::group::NoFiles),
+            );
+        }
+        Graph::flat_with_variants(doc, registry, selection)
+    }
+
+    /// [`Graph::with_variants`] of a document without groups.
+    fn flat_with_variants(
+        doc: &GraphDocument,
+        registry: &Registry,
+        selection: &crate::variant::Selection,
+    ) -> Result<Graph, Vec<GraphError>> {
+        doc.check_features()?;
         let builder = || Builder {
             registry,
             errors: Vec::new(),
@@ -202,7 +312,22 @@ impl Graph {
         registry: &Registry,
         selection: &crate::variant::Selection,
     ) -> Result<Graph, Vec<GraphError>> {
-        Graph::with_variants(&self.to_document(), registry, selection)
+        match &self.files {
+            Some(files) => {
+                Graph::with_variants_in(&self.to_document(), registry, selection, files.clone())
+            }
+            None => Graph::with_variants(&self.to_document(), registry, selection),
+        }
+    }
+
+    /// Whether the graph was written with groups (its nodes are them inlined).
+    pub fn has_groups(&self) -> bool {
+        self.source.is_some()
+    }
+
+    /// For a graph written with groups: where each instance lies in its nodes.
+    pub fn instances(&self) -> Option<&crate::group::Instances> {
+        self.instances.as_deref()
     }
 
     /// The declared variants, by name.
@@ -321,8 +446,18 @@ impl Graph {
         format!("{}.{}", n.id, n.node_type.outputs()[r.output].name)
     }
 
-    /// The document this graph saves as: literals normalised to their port types.
+    /// The document this graph saves as: literals normalised to their port types; a graph
+    /// with groups saves as written.
     pub fn to_document(&self) -> GraphDocument {
+        match &self.source {
+            Some(doc) => (**doc).clone(),
+            None => self.flat_document(),
+        }
+    }
+
+    /// The document of the graph's own nodes: for a graph with groups, its groups inlined
+    /// (node ids are paths, `g/f`; see [`crate::group`]), which validates to the same graph.
+    pub fn flat_document(&self) -> GraphDocument {
         let nodes = self
             .nodes
             .iter()
@@ -350,6 +485,8 @@ impl Graph {
                     node_type: n.node_type.name().to_owned(),
                     data_type: n.data_type.map(|t| t.name().to_owned()),
                     variant: None,
+                    group: None,
+                    muted: n.muted,
                     inputs,
                     texture: n.texture.clone(),
                     position: n.position,
@@ -363,7 +500,7 @@ impl Graph {
             }
         }
         GraphDocument {
-            version: FORMAT_VERSION,
+            version: self.version,
             name: self.name.clone(),
             doc: self.doc.clone(),
             nodes,
@@ -395,6 +532,8 @@ impl Graph {
                 .as_ref()
                 .map(|w| w.variants.clone())
                 .unwrap_or_default(),
+            groups: BTreeMap::new(),
+            frames: self.frames.clone(),
             scene: self.scene.clone(),
         }
     }
@@ -408,7 +547,7 @@ impl Graph {
     /// [`Graph::to_json`] is, as a cache key (a third of the time of the pretty form, which
     /// a GPU frame's material lookup spent a millisecond on).
     pub fn key(&self) -> String {
-        serde_json::to_string(&self.to_document()).unwrap_or_default()
+        serde_json::to_string(&self.flat_document()).unwrap_or_default()
     }
 
     /// [`Graph::key`] without the values of the exposed parameters
@@ -416,7 +555,7 @@ impl Graph {
     /// the same shaders, as the key of a compiled material whose parameters are set per
     /// frame.
     pub fn structure_key(&self) -> String {
-        let mut d = self.to_document();
+        let mut d = self.flat_document();
         d.remove_parameter_values();
         serde_json::to_string(&d).unwrap_or_default()
     }
@@ -452,7 +591,7 @@ impl Builder<'_> {
         let mut by_id: HashMap<String, NodeIndex> = HashMap::new();
         let mut types: Vec<Option<Arc<NodeType>>> = Vec::with_capacity(doc.nodes.len());
         for (i, n) in doc.nodes.iter().enumerate() {
-            if !valid_id(&n.id) {
+            if !valid_id(&n.id) && !valid_path_id(&n.id) {
                 self.errors
                     .push(GraphError::InvalidId { node: n.id.clone() });
             }
@@ -526,6 +665,7 @@ impl Builder<'_> {
         let feeds = self.parameter_feeds(doc, &nodes);
         let outputs = self.graph_outputs(doc, &by_id, &nodes);
         let parameters = self.graph_parameters(doc, &by_id, &nodes, &feeds);
+        self.check_frames(doc, &by_id);
 
         if !self.errors.is_empty() {
             return Err(self.errors);
@@ -541,7 +681,53 @@ impl Builder<'_> {
             parameters,
             scene: doc.scene.clone(),
             written: None,
+            version: doc.version,
+            frames: doc.frames.clone(),
+            source: None,
+            files: None,
+            instances: None,
         })
+    }
+
+    /// Frames have unique ids and hold nodes of the graph.
+    fn check_frames(&mut self, doc: &GraphDocument, by_id: &HashMap<String, NodeIndex>) {
+        if doc.frames.is_empty() {
+            return;
+        }
+        // A group instance is written as one node: its id is the first segment of the ids
+        // inlined from it.
+        let instances: std::collections::HashSet<&str> = doc
+            .nodes
+            .iter()
+            .filter_map(|n| n.id.split_once('/').map(|(g, _)| g))
+            .collect();
+        let mut ids = std::collections::HashSet::new();
+        for f in &doc.frames {
+            let bad = |message: String| GraphError::BadFrame {
+                frame: f.id.clone(),
+                message,
+            };
+            if !ids.insert(f.id.as_str()) {
+                self.errors.push(bad("duplicate frame id".into()));
+            }
+            if let Some(c) = f.color
+                && !c.iter().all(|x| (0.0..=1.0).contains(x))
+            {
+                self.errors
+                    .push(bad("color components must lie in [0, 1]".into()));
+            }
+            for n in &f.nodes {
+                let exists = by_id.contains_key(n) || instances.contains(n.as_str());
+                if !exists || n.contains('/') {
+                    let hint = self
+                        .nearest_id(n, doc)
+                        .map(|s| format!(" (did you mean '{s}'?)"))
+                        .unwrap_or_default();
+                    self.errors
+                        .push(bad(format!("holds node '{n}', which does not exist{hint}")));
+                }
+            }
+        }
     }
 
     /// The node id nearest to `id`, for a "did you mean"; searched (a pass over every id)
@@ -573,6 +759,14 @@ impl Builder<'_> {
             });
             return None;
         };
+        if target_id == crate::group::INPUT_ID {
+            self.errors.push(GraphError::GroupLink {
+                node: n.id.clone(),
+                input: input.to_owned(),
+                message: format!("'{text}' reads a group's input, and this is not inside a group"),
+            });
+            return None;
+        }
         let Some(&target) = by_id.get(target_id) else {
             self.errors.push(GraphError::MissingNode {
                 node: n.id.clone(),
@@ -793,6 +987,7 @@ impl Builder<'_> {
             inputs,
             texture: n.texture.clone(),
             position: n.position,
+            muted: n.muted,
         })
     }
 
@@ -1071,6 +1266,18 @@ fn describe_json(json: &serde_json::Value) -> String {
     }
 }
 
+/// An id of a node inlined from a group ([`crate::group`]): the instance path, then the
+/// node's id, or `@in:NAME` / `@out:NAME` for the nodes that carry the group's interface.
+fn valid_path_id(id: &str) -> bool {
+    id.contains('/')
+        && id.split('/').all(|s| {
+            valid_id(s)
+                || s.strip_prefix("@in:")
+                    .or_else(|| s.strip_prefix("@out:"))
+                    .is_some_and(valid_id)
+        })
+}
+
 pub(crate) fn valid_id(id: &str) -> bool {
     !id.is_empty()
         && id
@@ -1253,6 +1460,8 @@ impl Graph {
                 node_type: type_name.to_owned(),
                 data_type: None,
                 variant: None,
+                group: None,
+                muted: false,
                 inputs,
                 texture: None,
                 position: None,
@@ -1260,6 +1469,8 @@ impl Graph {
             outputs,
             parameters: Vec::new(),
             variants: BTreeMap::new(),
+            groups: Default::default(),
+            frames: Vec::new(),
             scene: None,
         };
         Graph::from_document(&doc, registry)

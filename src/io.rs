@@ -110,8 +110,18 @@ pub fn read_text(path: &Path) -> Result<String, ReadError> {
     })
 }
 
-/// Reads and validates a graph file; every error is attributed to `path`.
+/// Reads and validates a graph file; every error is attributed to `path`. The files its
+/// groups name are read from inside its folder ([`FileGroups`]).
 pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors> {
+    load_graph_with(path, registry, PathPolicy::InsideGraphFolder)
+}
+
+/// [`load_graph`] with the files its groups name confined by `policy`.
+pub fn load_graph_with(
+    path: &Path,
+    registry: &Registry,
+    policy: PathPolicy,
+) -> Result<Graph, GraphErrors> {
     let wrap = |errors| GraphErrors {
         source: path.to_owned(),
         errors,
@@ -121,7 +131,91 @@ pub fn load_graph(path: &Path, registry: &Registry) -> Result<Graph, GraphErrors
             message: e.to_string(),
         }])
     })?;
-    Graph::from_json(&text, registry).map_err(wrap)
+    Graph::from_json_in(&text, registry, group_files(path, policy)).map_err(wrap)
+}
+
+/// The [`crate::group::GroupFiles`] of the graph file at `path`, remembering what it read.
+pub fn group_files(
+    path: &Path,
+    policy: PathPolicy,
+) -> std::sync::Arc<dyn crate::group::GroupFiles> {
+    std::sync::Arc::new(crate::group::RememberedFiles::new(std::sync::Arc::new(
+        FileGroups::new(path, policy),
+    )))
+}
+
+/// Reads the files a graph's groups name (`"group": "lib/layers.json#blend"`): paths are
+/// relative to the file that writes them and, under [`PathPolicy::InsideGraphFolder`], must
+/// lie inside the top graph file's folder after canonicalisation, as textures must.
+#[derive(Debug)]
+pub struct FileGroups {
+    top: PathBuf,
+    root: PathBuf,
+    policy: PathPolicy,
+}
+
+impl FileGroups {
+    /// The files of the graph file at `top`.
+    pub fn new(top: &Path, policy: PathPolicy) -> FileGroups {
+        let folder = match top.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        FileGroups {
+            top: top.to_owned(),
+            root: std::fs::canonicalize(&folder).unwrap_or(folder),
+            policy,
+        }
+    }
+}
+
+impl crate::group::GroupFiles for FileGroups {
+    fn load(&self, from: &str, reference: &str) -> Result<crate::group::GroupFile, String> {
+        let from_file = PathBuf::from(from);
+        let base = match from_file.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        let joined = base.join(reference);
+        let resolved = canonical_or_planned(&joined);
+        if self.policy == PathPolicy::InsideGraphFolder && !resolved.starts_with(&self.root) {
+            return Err(format!(
+                "path '{reference}' resolves to {}, outside the graph's folder {} (pass --allow-outside-paths to read it)",
+                resolved.display(),
+                self.root.display()
+            ));
+        }
+        let text = read_text(&joined).map_err(|e| e.to_string())?;
+        let doc = crate::document::GraphDocument::parse(&text).map_err(|errors| {
+            let shown: Vec<String> = errors.iter().take(3).map(|e| e.to_string()).collect();
+            format!("{}: {}", joined.display(), shown.join("; "))
+        })?;
+        let label = resolved
+            .strip_prefix(&self.root)
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|_| resolved.clone());
+        let folder = match label.parent() {
+            Some(d) if !d.as_os_str().is_empty() => format!("{}/", d.display()),
+            _ => String::new(),
+        };
+        Ok(crate::group::GroupFile {
+            key: resolved.display().to_string(),
+            label: label.display().to_string(),
+            folder,
+            doc: std::sync::Arc::new(doc),
+        })
+    }
+
+    fn top_key(&self) -> String {
+        canonical_or_planned(&self.top).display().to_string()
+    }
+
+    fn top_label(&self) -> String {
+        self.top
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    }
 }
 
 /// Age after which a temporary file left by a killed write is removed by the next write

@@ -14,6 +14,7 @@ pub mod error;
 pub mod exec;
 pub mod gpu;
 pub mod graph;
+pub mod group;
 pub mod image_io;
 pub mod io;
 pub mod kernel;

@@ -565,7 +565,7 @@ impl<'g> Compiler<'g> {
         // Outputs read by a live node or requested: unread attribute outputs get no register.
         for &i in self.graph.order() {
             if live[i] {
-                for src in &self.graph.nodes()[i].inputs {
+                for src in self.graph.nodes()[i].used_inputs() {
                     if let InputSource::Link(r, _) = src {
                         self.read.insert(*r);
                     }
@@ -698,7 +698,7 @@ impl<'g> Compiler<'g> {
             if std::mem::replace(&mut live[i], true) {
                 continue;
             }
-            for src in &self.graph.nodes()[i].inputs {
+            for src in self.graph.nodes()[i].used_inputs() {
                 if let InputSource::Link(r, _) = src {
                     stack.push(r.node);
                 }
@@ -727,6 +727,23 @@ impl<'g> Compiler<'g> {
         let set = |c: &mut Self, k: usize, op: Operand| {
             c.operands.insert(OutputRef { node: i, output: k }, op);
         };
+        if node.forwards() {
+            // A reroute or a muted node: each output is its passed input's operand (after
+            // the input's own conversion), or its type's zero. No step.
+            for (k, &ty) in out_types.iter().enumerate() {
+                let op = match node.passthrough(k).map(|j| (j, &node.inputs[j])) {
+                    Some((_, InputSource::Default(v) | InputSource::Value { value: v, .. })) => {
+                        Operand::Const(*v)
+                    }
+                    Some((j, InputSource::Link(r, c))) => {
+                        self.convert(self.operands[r], *c, node.input_type(j))
+                    }
+                    None => Operand::Const(Value::zero(ty)),
+                };
+                set(self, k, op);
+            }
+            return;
+        }
         match t.evaluation() {
             Evaluation::Attributes(attrs) => {
                 for (k, &a) in attrs.iter().enumerate() {

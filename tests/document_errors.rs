@@ -341,8 +341,8 @@ fn self_loop() {
 #[test]
 fn newer_format_version() {
     check(
-        r#"{"version": 2, "name": "g", "nodes": []}"#,
-        "g.json: format version 2 is newer than the newest supported (1); update matgraph",
+        r#"{"version": 3, "name": "g", "nodes": []}"#,
+        "g.json: format version 3 is newer than the newest supported (2); update matgraph",
     );
 }
 
@@ -350,7 +350,7 @@ fn newer_format_version() {
 fn missing_version() {
     check(
         r#"{"name": "g", "nodes": []}"#,
-        "g.json: missing format version: add \"version\": 1",
+        "g.json: missing format version: add \"version\": 2",
     );
     check(
         r#"{"version": "1", "name": "g", "nodes": []}"#,
@@ -363,7 +363,7 @@ fn unknown_top_level_field() {
     check(
         "{\n  \"version\": 1,\n  \"name\": \"g\",\n  \"colour\": 1,\n  \"nodes\": []\n}",
         "g.json: unknown field `colour`, expected one of `version`, `name`, `doc`, `nodes`, \
-         `outputs`, `parameters`, `variants`, `scene` at line 4, column 10",
+         `outputs`, `parameters`, `variants`, `groups`, `frames`, `scene` at line 4, column 10",
     );
 }
 
@@ -374,7 +374,7 @@ fn unknown_field_inside_a_node_names_the_node() {
          {\"id\": \"geo\", \"type\": \"geometry\"},\n    \
          {\"id\": \"fr\", \"type\": \"fresnel_dielectric\", \"colour\": 1}\n  ]\n}",
         "g.json: node 'fr': unknown field `colour`, expected one of `id`, `type`, `data_type`, \
-         `variant`, `inputs`, `texture`, `position` at line 6, column 55",
+         `variant`, `group`, `muted`, `inputs`, `texture`, `position` at line 6, column 55",
     );
 }
 
@@ -565,12 +565,26 @@ fn committed_graphs_load() {
     }
 }
 
+/// Loads the text of the committed graph at `path`, reading the files its groups name.
+fn load_at(path: &Path, text: &str) -> Graph {
+    let files = matgraph::io::group_files(path, matgraph::io::PathPolicy::InsideGraphFolder);
+    Graph::from_json_in(text, Registry::builtin(), files).unwrap_or_else(|errors| {
+        panic!(
+            "{}",
+            GraphErrors {
+                source: path.to_owned(),
+                errors
+            }
+        )
+    })
+}
+
 #[test]
 fn load_save_load_save_is_byte_identical() {
     for path in committed_graphs() {
         let text = std::fs::read_to_string(&path).unwrap();
-        let first = load(&text).to_json();
-        let second = load(&first).to_json();
+        let first = load_at(&path, &text).to_json();
+        let second = load_at(&path, &first).to_json();
         assert_eq!(first, second, "{}", path.display());
     }
 }
@@ -604,7 +618,7 @@ fn free_form_numbers_round_trip_exactly() {
 fn committed_graphs_are_canonical() {
     for path in committed_graphs() {
         let text = std::fs::read_to_string(&path).unwrap();
-        let saved = load(&text).to_json();
+        let saved = load_at(&path, &text).to_json();
         assert_eq!(
             saved,
             text,
@@ -695,7 +709,8 @@ mod never_panic {
     use proptest::test_runner::Config;
     use serde_json::{Value as J, json};
 
-    /// The committed graphs' texts; graphs/fresnel_glass.json first.
+    /// The committed graphs' texts, graphs/fresnel_glass.json first; a graph with groups
+    /// in other files as its flat form (its groups inlined), which loads from text alone.
     fn fixtures() -> Vec<String> {
         let first = repo_path("graphs/fresnel_glass.json");
         let mut paths = committed_graphs();
@@ -703,7 +718,15 @@ mod never_panic {
         paths.insert(0, first);
         paths
             .iter()
-            .map(|p| std::fs::read_to_string(p).unwrap())
+            .map(|p| {
+                let text = std::fs::read_to_string(p).unwrap();
+                let g = load_at(p, &text);
+                if g.has_groups() {
+                    g.flat_document().to_json_pretty()
+                } else {
+                    text
+                }
+            })
             .collect()
     }
 

@@ -1571,3 +1571,337 @@ fn two_editors_on_one_graph_render_the_same_pixels() {
         assert_eq!(differ, 0, "{name}: {differ} bytes differ");
     }
 }
+
+/// Format version 2 in the editor (issue 34): a graph with an inline group, a group of
+/// another file (`lib/layers.json#scale`), a reroute, a muted node and a frame, written
+/// compact (not canonical) into `dir`, with its library.
+fn v2_folder(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(dir.join("lib")).unwrap();
+    let lib = serde_json::json!({
+        "version": 2, "name": "layers", "nodes": [],
+        "groups": { "scale": {
+            "doc": "x times k.",
+            "inputs": [
+                { "name": "x", "type": "float", "default": 1.0 },
+                { "name": "k", "type": "float", "default": 2.0, "soft_range": [0.0, 4.0], "doc": "The factor." }
+            ],
+            "nodes": [ { "id": "m", "type": "mul", "inputs": { "a": { "link": "@in.x" }, "b": { "link": "@in.k" } } } ],
+            "outputs": [ { "name": "y", "from": "m.result" } ]
+        } }
+    });
+    std::fs::write(dir.join("lib/layers.json"), lib.to_string()).unwrap();
+    std::fs::write(dir.join("v2.json"), v2_graph().to_string()).unwrap();
+    dir
+}
+
+/// The graph of [`v2_folder`]: geo → d → inl (inline group `fres`) → lib (group of
+/// `lib/layers.json`) → rr (reroute) → mu (muted sqrt) → emission; frame `fr` holds geo
+/// and d.
+fn v2_graph() -> serde_json::Value {
+    serde_json::json!({
+        "version": 2, "name": "v2",
+        "nodes": [
+            { "id": "geo", "type": "geometry", "position": [0, 0] },
+            { "id": "d", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } },
+              "position": [300, 0] },
+            { "id": "inl", "type": "group", "group": "fres", "inputs": { "c": { "link": "d.result" } },
+              "position": [600, 0] },
+            { "id": "lib", "type": "group", "group": "lib/layers.json#scale",
+              "inputs": { "x": { "link": "inl.r" } }, "position": [900, 0] },
+            { "id": "rr", "type": "reroute", "inputs": { "input": { "link": "lib.y" } }, "position": [1250, 0] },
+            { "id": "mu", "type": "sqrt", "muted": true, "inputs": { "x": { "link": "rr.output" } },
+              "position": [1500, 0] }
+        ],
+        "outputs": [ { "name": "emission", "from": "mu.result" } ],
+        "groups": { "fres": {
+            "doc": "Schlick's Fresnel.",
+            "inputs": [
+                { "name": "c", "type": "float", "default": 1.0 },
+                { "name": "f0", "type": "float", "default": 0.04, "soft_range": [0.0, 1.0] }
+            ],
+            "nodes": [ { "id": "f", "type": "fresnel_schlick",
+                "inputs": { "cos_theta": { "link": "@in.c" }, "f0": { "link": "@in.f0" } } } ],
+            "outputs": [ { "name": "r", "from": "f.reflectance" } ]
+        } },
+        "frames": [ { "id": "fr", "label": "Inputs", "nodes": ["geo", "d"], "color": [0.2, 0.4, 0.6] } ]
+    })
+}
+
+/// What `matgraph fmt` writes for the graph file at `path`.
+fn fmt_text(path: &Path) -> String {
+    matgraph::io::load_graph(path, Registry::builtin())
+        .unwrap()
+        .to_json()
+}
+
+/// Runs `h` until its canvas shows every node, fitted (at most 60 s).
+fn settle_all(h: &mut Harness<'static, EditorApp>) {
+    let start = std::time::Instant::now();
+    h.step();
+    while !h.state().settled() && start.elapsed().as_secs() < 60 {
+        h.step();
+    }
+    h.run_steps(3);
+}
+
+/// A version-2 file opens valid (its group of another file read from its folder), draws
+/// each group instance as one node whose pins are its group's interface (inputs with their
+/// value editors, outputs typed by the validated graph), its title followed by the group
+/// it uses, the muted node marked, every node within its estimated rect, and saves
+/// unedited as `matgraph fmt` writes it, byte for byte, again after a reload.
+#[test]
+fn a_version_2_file_draws_groups_as_one_node_and_saves_as_fmt_writes_it() {
+    use matgraph::editor::ports::Kind;
+    use matgraph::editor::view::REVEAL_MARGIN;
+    use matgraph::node::PortType;
+    use matgraph::types::SocketType;
+    let dir = v2_folder("v2_open");
+    let file = dir.join("v2.json");
+    let mut s = EditorState::open(&file, Registry::builtin()).unwrap();
+    s.dialog = None;
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert!(s.status.is_none(), "not arranged: {:?}", s.status);
+    let names = |ports: &[matgraph::editor::ports::Port]| -> Vec<String> {
+        ports.iter().map(|p| p.name.to_string()).collect()
+    };
+    // The inline group's interface, from the document's `groups`.
+    let inl = s.doc.ports("inl").unwrap();
+    assert!(
+        matches!(&inl.kind, Kind::Group { reference, interface: true, .. } if reference == "fres")
+    );
+    assert_eq!(names(&inl.inputs), ["c", "f0"]);
+    assert_eq!(names(&inl.outputs), ["r"]);
+    assert_eq!(inl.inputs[1].soft.map(|r| (r.min, r.max)), Some((0.0, 1.0)));
+    // The other file's, read through the graph file's folder; its output typed by the
+    // validated graph.
+    let lib = s.doc.ports("lib").unwrap();
+    assert!(
+        matches!(&lib.kind, Kind::Group { reference, interface: true, doc }
+            if reference == "lib/layers.json#scale" && doc == "x times k.")
+    );
+    assert_eq!(names(&lib.inputs), ["x", "k"]);
+    assert_eq!(names(&lib.outputs), ["y"]);
+    assert_eq!(lib.outputs[0].ty, PortType::Fixed(SocketType::Float));
+    assert_eq!(lib.inputs[1].doc, "The factor.");
+    // A node preview of an instance cuts the graph at its group's first output.
+    let files = s.doc.files().cloned();
+    preview::cut_at_in(s.doc.doc(), "lib", Registry::builtin(), files).unwrap();
+    // The reroute is a registered type.
+    assert!(matches!(s.doc.ports("rr").unwrap().kind, Kind::Type(_)));
+    // One canvas node per document node and a wire per link (geo→d twice, d→inl, inl→lib,
+    // lib→rr, rr→mu).
+    assert_eq!(s.snarl.nodes().count(), 6);
+    assert_eq!(s.snarl.wires().count(), 6);
+
+    let mut h = harness(s);
+    settle_all(&mut h);
+    {
+        let app = h.state();
+        let frames = app.drawn_frames();
+        let mut ids: Vec<&str> = frames.iter().map(|(id, _)| *id).collect();
+        ids.sort_unstable();
+        assert_eq!(
+            ids,
+            ["d", "geo", "inl", "lib", "mu", "rr"],
+            "each instance is one node"
+        );
+        let doc = &app.state.doc;
+        for (id, drawn) in frames {
+            let k = doc.index(id).unwrap();
+            let [x, y] = doc.doc().nodes[k].position.unwrap();
+            let (w, ht) = doc.node_sizes()[k];
+            let estimate = egui::Rect::from_min_size(egui::pos2(x, y), egui::vec2(w, ht));
+            assert!(
+                estimate.expand(REVEAL_MARGIN).contains_rect(drawn),
+                "{id} drawn at {drawn:?}, estimated {estimate:?}"
+            );
+        }
+    }
+    // The headers: each instance's group after its id, the muted node marked.
+    h.get_by_label("lib");
+    h.get_by_label("lib/layers.json#scale");
+    h.get_by_label("inl");
+    h.get_by_label("fres");
+    h.get_by_label("muted");
+    // The interface pins, once each (the groups' inner nodes are not drawn).
+    for pin in ["c", "f0", "r", "k", "y"] {
+        assert_eq!(h.query_all_by_label(pin).count(), 1, "pin {pin}");
+    }
+    // No unsaved change, and saving writes what `matgraph fmt` writes.
+    let expected = fmt_text(&file);
+    assert_ne!(
+        std::fs::read_to_string(&file).unwrap(),
+        expected,
+        "written compact"
+    );
+    assert!(!h.state().state.dirty());
+    h.state_mut().state.save().unwrap();
+    let saved = std::fs::read_to_string(&file).unwrap();
+    assert_eq!(saved, expected);
+    for key in [
+        "\"groups\"",
+        "\"frames\"",
+        "\"muted\": true",
+        "\"version\": 2",
+    ] {
+        assert!(saved.contains(key), "{key}");
+    }
+    // Reopened and saved again: the same bytes.
+    let mut again = EditorState::open(&file, Registry::builtin()).unwrap();
+    again.dialog = None;
+    assert!(!again.dirty());
+    again.save().unwrap();
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), expected);
+}
+
+/// A value edited on an instance's interface input is written on the instance, and a
+/// wire between instances is checked as any other; removing a node takes it out of the
+/// frames that hold it, so the saved file loads.
+#[test]
+fn edits_on_group_instances_and_removals_keep_a_version_2_file_valid() {
+    let dir = v2_folder("v2_edit");
+    let file = dir.join("v2.json");
+    let mut s = EditorState::open(&file, Registry::builtin()).unwrap();
+    s.dialog = None;
+    s.set_input("lib", "k", serde_json::json!(3.0), None);
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(
+        s.doc.node("lib").unwrap().inputs.get("k"),
+        Some(&serde_json::json!(3.0))
+    );
+    // A vec3 into the instance's float input: the loader's message, nothing changed.
+    let err = s.connect("geo", "normal", "lib", "k").unwrap_err();
+    assert!(err.contains("lib"), "{err}");
+    s.connect("d", "result", "lib", "k").unwrap();
+    assert_eq!(s.doc.link("lib", "k"), Some("d.result"));
+    s.remove_nodes(&["d".to_owned()]);
+    assert_eq!(s.doc.doc().frames[0].nodes, ["geo"]);
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(s.doc.link("inl", "c"), None);
+    s.save().unwrap();
+    let g = matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
+    assert_eq!(g.to_json(), std::fs::read_to_string(&file).unwrap());
+    // Undone: d is back in its frame.
+    s.undo();
+    assert_eq!(s.doc.doc().frames[0].nodes, ["geo", "d"]);
+}
+
+/// An error inside a group is shown on the instance that uses it (the loader reports it
+/// as `node 'inl' (group fres) → …`), not on any other node, and drawn there (⚠).
+#[test]
+fn an_error_inside_a_group_is_shown_on_its_instance() {
+    let dir = v2_folder("v2_error");
+    let mut graph = v2_graph();
+    graph["groups"]["fres"]["nodes"][0]["inputs"]["cos_theta"] =
+        serde_json::json!({ "link": "nowhere.value" });
+    let file = dir.join("v2.json");
+    std::fs::write(&file, graph.to_string()).unwrap();
+    let mut s = EditorState::open(&file, Registry::builtin()).unwrap();
+    s.dialog = None;
+    assert_eq!(s.doc.errors().len(), 1, "{:?}", s.doc.errors());
+    let e = &s.doc.errors()[0];
+    assert!(matches!(e, matgraph::GraphError::InGroup { .. }), "{e:?}");
+    assert_eq!(e.node(), Some("inl"));
+    let on = s.doc.node_errors("inl");
+    assert_eq!(on.len(), 1);
+    assert!(on[0].starts_with("node 'inl' (group fres) → "), "{}", on[0]);
+    assert!(on[0].contains("nowhere"), "{}", on[0]);
+    for other in ["geo", "d", "lib", "rr", "mu"] {
+        assert!(s.doc.node_errors(other).is_empty(), "{other}");
+    }
+    // The instance is still drawn with its interface, marked.
+    assert_eq!(s.doc.ports("inl").unwrap().inputs.len(), 2);
+    let mut h = harness(s);
+    settle_all(&mut h);
+    assert_eq!(h.state().drawn_frames().len(), 6);
+    assert_eq!(h.query_all_by_label("⚠").count(), 1);
+    // Saving a graph with errors writes the document as written.
+    h.state_mut().state.save().unwrap();
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert_eq!(
+        text,
+        matgraph::GraphDocument::parse(&graph.to_string())
+            .unwrap()
+            .to_json_pretty()
+    );
+    // A malformed interface (the loader names the group, `v2.json#fres`, not a node) is
+    // shown on the instances that use the group too.
+    let mut bad = v2_graph();
+    bad["groups"]["fres"]["inputs"][1]["type"] = serde_json::json!("mat4");
+    let doc = matgraph::GraphDocument::parse(&bad.to_string()).unwrap();
+    let files = EditorDoc::files_of(&file);
+    let d = EditorDoc::with_files(doc, Registry::builtin(), Some(files));
+    let on = d.node_errors("inl");
+    assert!(
+        on.iter()
+            .any(|e| e.contains("input 'f0'") && e.contains("mat4")),
+        "{on:?} of {:?}",
+        d.errors()
+    );
+    assert!(d.node_errors("lib").is_empty());
+}
+
+/// Without a file, a group of another file cannot be read: the instance is an error, drawn
+/// with the pins its links use; saved into the library's folder, the document reads it from
+/// there, and the pins become the group's interface.
+#[test]
+fn a_group_of_another_file_resolves_once_the_graph_has_a_file() {
+    use matgraph::editor::ports::Kind;
+    let dir = v2_folder("v2_untitled");
+    let doc: matgraph::GraphDocument = serde_json::from_value(v2_graph()).unwrap();
+    let mut s = EditorState::new(doc, None, Registry::builtin());
+    s.dialog = None;
+    assert_eq!(s.doc.node_errors("lib").len(), 1, "{:?}", s.doc.errors());
+    let lib = s.doc.ports("lib").unwrap();
+    assert!(matches!(
+        lib.kind,
+        Kind::Group {
+            interface: false,
+            ..
+        }
+    ));
+    let names = |p: &[matgraph::editor::ports::Port]| -> Vec<String> {
+        p.iter().map(|p| p.name.to_string()).collect()
+    };
+    assert_eq!(names(&lib.inputs), ["x"]);
+    assert_eq!(names(&lib.outputs), ["y"]);
+    // The wires through it stay.
+    assert_eq!(s.snarl.wires().count(), 6);
+    let mut h = harness(s);
+    settle_all(&mut h);
+    assert_eq!(h.state().drawn_frames().len(), 6);
+    let out = dir.join("saved_here.json");
+    h.state_mut().state.save_as(&out).unwrap();
+    let s = &h.state().state;
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(names(&s.doc.ports("lib").unwrap().inputs), ["x", "k"]);
+    assert!(!s.dirty());
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), fmt_text(&out));
+}
+
+/// A reroute added to a version-1 file raises it to version 2 (a version-1 file with a
+/// reroute does not load), so the file saved opens again.
+#[test]
+fn a_reroute_added_to_a_version_1_file_makes_it_version_2() {
+    let dir = scratch("v1_reroute");
+    let file = dir.join("v1.json");
+    std::fs::write(
+        &file,
+        r#"{ "version": 1, "name": "v1", "nodes": [ { "id": "geo", "type": "geometry", "position": [0, 0] } ] }"#,
+    )
+    .unwrap();
+    let mut s = EditorState::open(&file, Registry::builtin()).unwrap();
+    s.dialog = None;
+    s.add_node("dot", [300.0, 0.0]).unwrap();
+    assert_eq!(s.doc.doc().version, 1, "a version-1 node keeps the version");
+    s.add_node("reroute", [300.0, 200.0]).unwrap();
+    assert_eq!(s.doc.doc().version, 2);
+    s.connect("geo", "normal", "reroute", "input").unwrap();
+    s.save().unwrap();
+    let mut again = EditorState::open(&file, Registry::builtin()).unwrap();
+    again.dialog = None;
+    assert!(again.doc.errors().is_empty(), "{:?}", again.doc.errors());
+    assert_eq!(again.doc.link("reroute", "input"), Some("geo.normal"));
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), fmt_text(&file));
+}

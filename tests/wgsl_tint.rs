@@ -65,12 +65,12 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
         }
         // Every other choice of each declared variant (the default is the graph above), for
         // both entry points: the WGSL of nodes only a non-default choice reaches.
-        let doc = matgraph::GraphDocument::parse(&std::fs::read_to_string(&path).unwrap())
-            .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
-        for (variant, decl) in &doc.variants {
+        // Through the loaded graph, which reads the files its groups name.
+        for (variant, decl) in &full.variants() {
             for choice in decl.choices.iter().filter(|c| **c != decl.default) {
                 let selection = [(variant.clone(), choice.clone())];
-                let graph = matgraph::Graph::with_variants(&doc, Registry::builtin(), &selection)
+                let graph = full
+                    .select(Registry::builtin(), &selection)
                     .unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
                 for entry in [Entry::Compute, Entry::Fragment] {
                     let options = WgslOptions {

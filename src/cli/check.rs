@@ -28,8 +28,35 @@ pub fn run(args: &Args) -> CliResult {
                 continue;
             }
         };
-        match Graph::from_json(&text, registry()) {
-            Ok(g) if g.outputs().is_empty() => {
+        let files = matgraph::io::group_files(f, matgraph::io::PathPolicy::InsideGraphFolder);
+        let library = matgraph::GraphDocument::parse(&text)
+            .ok()
+            .filter(|d| !d.groups.is_empty());
+        let result = Graph::from_json_in(&text, registry(), files.clone()).map(|g| {
+            let mut errors = Vec::new();
+            if let Some(doc) = &library {
+                errors = group_errors(doc, &files);
+            }
+            (g, errors)
+        });
+        match result {
+            Ok((g, errors)) if !errors.is_empty() => {
+                failed += 1;
+                println!("{}: {}", f.display(), count(errors.len(), "error"));
+                let _ = g;
+                for e in errors {
+                    eprintln!("{}: {e}", f.display());
+                }
+            }
+            Ok((g, _)) if g.outputs().is_empty() && g.nodes().is_empty() && library.is_some() => {
+                let groups = library.as_ref().map_or(0, |d| d.groups.len());
+                println!(
+                    "{}: ok (a library of {})",
+                    f.display(),
+                    count(groups, "group")
+                );
+            }
+            Ok((g, _)) if g.outputs().is_empty() => {
                 failed += 1;
                 println!("{}: 1 error", f.display());
                 eprintln!(
@@ -37,7 +64,7 @@ pub fn run(args: &Args) -> CliResult {
                     f.display()
                 );
             }
-            Ok(g) => println!(
+            Ok((g, _)) => println!(
                 "{}: ok ({}, {})",
                 f.display(),
                 count(g.nodes().len(), "node"),
@@ -59,4 +86,51 @@ pub fn run(args: &Args) -> CliResult {
     } else {
         Ok(())
     }
+}
+
+/// The problems inside each group `doc` declares, used or not: each is validated as one
+/// instance at its defaults, its outputs the graph's (`group 'NAME' → node 'f': …`).
+fn group_errors(
+    doc: &matgraph::GraphDocument,
+    files: &std::sync::Arc<dyn matgraph::group::GroupFiles>,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for (name, group) in &doc.groups {
+        let mut probe = doc.clone();
+        probe.nodes = vec![matgraph::document::NodeDocument {
+            id: "probe".into(),
+            node_type: matgraph::group::GROUP.into(),
+            data_type: None,
+            variant: None,
+            group: Some(name.clone()),
+            muted: false,
+            inputs: Default::default(),
+            texture: None,
+            position: None,
+        }];
+        probe.outputs = group
+            .outputs
+            .iter()
+            .map(|o| matgraph::document::OutputDocument {
+                name: o.name.clone(),
+                from: format!("probe.{}", o.name),
+            })
+            .collect();
+        probe.parameters.clear();
+        probe.frames.clear();
+        if let Err(errors) = Graph::from_document_in(&probe, registry(), files.clone()) {
+            for e in errors {
+                out.push(match e {
+                    matgraph::GraphError::InGroup { error, .. } => {
+                        format!("group '{name}' → {error}")
+                    }
+                    e => format!(
+                        "group '{name}': {}",
+                        e.to_string().replace("node 'probe': ", "")
+                    ),
+                });
+            }
+        }
+    }
+    out
 }

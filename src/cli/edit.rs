@@ -45,15 +45,21 @@ pub fn run(args: &Args) -> CliResult {
             .as_ref()
             .ok_or("matgraph edit --arrange: give the graph file")?;
         let registry = matgraph::Registry::builtin();
-        let doc = editor::model::EditorDoc::new(editor::files::open(file)?, registry);
+        let files = editor::model::EditorDoc::files_of(file);
+        let doc =
+            editor::model::EditorDoc::with_files(editor::files::open(file)?, registry, Some(files));
         let arranged = editor::layout::arranged(doc.doc(), doc.node_sizes());
-        let graph = matgraph::Graph::from_document(&arranged, registry).map_err(|errors| {
-            matgraph::error::GraphErrors {
-                source: file.clone(),
-                errors,
-            }
-            .to_string()
-        })?;
+        let group_files =
+            matgraph::io::group_files(file, matgraph::io::PathPolicy::InsideGraphFolder);
+        let graph = matgraph::Graph::from_document_in(&arranged, registry, group_files).map_err(
+            |errors| {
+                matgraph::error::GraphErrors {
+                    source: file.clone(),
+                    errors,
+                }
+                .to_string()
+            },
+        )?;
         editor::files::save(file, &graph.to_json())?;
         println!(
             "{}: arranged {} nodes",

@@ -154,8 +154,14 @@ pub fn run(args: &Args) -> CliResult {
             .iter()
             .map(|s| super::split_variant(s))
             .collect::<Result<Vec<_>, _>>()?;
-        let graph = Graph::with_variants(&doc, registry(), &selection).map_err(wrap)?;
         let policy = super::path_policy(args.allow_outside_paths);
+        let graph = Graph::with_variants_in(
+            &doc,
+            registry(),
+            &selection,
+            matgraph::io::group_files(path, policy),
+        )
+        .map_err(wrap)?;
         let graph =
             super::report::apply_max_error(graph, path, &args.variants, args.max_error, policy)?;
         (graph, path.to_owned())

@@ -14,6 +14,9 @@ pub struct Args {
     /// Only report files that are not canonical; exit non-zero if any.
     #[arg(long)]
     pub check: bool,
+    /// Rewrite in the newest format version (a file otherwise keeps its version).
+    #[arg(long)]
+    pub upgrade: bool,
 }
 
 /// Rewrites (or, with `--check`, reports) every file that is not canonical; without
@@ -24,14 +27,21 @@ pub fn run(args: &Args) -> CliResult {
     let mut differing = 0;
     for f in files {
         let current = read_graph_text(f)?;
-        let g = Graph::from_json(&current, registry()).map_err(|errors| {
+        let files = matgraph::io::group_files(f, matgraph::io::PathPolicy::InsideGraphFolder);
+        let g = Graph::from_json_in(&current, registry(), files).map_err(|errors| {
             GraphErrors {
                 source: f.clone(),
                 errors,
             }
             .to_string()
         })?;
-        let canonical = g.to_json();
+        let canonical = if args.upgrade {
+            let mut doc = g.to_document();
+            doc.version = matgraph::FORMAT_VERSION;
+            doc.to_json_pretty()
+        } else {
+            g.to_json()
+        };
         if canonical == current {
             if !check_only {
                 println!("{}: already canonical", f.display());

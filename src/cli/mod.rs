@@ -70,7 +70,8 @@ pub fn load_graph_with(path: &Path, variants: &[String]) -> Result<Graph, String
         .to_string()
     };
     let doc = matgraph::GraphDocument::parse(&text).map_err(wrap)?;
-    Graph::with_variants(&doc, registry(), &selection).map_err(wrap)
+    let files = matgraph::io::group_files(path, PathPolicy::InsideGraphFolder);
+    Graph::with_variants_in(&doc, registry(), &selection, files).map_err(wrap)
 }
 
 /// Splits `--variant NAME=CHOICE`.

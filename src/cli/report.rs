@@ -196,7 +196,8 @@ fn load_variant(file: &Path, v: &VariantSpec) -> Result<Graph, String> {
         .iter()
         .map(|(a, b)| ((*a).to_owned(), (*b).to_owned()))
         .collect();
-    Graph::with_variants(&doc, registry(), &choices).map_err(wrap)
+    let files = matgraph::io::group_files(file, matgraph::io::PathPolicy::InsideGraphFolder);
+    Graph::with_variants_in(&doc, registry(), &choices, files).map_err(wrap)
 }
 
 /// What one variant measured, before the errors against the reference.

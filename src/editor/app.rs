@@ -4,6 +4,7 @@
 
 use super::code::{TARGETS, extension, node_lines};
 use super::handoff;
+use super::ports::Kind;
 use super::search_ui::{self, SearchState};
 use super::stand_in::Looks;
 use super::state::{Dialog, EditorState, Pending};
@@ -200,7 +201,9 @@ impl EditorApp {
             hard,
             actions: Vec::new(),
             to_screen: None,
-            shader_error: shader_error.and_then(|(n, m)| Some((n?, m))),
+            // A node inlined from a group instance (`g/f`) is shown on the instance.
+            shader_error: shader_error
+                .and_then(|(n, m)| Some((super::model::owner(&n?).to_owned(), m))),
             set_transform: None,
             swatches: self.node_swatches(),
             overview: Default::default(),
@@ -613,17 +616,18 @@ impl EditorApp {
                             crate::GraphError::Cycle { nodes } => nodes.first().cloned(),
                             e => e.node().map(str::to_owned),
                         };
+                        // A node inlined from a group instance (`g/f`): the instance.
+                        let node = node.map(|n| super::model::owner(&n).to_owned());
                         (node, e.to_string())
                     })
                     .collect();
                 let shader = if errors.is_empty() {
                     let graph = self.state.doc.graph();
                     let generated = self.state.code.generated(graph);
-                    generated
-                        .text
-                        .as_ref()
-                        .err()
-                        .map(|e| (generated.error_node.clone(), e.clone()))
+                    generated.text.as_ref().err().map(|e| {
+                        let node = generated.error_node.as_deref().map(super::model::owner);
+                        (node.map(str::to_owned), e.clone())
+                    })
                 } else {
                     None
                 };
@@ -671,55 +675,87 @@ impl EditorApp {
             ui.weak("Click a node's title to see its documentation.");
             return;
         };
-        let Some(t) = self.state.doc.node_type(&id).cloned() else {
-            // Gone (an undo, a delete, a reload) or of a type the registry lacks.
-            match self.state.doc.node(&id) {
-                None => ui.weak(format!(
-                    "Node '{id}' is no longer in the graph. Click a node's title to see its documentation."
-                )),
-                Some(n) => ui.weak(format!("node '{id}': unknown type '{}'", n.node_type)),
-            };
+        let doc = &self.state.doc;
+        let (Some(n), Some(ports)) = (doc.node(&id), doc.ports(&id)) else {
+            ui.weak(format!(
+                "Node '{id}' is no longer in the graph. Click a node's title to see its documentation."
+            ));
             return;
         };
+        let t = match &ports.kind {
+            Kind::Type(t) => Some(t.clone()),
+            Kind::Group { .. } => None,
+            Kind::Unknown => {
+                // Of a type the registry lacks.
+                ui.weak(format!("node '{id}': unknown type '{}'", n.node_type));
+                for e in doc.node_errors(&id) {
+                    ui.colored_label(Color32::from_rgb(255, 120, 110), e);
+                }
+                return;
+            }
+        };
         ui.heading(&id);
-        ui.label(format!("{} · {}", t.name(), t.category()));
-        if let Some(g) = self.state.doc.generic(&id).filter(|_| t.is_generic()) {
-            ui.label(format!("T = {g}"));
+        match (&t, &ports.kind) {
+            (Some(t), _) => {
+                ui.label(format!("{} · {}", t.name(), t.category()));
+                if let Some(g) = doc.generic(&id).filter(|_| t.is_generic()) {
+                    ui.label(format!("T = {g}"));
+                }
+            }
+            (
+                None,
+                Kind::Group {
+                    reference,
+                    interface,
+                    ..
+                },
+            ) => {
+                ui.label(format!("group · {reference}"));
+                if !interface {
+                    ui.weak("its interface could not be read: the pins are its links'");
+                }
+            }
+            _ => {}
         }
-        for e in self.state.doc.node_errors(&id) {
+        if n.muted {
+            ui.label("muted: each output passes on the first input of its type");
+        }
+        for e in doc.node_errors(&id) {
             ui.colored_label(Color32::from_rgb(255, 120, 110), e);
         }
-        ui.label(t.summary());
-        if !t.source_doc().is_empty() {
-            ui.separator();
-            ui.label(t.source_doc());
+        match (&t, &ports.kind) {
+            (Some(t), _) => {
+                ui.label(t.summary());
+                if !t.source_doc().is_empty() {
+                    ui.separator();
+                    ui.label(t.source_doc());
+                }
+            }
+            (None, Kind::Group { doc: text, .. }) if !text.is_empty() => {
+                ui.label(text);
+            }
+            _ => {}
         }
         ui.separator();
-        for i in t.inputs() {
-            let ty = self
-                .state
-                .doc
-                .port_type(&id, i.ty)
-                .map_or("T".into(), |t| t.name().to_owned());
+        let ty_of = |p: &super::ports::Port| {
+            doc.port_type(&id, p.ty)
+                .map_or("T".into(), |t| t.name().to_owned())
+        };
+        for i in &ports.inputs {
             let unit = if i.unit.is_empty() {
                 String::new()
             } else {
                 format!(" [{}]", i.unit)
             };
-            ui.label(egui::RichText::new(format!("{} : {ty}{unit}", i.name)).strong());
+            ui.label(egui::RichText::new(format!("{} : {}{unit}", i.name, ty_of(i))).strong());
             if !i.doc.is_empty() {
-                ui.label(i.doc);
+                ui.label(i.doc.as_ref());
             }
         }
-        for o in t.outputs() {
-            let ty = self
-                .state
-                .doc
-                .port_type(&id, o.ty)
-                .map_or("T".into(), |t| t.name().to_owned());
-            ui.label(egui::RichText::new(format!("out {} : {ty}", o.name)).strong());
+        for o in &ports.outputs {
+            ui.label(egui::RichText::new(format!("out {} : {}", o.name, ty_of(o))).strong());
             if !o.doc.is_empty() {
-                ui.label(o.doc);
+                ui.label(o.doc.as_ref());
             }
         }
     }
@@ -832,14 +868,14 @@ impl EditorApp {
             Some(Ok(pick)) => {
                 if let Ok(id) = self.state.add_node(&pick.type_name, search.pos)
                     && let (Some((node, port, filter)), Some(k)) = (&search.wire, pick.port)
-                    && let Some(t) = self.state.doc.node_type(&id).cloned()
+                    && let Some(ports) = self.state.doc.ports(&id).cloned()
                 {
                     let _ = match filter {
                         super::search::WireFilter::InputAccepting(_) => {
-                            self.state.connect(node, port, &id, t.inputs()[k].name)
+                            self.state.connect(node, port, &id, &ports.inputs[k].name)
                         }
                         super::search::WireFilter::OutputFeeding(_) => {
-                            self.state.connect(&id, t.outputs()[k].name, node, port)
+                            self.state.connect(&id, &ports.outputs[k].name, node, port)
                         }
                     };
                 }

@@ -95,7 +95,8 @@ pub fn generate_code(graph: Option<&Graph>, target: Target) -> Generated {
     }
 }
 
-/// The 0-based line numbers of `text` that lie in the spans generated for node `id`.
+/// The 0-based line numbers of `text` that lie in the spans generated for node `id` (for a
+/// group instance, those of the nodes inlined from it, `id/…`).
 pub fn node_lines(text: &str, spans: &[(Range<usize>, String)], id: &str) -> Vec<usize> {
     let mut lines = Vec::new();
     let mut start = 0;
@@ -103,7 +104,7 @@ pub fn node_lines(text: &str, spans: &[(Range<usize>, String)], id: &str) -> Vec
         let r = start..start + line.len();
         if spans
             .iter()
-            .any(|(s, n)| n == id && s.start < r.end && r.start < s.end)
+            .any(|(s, n)| super::model::owner(n) == id && s.start < r.end && r.start < s.end)
         {
             lines.push(k);
         }

@@ -6,9 +6,10 @@
 //! and by View → Arrange.
 
 use super::model::link_of;
+use super::ports::{Port, Ports};
 use super::widgets::{current_lanes, slider_range};
 use crate::document::{GraphDocument, NodeDocument};
-use crate::node::{NodeType, PortType};
+use crate::node::PortType;
 use crate::registry::Registry;
 use crate::types::SocketType;
 use std::collections::HashMap;
@@ -48,9 +49,8 @@ pub fn node_height(inputs: usize, outputs: usize) -> f32 {
 /// a finite soft or hard range) 130, vector fields [`lane_width`] per lane of the value
 /// shown, enum combos 110, colour buttons 45, toggles 20, other numbers 50. A generic port
 /// whose `T` is not known counts 50 per lane of its node's widest literal.
-fn widget_width(t: &NodeType, k: usize, node: &NodeDocument, generic: Option<SocketType>) -> f32 {
-    let decl = &t.inputs()[k];
-    let written = node.inputs.get(decl.name);
+fn widget_width(decl: &Port, node: &NodeDocument, generic: Option<SocketType>) -> f32 {
+    let written = node.inputs.get(decl.name.as_ref());
     if written.and_then(link_of).is_some() {
         return 0.0;
     }
@@ -64,7 +64,7 @@ fn widget_width(t: &NodeType, k: usize, node: &NodeDocument, generic: Option<Soc
         SocketType::Color => 45.0,
         SocketType::Bool => 20.0,
         SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => {
-            let default = t.default_for(k, generic.unwrap_or(SocketType::Float));
+            let default = decl.default_for(generic.unwrap_or(SocketType::Float));
             current_lanes(decl, ty, written, &default)
                 .into_iter()
                 .map(lane_width)
@@ -110,23 +110,47 @@ pub fn node_size(
     registry: &Registry,
     generic: Option<SocketType>,
 ) -> (f32, f32) {
-    let Some(t) = registry.get(&node.node_type) else {
-        return (MIN_WIDTH, node_height(1, 1));
-    };
-    let input = t
-        .inputs()
+    match registry.get(&node.node_type) {
+        Some(t) => node_size_of(node, &Ports::of_type(t), generic),
+        None => (MIN_WIDTH, node_height(1, 1)),
+    }
+}
+
+/// [`node_size`] of a node with pins `ports` ([`super::model::EditorDoc::ports`]: a
+/// registered type's, or a group instance's interface); the header also holds what
+/// [`header_notes`] adds to the title.
+pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketType>) -> (f32, f32) {
+    let input = ports
+        .inputs
         .iter()
-        .enumerate()
-        .map(|(k, i)| 16.0 + CHAR * i.name.len() as f32 + widget_width(t, k, node, generic))
+        .map(|i| 16.0 + CHAR * i.name.len() as f32 + widget_width(i, node, generic))
         .fold(0.0f32, f32::max);
-    let output = t
-        .outputs()
+    let output = ports
+        .outputs
         .iter()
         .map(|o| 16.0 + CHAR * o.name.len() as f32)
         .fold(0.0f32, f32::max);
-    let title = 8.0 * node.id.chars().count() as f32 + 60.0;
+    // The notes are labels after the title, 8 points apart.
+    let notes: usize = header_notes(node, ports)
+        .iter()
+        .map(|n| n.chars().count() + 1)
+        .sum();
+    let title = 8.0 * (node.id.chars().count() + notes) as f32 + 60.0;
     let width = (input + output + 20.0).max(title).max(MIN_WIDTH);
-    (width, node_height(t.inputs().len(), t.outputs().len()))
+    (width, node_height(ports.inputs.len(), ports.outputs.len()))
+}
+
+/// What a node's header shows after its id: the group a group instance uses, as written
+/// (`blend`, `lib/layers.json#blend`), and `muted` on a muted node (format version 2).
+pub fn header_notes(node: &NodeDocument, ports: &Ports) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some(r) = ports.group() {
+        notes.push(r.to_owned());
+    }
+    if node.muted {
+        notes.push("muted".to_owned());
+    }
+    notes
 }
 
 /// The indices of the nodes feeding each node (its links' sources), in input order.

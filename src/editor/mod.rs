@@ -2,7 +2,8 @@
 //! the default cargo feature `editor`. It reaches the core only through the public API: the
 //! document it edits is a [`crate::GraphDocument`], checked by the loader after every edit.
 //!
-//! Modules: [`model`] (the document and its validation), [`undo`], [`state`] (every edit,
+//! Modules: [`model`] (the document and its validation), [`ports`] (a node's pins: its
+//! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
@@ -16,6 +17,7 @@ pub mod headless;
 pub mod layout;
 pub mod model;
 pub mod overview;
+pub mod ports;
 pub mod preview;
 pub mod preview_ui;
 pub mod search;
@@ -64,6 +66,7 @@ pub fn state_for(file: Option<&Path>) -> Result<EditorState, EditorError> {
         Some(f) => {
             let mut s = EditorState::untitled(registry);
             s.path = Some(f.to_owned());
+            s.doc.set_files(Some(model::EditorDoc::files_of(f)));
             s
         }
         None => EditorState::untitled(registry),

@@ -1,11 +1,15 @@
 //! The document being edited: a [`GraphDocument`] (the source of truth, what is saved) and its
 //! validation by the loader ([`Graph::from_document`]), redone after every edit. Every edit
 //! that could break the graph (a wire) is tried on a copy first and refused with the loader's
-//! own message when it adds an error.
+//! own message when it adds an error. A document with a file validates with the file's
+//! [`GroupFiles`] ([`Graph::from_document_in`]), so that groups of other files resolve as
+//! `matgraph check` resolves them.
 
+use super::ports::{Ports, ports_of};
 use crate::document::{GraphDocument, NodeDocument};
 use crate::error::GraphError;
 use crate::graph::Graph;
+use crate::group::GroupFiles;
 use crate::node::{NodeType, PortType};
 use crate::registry::Registry;
 use crate::types::SocketType;
@@ -31,12 +35,28 @@ pub struct EditorDoc {
     /// The index of each node id in the document: the canvas looks nodes up by id for
     /// every header and pin, and a linear search took 10 % of a 300-node frame.
     ids: HashMap<String, usize>,
+    /// [`EditorDoc::ports`] of every node, made on first use after each change.
+    ports: OnceLock<Vec<Ports>>,
+    /// The files groups of other files are read from (the graph file's folder); `None`
+    /// for a document without a file, whose groups must be its own.
+    files: Option<Arc<dyn GroupFiles>>,
 }
 
 impl EditorDoc {
-    /// Wraps `doc` and validates it against `registry`.
+    /// Wraps `doc` and validates it against `registry` (without a file: groups of other
+    /// files are errors; see [`EditorDoc::with_files`]).
     pub fn new(doc: GraphDocument, registry: &'static Registry) -> EditorDoc {
-        let validation = Graph::from_document(&doc, registry);
+        EditorDoc::with_files(doc, registry, None)
+    }
+
+    /// Wraps `doc` and validates it against `registry`, reading the files its groups name
+    /// through `files` (those of its graph file, [`EditorDoc::files_of`]).
+    pub fn with_files(
+        doc: GraphDocument,
+        registry: &'static Registry,
+        files: Option<Arc<dyn GroupFiles>>,
+    ) -> EditorDoc {
+        let validation = validate(&doc, registry, files.as_ref());
         let ids = id_index(&doc);
         EditorDoc {
             doc,
@@ -46,7 +66,28 @@ impl EditorDoc {
             structure: OnceLock::new(),
             sizes: OnceLock::new(),
             ids,
+            ports: OnceLock::new(),
+            files,
         }
+    }
+
+    /// The files of the graph file at `path`: groups of other files are read from its
+    /// folder, as `matgraph check` reads them ([`crate::io::group_files`]; each file is read
+    /// once, so an edit does not read the disk again).
+    pub fn files_of(path: &std::path::Path) -> Arc<dyn GroupFiles> {
+        crate::io::group_files(path, crate::io::PathPolicy::InsideGraphFolder)
+    }
+
+    /// Reads groups of other files through `files` from now on (the document was saved
+    /// under a new path) and revalidates.
+    pub fn set_files(&mut self, files: Option<Arc<dyn GroupFiles>>) {
+        self.files = files;
+        self.revalidate();
+    }
+
+    /// The files groups of other files are read from, when the document has a file.
+    pub fn files(&self) -> Option<&Arc<dyn GroupFiles>> {
+        self.files.as_ref()
     }
 
     /// An empty graph called `name`.
@@ -60,6 +101,8 @@ impl EditorDoc {
                 outputs: Vec::new(),
                 parameters: Vec::new(),
                 variants: Default::default(),
+                groups: Default::default(),
+                frames: Vec::new(),
                 scene: None,
             },
             registry,
@@ -91,7 +134,7 @@ impl EditorDoc {
 
     /// Replaces the whole document (undo, redo, recovery) and revalidates.
     pub fn replace(&mut self, doc: GraphDocument) {
-        self.validation = Graph::from_document(&doc, self.registry);
+        self.validation = validate(&doc, self.registry, self.files.as_ref());
         self.doc = doc;
         self.changed();
     }
@@ -124,9 +167,33 @@ impl EditorDoc {
             self.doc
                 .nodes
                 .iter()
-                .map(|n| super::layout::node_size(n, self.registry, self.generic(&n.id)))
+                .zip(self.all_ports())
+                .map(|(n, p)| super::layout::node_size_of(n, p, self.generic(&n.id)))
                 .collect()
         })
+    }
+
+    /// The pins of every node, by index ([`super::ports`]).
+    fn all_ports(&self) -> &[Ports] {
+        self.ports.get_or_init(|| {
+            let files = self.files.as_deref();
+            self.doc
+                .nodes
+                .iter()
+                .map(|n| ports_of(&self.doc, n, self.registry, self.graph(), files))
+                .collect()
+        })
+    }
+
+    /// The pins of node `k` (by index): its type's, or a group instance's interface.
+    pub fn ports_at(&self, k: usize) -> Option<&Ports> {
+        self.all_ports().get(k)
+    }
+
+    /// The pins of node `id`: its type's, or a group instance's interface
+    /// ([`super::ports`]).
+    pub fn ports(&self, id: &str) -> Option<&Ports> {
+        self.ports_at(self.index(id)?)
     }
 
     /// The index of node `id` in the document.
@@ -167,13 +234,28 @@ impl EditorDoc {
         }
     }
 
-    /// The messages of the errors at node `id`.
+    /// The messages of the errors at node `id`: those naming it, and for a group instance
+    /// those inside it ([`GraphError::InGroup`], or a node of its inlined body, `id/…`)
+    /// and those of the group it uses (its interface, a recursion through it).
     pub fn node_errors(&self, id: &str) -> Vec<String> {
+        let group = self.node(id).and_then(|n| n.group.as_deref());
+        let top = self
+            .files
+            .as_ref()
+            .map(|f| f.top_label())
+            .unwrap_or_default();
+        let names_group = |label: &str, reference: &str| names_group(label, reference, &top);
         self.errors()
             .iter()
             .filter(|e| match e {
-                GraphError::Cycle { nodes } => nodes.iter().any(|n| n == id),
-                e => e.node() == Some(id),
+                GraphError::Cycle { nodes } => nodes.iter().any(|n| owner(n) == id),
+                GraphError::BadGroupInput { group: g, .. } => {
+                    group.is_some_and(|r| names_group(g, r))
+                }
+                GraphError::GroupRecursion { chain } => {
+                    group.is_some_and(|r| chain.iter().any(|g| names_group(g, r)))
+                }
+                e => e.node().is_some_and(|n| owner(n) == id),
             })
             .map(|e| e.to_string())
             .collect()
@@ -200,7 +282,9 @@ impl EditorDoc {
             .expect("an unused id exists")
     }
 
-    /// Adds a node of type `type_name` at `position`; returns its id.
+    /// Adds a node of type `type_name` at `position`; returns its id. A node that needs a
+    /// newer format version than the document's (a `reroute` in a version-1 file) raises the
+    /// document's version to it, so that the file saved reads back.
     pub fn add_node(&mut self, type_name: &str, position: [f32; 2]) -> Result<String, String> {
         let t = self
             .registry
@@ -212,15 +296,22 @@ impl EditorDoc {
             node_type: t.name().to_owned(),
             data_type: None,
             variant: None,
+            group: None,
+            muted: false,
             inputs: BTreeMap::new(),
             texture: None,
             position: Some(position),
         });
+        if self.doc.version < crate::document::GROUPS_VERSION && self.doc.newer_feature().is_some()
+        {
+            self.doc.version = crate::document::GROUPS_VERSION;
+        }
         self.revalidate();
         Ok(id)
     }
 
-    /// Removes nodes and everything that refers to them (links, graph outputs, parameters).
+    /// Removes nodes and everything that refers to them (links, graph outputs, parameters,
+    /// the frames' lists).
     pub fn remove_nodes(&mut self, ids: &[String]) {
         let gone = |s: &str| {
             s.split_once('.')
@@ -232,6 +323,9 @@ impl EditorDoc {
         }
         self.doc.outputs.retain(|o| !gone(&o.from));
         self.doc.parameters.retain(|p| !ids.contains(&p.node));
+        for f in &mut self.doc.frames {
+            f.nodes.retain(|n| !ids.contains(n));
+        }
         self.revalidate();
     }
 
@@ -329,7 +423,7 @@ impl EditorDoc {
     /// Applies `candidate` when it has no error the current document lacks; otherwise
     /// returns the new errors' messages, one a line.
     fn try_apply(&mut self, candidate: GraphDocument) -> Result<(), String> {
-        let result = Graph::from_document(&candidate, self.registry);
+        let result = validate(&candidate, self.registry, self.files.as_ref());
         if let Err(errors) = &result {
             let before: Vec<String> = self.errors().iter().map(|e| e.to_string()).collect();
             let new: Vec<String> = errors
@@ -348,7 +442,7 @@ impl EditorDoc {
     }
 
     fn revalidate(&mut self) {
-        self.validation = Graph::from_document(&self.doc, self.registry);
+        self.validation = validate(&self.doc, self.registry, self.files.as_ref());
         self.changed();
     }
 
@@ -357,8 +451,38 @@ impl EditorDoc {
         self.canonical = OnceLock::new();
         self.structure = OnceLock::new();
         self.sizes = OnceLock::new();
+        self.ports = OnceLock::new();
         self.ids = id_index(&self.doc);
     }
+}
+
+/// `doc` validated against `registry`, groups of other files read through `files`.
+fn validate(
+    doc: &GraphDocument,
+    registry: &Registry,
+    files: Option<&Arc<dyn GroupFiles>>,
+) -> Result<Graph, Vec<GraphError>> {
+    match files {
+        Some(f) => Graph::from_document_in(doc, registry, f.clone()),
+        None => Graph::from_document(doc, registry),
+    }
+}
+
+/// The top-level node a node id of the validated graph belongs to: itself, or for a node
+/// inlined from a group instance (`g/f`, `g/@in:x`, see [`crate::group`]) the instance.
+pub fn owner(id: &str) -> &str {
+    id.split_once('/').map_or(id, |(top, _)| top)
+}
+
+/// Whether `label`, a group as an error names it (`NAME`, `TOP#NAME` for a group of the top
+/// file `top`, `FILE#NAME`, `FILE`), is the group `reference` (as written on an instance)
+/// names.
+fn names_group(label: &str, reference: &str, top: &str) -> bool {
+    label == reference
+        || label
+            .strip_suffix(reference)
+            .and_then(|f| f.strip_suffix('#'))
+            .is_some_and(|f| f == top)
 }
 
 /// The index of each node id in `doc` (the first, where an id is written twice, as the

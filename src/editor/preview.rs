@@ -588,7 +588,7 @@ impl Preview {
             if state.program.as_ref().map(|p| &p.0) != Some(&structure) {
                 let built = match &slot {
                     None => Ok(graph.clone()),
-                    Some(id) => cut_at(doc, id, registry),
+                    Some(id) => cut_at_in(doc, id, registry, edited.files().cloned()),
                 };
                 self.compiles += 1;
                 match built {
@@ -1087,26 +1087,43 @@ pub fn structure_key(doc: &GraphDocument) -> String {
 /// The graph of `doc` cut at node `id`: one output reading the node's first output, named
 /// `color` (lit) when it depends on `light` or `light_color`, else [`CUT_OUTPUT`] (unlit).
 pub fn cut_at(doc: &GraphDocument, id: &str, registry: &Registry) -> Result<Graph, String> {
+    cut_at_in(doc, id, registry, None)
+}
+
+/// [`cut_at`] of a document whose groups of other files are read through `files` (a group
+/// instance is cut at its group's first output).
+pub fn cut_at_in(
+    doc: &GraphDocument,
+    id: &str,
+    registry: &Registry,
+    files: Option<Arc<dyn crate::group::GroupFiles>>,
+) -> Result<Graph, String> {
     let node = doc
         .nodes
         .iter()
         .find(|n| n.id == id)
         .ok_or_else(|| format!("no node '{id}'"))?;
-    let t = registry
-        .get(&node.node_type)
-        .ok_or_else(|| format!("node '{id}': unknown type '{}'", node.node_type))?;
-    let output = t
-        .outputs()
+    let ports = super::ports::ports_of(doc, node, registry, None, files.as_deref());
+    if matches!(ports.kind, super::ports::Kind::Unknown) {
+        return Err(format!("node '{id}': unknown type '{}'", node.node_type));
+    }
+    let output = ports
+        .outputs
         .first()
         .ok_or_else(|| format!("node '{id}' has no output"))?
-        .name;
+        .name
+        .clone();
     let mut cut = doc.clone();
     cut.outputs = vec![OutputDocument {
         name: CUT_OUTPUT.into(),
         from: format!("{id}.{output}"),
     }];
     let build = |d: &GraphDocument| {
-        Graph::from_document(d, registry).map_err(|e| {
+        match &files {
+            Some(f) => Graph::from_document_in(d, registry, f.clone()),
+            None => Graph::from_document(d, registry),
+        }
+        .map_err(|e| {
             e.iter()
                 .map(|e| e.to_string())
                 .collect::<Vec<_>>()

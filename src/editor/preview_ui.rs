@@ -1,10 +1,10 @@
 //! The side panel's preview (the swatch with its orbit camera, play/pause and time) and
 //! the parameters panel (the graph's exposed parameters as sliders).
 
+use super::ports::Port;
 use super::preview::{Orbit, TIME_SPAN};
 use super::state::EditorState;
 use super::widgets::value_editor;
-use crate::node::InputDecl;
 use egui::{Color32, Ui};
 
 /// Side of the main swatch on screen, points.
@@ -92,7 +92,7 @@ struct Row {
     doc: String,
     ty: crate::types::SocketType,
     lanes: Vec<f32>,
-    decl: InputDecl,
+    decl: Port,
 }
 
 /// The exposed parameters as sliders (grouped as the file groups them); a change writes
@@ -111,24 +111,11 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
             let node = graph.nodes()[p.node].id.clone();
             // The slider spans the range of the first input the parameter feeds, else the
             // parameter node's own.
-            let fed = p.feeds.first().and_then(|f| {
-                state
-                    .doc
-                    .node_type(&f.node)?
-                    .inputs()
-                    .iter()
-                    .find(|i| i.name == f.input)
-                    .cloned()
-            });
-            let decl = fed.or_else(|| {
-                state
-                    .doc
-                    .node_type(&node)?
-                    .inputs()
-                    .iter()
-                    .find(|i| i.name == "value")
-                    .cloned()
-            })?;
+            let fed = p
+                .feeds
+                .first()
+                .and_then(|f| input_port(state, graph, &f.node, f.input));
+            let decl = fed.or_else(|| input_port(state, graph, &node, "value"))?;
             Some(Row {
                 name: p.name.clone(),
                 node,
@@ -169,6 +156,25 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
     for (name, node, value) in changes {
         set_parameter(state, &name, &node, value);
     }
+}
+
+/// Input `input` of node `node` of the validated `graph` (a node inlined from a group
+/// instance included, `g/f`), as the editor edits it; an instance's interface input
+/// (`g/@in:x`, see [`crate::group`]) as the instance shows it.
+fn input_port(state: &EditorState, graph: &crate::Graph, node: &str, input: &str) -> Option<Port> {
+    if let Some((instance, name)) = node.split_once("/@in:")
+        && !instance.contains('/')
+        && let Some(ports) = state.doc.ports(instance)
+        && let Some(k) = ports.input_index(name)
+    {
+        return Some(ports.inputs[k].clone());
+    }
+    let n = &graph.nodes()[graph.node_index(node)?];
+    n.node_type
+        .inputs()
+        .iter()
+        .find(|i| i.name == input)
+        .map(Port::input)
 }
 
 /// Writes exposed parameter `name` (the `value` of its node `node`); consecutive writes

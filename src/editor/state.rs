@@ -98,9 +98,11 @@ pub struct EditorState {
 pub const DISK_POLL: f64 = 1.0;
 
 impl EditorState {
-    /// An editor on `doc`, saved at `path` (if any) as `saved`.
+    /// An editor on `doc`, saved at `path` (if any) as `saved`; groups of other files are
+    /// read from `path`'s folder.
     pub fn new(doc: GraphDocument, path: Option<PathBuf>, registry: &'static Registry) -> Self {
-        EditorState::with_doc(EditorDoc::new(doc, registry), path)
+        let files = path.as_deref().map(EditorDoc::files_of);
+        EditorState::with_doc(EditorDoc::with_files(doc, registry, files), path)
     }
 
     /// An editor on `doc` (validated), saved at `path` (if any) as it is.
@@ -132,13 +134,17 @@ impl EditorState {
     /// An editor on the graph file `path`.
     /// Nodes without a position, or overlapping, are arranged ([`super::layout`]); the
     /// arranged layout counts as the file's (the document is not dirty) until saved.
+    /// Groups of other files are read from the file's folder, as `matgraph check` reads
+    /// them.
     pub fn open(path: &Path, registry: &'static Registry) -> Result<Self, String> {
-        let doc = EditorDoc::new(files::open(path)?, registry);
+        let group_files = EditorDoc::files_of(path);
+        let doc = EditorDoc::with_files(files::open(path)?, registry, Some(group_files.clone()));
         let arrange = super::layout::needs_arranging(doc.doc(), doc.node_sizes());
         let doc = match arrange {
-            true => EditorDoc::new(
+            true => EditorDoc::with_files(
                 super::layout::arranged(doc.doc(), doc.node_sizes()),
                 registry,
+                Some(group_files),
             ),
             false => doc,
         };
@@ -359,13 +365,18 @@ impl EditorState {
         }
     }
 
-    /// Saves in canonical form to `path`, atomically, and makes it the document's file.
+    /// Saves in canonical form to `path`, atomically, and makes it the document's file
+    /// (groups of other files are read from its folder from then on).
     pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
         let text = self.doc.canonical_json();
         let result = files::save(path, &text);
         match &result {
             Ok(()) => {
                 files::discard_recovery(self.path.as_deref());
+                if self.path.as_deref() != Some(path) || self.doc.files().is_none() {
+                    self.doc.set_files(Some(EditorDoc::files_of(path)));
+                    self.snarl = build_snarl(&self.doc);
+                }
                 self.path = Some(path.to_owned());
                 files::discard_recovery(Some(path));
                 self.saved = text;

@@ -80,6 +80,8 @@ mod tests {
             outputs: Vec::new(),
             parameters: Vec::new(),
             variants: Default::default(),
+            groups: Default::default(),
+            frames: Vec::new(),
             scene: None,
         }
     }

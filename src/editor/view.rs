@@ -94,23 +94,22 @@ pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
         debug_assert_eq!(id, NodeId(k));
     }
     for (k, n) in d.nodes.iter().enumerate().take(count) {
-        let Some(t) = doc.registry().get(&n.node_type) else {
+        let Some(ports) = doc.ports_at(k) else {
             continue;
         };
-        for (i, decl) in t.inputs().iter().enumerate() {
+        for (i, decl) in ports.inputs.iter().enumerate() {
             let Some((src, out)) = n
                 .inputs
-                .get(decl.name)
+                .get(decl.name.as_ref())
                 .and_then(link_of)
                 .and_then(|l| l.split_once('.'))
             else {
                 continue;
             };
-            let (Some(s), Some(st)) = (doc.index(src).filter(|&s| s < count), doc.node_type(src))
-            else {
+            let Some(s) = doc.index(src).filter(|&s| s < count) else {
                 continue;
             };
-            let Some(o) = st.output_index(out) else {
+            let Some(o) = doc.ports_at(s).and_then(|p| p.output_index(out)) else {
                 continue;
             };
             snarl.connect(

@@ -7,6 +7,7 @@ use super::handoff::POINTER_REACH;
 use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
 use super::overview::{Body, Overview, pin_shape};
+use super::ports::Kind;
 use super::search::WireFilter;
 use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
@@ -169,6 +170,75 @@ impl Viewer<'_> {
         &snarl[node].id
     }
 
+    /// The name of input pin `k` of node `id`.
+    fn input_name(&self, id: &str, k: usize) -> Option<String> {
+        Some(self.doc.ports(id)?.inputs.get(k)?.name.clone().into_owned())
+    }
+
+    /// The name of output pin `k` of node `id`.
+    fn output_name(&self, id: &str, k: usize) -> Option<String> {
+        Some(
+            self.doc
+                .ports(id)?
+                .outputs
+                .get(k)?
+                .name
+                .clone()
+                .into_owned(),
+        )
+    }
+
+    /// Paints the document's frames (format version 2) behind the nodes: each a box
+    /// around the estimated rects of the nodes it holds on the canvas, in its colour, its
+    /// label above them (canvas coordinates; egui-snarl's layer transform applies).
+    fn paint_frames(&self, viewport: &egui::Rect, style: &egui::Style, painter: &egui::Painter) {
+        let frames = &self.doc.doc().frames;
+        if frames.is_empty() {
+            return;
+        }
+        let at: std::collections::HashMap<usize, egui::Pos2> =
+            self.places.nodes.iter().map(|&(_, k, p)| (k, p)).collect();
+        let font = egui::TextStyle::Body.resolve(style);
+        for f in frames {
+            let rect = f
+                .nodes
+                .iter()
+                .filter_map(|id| {
+                    let k = self.doc.index(id)?;
+                    Some(self.estimate(k, *at.get(&k)?))
+                })
+                .fold(egui::Rect::NOTHING, egui::Rect::union);
+            if !rect.is_positive() {
+                continue;
+            }
+            let rect = rect
+                .expand(FRAME_MARGIN)
+                .with_min_y(rect.min.y - FRAME_MARGIN - FRAME_LABEL);
+            if !rect.intersects(*viewport) {
+                continue;
+            }
+            let [r, g, b] = f.color.unwrap_or([0.35, 0.35, 0.35]);
+            let byte = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+            let color = Color32::from_rgb(byte(r), byte(g), byte(b));
+            painter.rect(
+                rect,
+                6.0,
+                color.gamma_multiply(0.25),
+                Stroke::new(1.0, color.gamma_multiply(0.6)),
+                egui::StrokeKind::Inside,
+            );
+            if !f.label.is_empty() {
+                painter.text(
+                    rect.min + egui::vec2(8.0, 4.0),
+                    egui::Align2::LEFT_TOP,
+                    &f.label,
+                    font.clone(),
+                    Color32::from_gray(220),
+                );
+            }
+        }
+    }
+
     /// Whether the node with id `id` is culled this frame.
     fn culled(&self, id: &str) -> bool {
         self.doc
@@ -246,21 +316,27 @@ impl Viewer<'_> {
         }
     }
 
-    /// The fill of node `id`'s header: its category's colour (dark red for an unknown type).
+    /// The fill of node `id`'s header: its category's colour ([`GROUP_COLOR`] for a group
+    /// instance, dark red for an unknown type), dimmed when the node is muted.
     fn header_fill(&self, id: &str) -> Color32 {
-        match self.doc.node_type(id) {
-            Some(t) => category_color(t.category()),
-            None => Color32::from_rgb(0x50, 0x20, 0x20),
+        let fill = match self.doc.ports(id).map(|p| &p.kind) {
+            Some(Kind::Type(t)) => category_color(t.category()),
+            Some(Kind::Group { .. }) => GROUP_COLOR,
+            _ => Color32::from_rgb(0x50, 0x20, 0x20),
+        };
+        match self.doc.node(id).is_some_and(|n| n.muted) {
+            true => muted(fill),
+            false => fill,
         }
     }
 
     /// The pins of node `id` as the overview paints them on the edges of `body`.
     fn pin_shapes(&self, id: &str, body: Body, side: f32) -> Vec<Shape> {
-        let Some(t) = self.doc.node_type(id) else {
+        let Some(ports) = self.doc.ports(id) else {
             return Vec::new();
         };
-        let inputs = t.inputs().iter().enumerate();
-        let outputs = t.outputs().iter().enumerate();
+        let inputs = ports.inputs.iter().enumerate();
+        let outputs = ports.outputs.iter().enumerate();
         (inputs.map(|(k, d)| (body.input(k), d.ty)))
             .chain(outputs.map(|(k, d)| (body.output(k), d.ty)))
             .map(|(at, ty)| {
@@ -355,8 +431,8 @@ impl Viewer<'_> {
             .wires()
             .filter_map(|(from, to)| {
                 let (a, b) = (&snarl.get_node(from.node)?.id, &snarl.get_node(to.node)?.id);
-                let out = self.doc.node_type(a)?.outputs().get(from.output)?.ty;
-                let inp = self.doc.node_type(b)?.inputs().get(to.input)?.ty;
+                let out = self.doc.ports(a)?.outputs.get(from.output)?.ty;
+                let inp = self.doc.ports(b)?.inputs.get(to.input)?.ty;
                 let (ca, cb) = (self.pin_look(a, out).0, self.pin_look(b, inp).0);
                 let mix = |x: u8, y: u8| x.midpoint(y);
                 let color = Color32::from_rgba_premultiplied(
@@ -381,6 +457,24 @@ fn overview_title(id: &str, errors: bool) -> String {
         true => format!("{id} ⚠"),
         false => id.to_owned(),
     }
+}
+
+/// Canvas points between a frame and the nodes it holds.
+pub const FRAME_MARGIN: f32 = 16.0;
+
+/// Canvas points above a frame's nodes for its label.
+pub const FRAME_LABEL: f32 = 20.0;
+
+/// The colour of the notes after a node's title (its group, `muted`).
+const NOTE_COLOR: Color32 = Color32::from_rgb(0xd8, 0xd8, 0xc0);
+
+/// The header colour of a group instance (Blender's group node teal).
+pub const GROUP_COLOR: Color32 = Color32::from_rgb(0x3b, 0x59, 0x59);
+
+/// A muted node's header colour: `c` greyed and darkened, as Blender draws muted nodes.
+fn muted(c: Color32) -> Color32 {
+    let grey = |x: u8| ((u16::from(x) + 2 * 0x38) / 3) as u8;
+    Color32::from_rgb(grey(c.r()), grey(c.g()), grey(c.b()))
 }
 
 /// A node frame's outline: red for a node with errors.
@@ -436,6 +530,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             }
             return;
         }
+        let notes = match (self.doc.node(&id), self.doc.ports(&id)) {
+            (Some(n), Some(p)) => super::layout::header_notes(n, p),
+            _ => Vec::new(),
+        };
         ui.horizontal(|ui| {
             let label = ui.add(
                 egui::Label::new(egui::RichText::new(title).strong().color(Color32::WHITE))
@@ -443,6 +541,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             );
             if label.clicked() {
                 self.actions.push(Action::Focus(id.clone()));
+            }
+            for note in notes {
+                ui.label(egui::RichText::new(note).italics().color(NOTE_COLOR));
             }
             if !errors.is_empty() {
                 ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
@@ -521,25 +622,22 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn inputs(&mut self, node: &NodeView) -> usize {
-        let all = self.doc.node_type(&node.id).map_or(0, |t| t.inputs().len());
+        let all = self.doc.ports(&node.id).map_or(0, |p| p.inputs.len());
         self.pins_shown(node, all, Culling::inputs)
     }
 
     fn outputs(&mut self, node: &NodeView) -> usize {
-        let all = self
-            .doc
-            .node_type(&node.id)
-            .map_or(0, |t| t.outputs().len());
+        let all = self.doc.ports(&node.id).map_or(0, |p| p.outputs.len());
         self.pins_shown(node, all, Culling::outputs)
     }
 
     #[allow(refining_impl_trait)]
     fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
         let id = self.id(snarl, pin.id.node).to_owned();
-        let Some(t) = self.doc.node_type(&id).cloned() else {
+        let doc = self.doc;
+        let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
             return PinInfo::default();
         };
-        let decl = &t.inputs()[pin.id.input];
         let ty = self.doc.port_type(&id, decl.ty);
         let ty_name = ty.map_or("T", |t| t.name());
         let info = self.pin(&id, decl.ty);
@@ -550,22 +648,19 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
         ui.horizontal(|ui| {
-            ui.label(decl.name).on_hover_ui(|ui| {
-                ui.label(port_hover(ty_name, decl.unit, decl.doc));
+            ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
+                ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
             });
             if pin.remotes.is_empty() {
-                let written = self.doc.node(&id).and_then(|n| n.inputs.get(decl.name));
+                let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
                 let ty = ty.unwrap_or(crate::types::SocketType::Float);
-                let generic = self
-                    .doc
-                    .generic(&id)
-                    .unwrap_or(crate::types::SocketType::Float);
-                let default = t.default_for(pin.id.input, generic);
+                let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
+                let default = decl.default_for(generic);
                 let lanes = current_lanes(decl, ty, written, &default);
                 if let Some(value) = value_editor(ui, decl, ty, &lanes, self.hard) {
                     self.actions.push(Action::SetInput {
                         node: id.clone(),
-                        input: decl.name.to_owned(),
+                        input: decl.name.clone().into_owned(),
                         value,
                     });
                 }
@@ -577,17 +672,17 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     #[allow(refining_impl_trait)]
     fn show_output(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
         let id = self.id(snarl, pin.id.node).to_owned();
-        let Some(t) = self.doc.node_type(&id).cloned() else {
+        let doc = self.doc;
+        let Some(decl) = doc.ports(&id).and_then(|p| p.outputs.get(pin.id.output)) else {
             return PinInfo::default();
         };
-        let decl = &t.outputs()[pin.id.output];
         if self.low_detail() || self.culled(&id) {
             return self.pin(&id, decl.ty);
         }
         let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
         // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
-        ui.label(decl.name).on_hover_ui(|ui| {
-            ui.label(port_hover(ty_name, decl.unit, decl.doc));
+        ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
+            ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
         });
         self.pin(&id, decl.ty)
     }
@@ -607,7 +702,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node);
-        let (Some(k), Some(_)) = (self.doc.index(id), self.doc.node_type(id)) else {
+        let Some(k) = self.doc.index(id) else {
             return;
         };
         let Some(&(w, h)) = self.doc.node_sizes().get(k) else {
@@ -640,6 +735,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         if let Some(background) = background {
             background.draw(viewport, snarl_style, style, painter);
         }
+        self.paint_frames(viewport, style, painter);
         if self.low_detail() {
             self.overview.reserve(painter);
         }
@@ -696,9 +792,18 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<NodeView>,
     ) {
-        if let Some(t) = self.doc.node_type(&snarl[node].id) {
-            ui.strong(format!("{}  ({})", t.name(), t.category()));
-            ui.label(t.summary());
+        match self.doc.ports(&snarl[node].id).map(|p| &p.kind) {
+            Some(Kind::Type(t)) => {
+                ui.strong(format!("{}  ({})", t.name(), t.category()));
+                ui.label(t.summary());
+            }
+            Some(Kind::Group { reference, doc, .. }) => {
+                ui.strong(format!("group  {reference}"));
+                if !doc.is_empty() {
+                    ui.label(doc);
+                }
+            }
+            _ => {}
         }
     }
 
@@ -707,14 +812,17 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             self.id(snarl, from.id.node).to_owned(),
             self.id(snarl, to.id.node).to_owned(),
         );
-        let (Some(st), Some(dt)) = (self.doc.node_type(&src), self.doc.node_type(&dst)) else {
+        let (Some(output), Some(input)) = (
+            self.output_name(&src, from.id.output),
+            self.input_name(&dst, to.id.input),
+        ) else {
             return;
         };
         self.actions.push(Action::Connect {
             from: src,
-            output: st.outputs()[from.id.output].name.to_owned(),
+            output,
             to: dst,
-            input: dt.inputs()[to.id.input].name.to_owned(),
+            input,
         });
     }
 
@@ -724,22 +832,16 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
 
     fn drop_inputs(&mut self, pin: &InPin, snarl: &mut Snarl<NodeView>) {
         let id = self.id(snarl, pin.id.node).to_owned();
-        if let Some(t) = self.doc.node_type(&id) {
-            self.actions.push(Action::Disconnect {
-                node: id,
-                input: t.inputs()[pin.id.input].name.to_owned(),
-            });
+        if let Some(input) = self.input_name(&id, pin.id.input) {
+            self.actions.push(Action::Disconnect { node: id, input });
         }
     }
 
     fn drop_outputs(&mut self, pin: &OutPin, snarl: &mut Snarl<NodeView>) {
         for r in &pin.remotes {
             let id = self.id(snarl, r.node).to_owned();
-            if let Some(t) = self.doc.node_type(&id) {
-                self.actions.push(Action::Disconnect {
-                    node: id,
-                    input: t.inputs()[r.input].name.to_owned(),
-                });
+            if let Some(input) = self.input_name(&id, r.input) {
+                self.actions.push(Action::Disconnect { node: id, input });
             }
         }
     }
@@ -770,19 +872,29 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let wire = match pins {
             AnyPins::Out(&[p, ..]) => {
                 let id = self.id(snarl, p.node).to_owned();
-                self.doc.node_type(&id).and_then(|t| {
-                    let decl = &t.outputs()[p.output];
-                    let ty = self.doc.port_type(&id, decl.ty)?;
-                    Some((id, decl.name.to_owned(), WireFilter::InputAccepting(ty)))
-                })
+                let doc = self.doc;
+                (|| {
+                    let decl = doc.ports(&id)?.outputs.get(p.output)?;
+                    let ty = doc.port_type(&id, decl.ty)?;
+                    Some((
+                        id.clone(),
+                        decl.name.clone().into_owned(),
+                        WireFilter::InputAccepting(ty),
+                    ))
+                })()
             }
             AnyPins::In(&[p, ..]) => {
                 let id = self.id(snarl, p.node).to_owned();
-                self.doc.node_type(&id).and_then(|t| {
-                    let decl = &t.inputs()[p.input];
-                    let ty = self.doc.port_type(&id, decl.ty)?;
-                    Some((id, decl.name.to_owned(), WireFilter::OutputFeeding(ty)))
-                })
+                let doc = self.doc;
+                (|| {
+                    let decl = doc.ports(&id)?.inputs.get(p.input)?;
+                    let ty = doc.port_type(&id, decl.ty)?;
+                    Some((
+                        id.clone(),
+                        decl.name.clone().into_owned(),
+                        WireFilter::OutputFeeding(ty),
+                    ))
+                })()
             }
             _ => None,
         };

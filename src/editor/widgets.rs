@@ -1,7 +1,8 @@
 //! In-place editors of unlinked input values: sliders over the soft range (the hard range
 //! while Ctrl is held), linear colours shown in sRGB, vectors, enum combos and toggles.
 
-use crate::node::{InputDecl, Range};
+use super::ports::Port;
+use crate::node::Range;
 use crate::types::SocketType;
 use crate::value::{Value, json_f32};
 use egui::{SliderClamping, Ui};
@@ -9,7 +10,7 @@ use egui::{SliderClamping, Ui};
 /// The value `written` (the literal in the file, or `None` for the default `default`) of an
 /// input of type `ty` as lanes, an enum input as its index.
 pub fn current_lanes(
-    decl: &InputDecl,
+    decl: &Port,
     ty: SocketType,
     written: Option<&serde_json::Value>,
     default: &Value,
@@ -28,7 +29,7 @@ pub fn current_lanes(
 
 /// The range a float input's slider spans: the soft range (the hard one with `hard`), else
 /// the other, where finite; `None`: the input gets a drag value instead.
-pub fn slider_range(decl: &InputDecl, hard: bool) -> Option<Range> {
+pub fn slider_range(decl: &Port, hard: bool) -> Option<Range> {
     let range = match hard {
         true => decl.hard.or(decl.soft),
         false => decl.soft.or(decl.hard),
@@ -40,7 +41,7 @@ pub fn slider_range(decl: &InputDecl, hard: bool) -> Option<Range> {
 /// the user changed it. `hard` widens a slider to the hard range.
 pub fn value_editor(
     ui: &mut Ui,
-    decl: &InputDecl,
+    decl: &Port,
     ty: SocketType,
     lanes: &[f32],
     hard: bool,
@@ -80,7 +81,7 @@ pub fn value_editor(
         SocketType::Int if !decl.choices.is_empty() => {
             let mut k = lane(0) as usize;
             let before = k;
-            egui::ComboBox::from_id_salt(ui.id().with(decl.name))
+            egui::ComboBox::from_id_salt(ui.id().with(decl.name.as_ref()))
                 .selected_text(decl.choices.get(k).copied().unwrap_or("?"))
                 .show_ui(ui, |ui| {
                     for (i, c) in decl.choices.iter().enumerate() {

@@ -49,7 +49,7 @@ impl<'a> Specialiser<'a> {
             graph: graph.name.clone(),
             errors,
         };
-        let mut doc = crate::variant::resolve(&graph.to_document(), &choices).map_err(invalid)?;
+        let mut doc = crate::variant::resolve(&graph.flat_document(), &choices).map_err(invalid)?;
         for (name, value) in options.bake_parameters.iter().flatten() {
             let param = graph.parameters().iter().find(|p| &p.name == name);
             let Some(p) = param else {
@@ -279,6 +279,8 @@ impl<'a> Specialiser<'a> {
                 node_type: "constant".into(),
                 data_type: Some(ty.name().to_owned()),
                 variant: None,
+                group: None,
+                muted: false,
                 inputs: [(
                     "value".to_owned(),
                     Value::from_lanes(ty, v.lanes()).to_json(),

@@ -174,6 +174,8 @@ fn incoherent_nodes(id: &str, cos: J, nf: f32, n: f32) -> Vec<NodeDocument> {
         node_type: ty.to_owned(),
         data_type: data_type.map(str::to_owned),
         variant: None,
+        group: None,
+        muted: false,
         inputs: inputs
             .iter()
             .map(|(k, v)| ((*k).to_owned(), v.clone()))

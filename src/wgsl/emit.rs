@@ -313,6 +313,10 @@ pub(super) struct Emitter<'a> {
     context: Context,
     /// Slot of each texture key in the plan's texture list.
     texture_slots: HashMap<String, usize>,
+    /// The group instances called as functions ([`super::groups`]).
+    groups: super::groups::GroupPlan,
+    /// Whether the material's functions take `geom` (the graph reads attributes).
+    has_geom: bool,
 }
 
 /// Above this many node calls the material function is split into part functions.
@@ -363,6 +367,8 @@ impl<'a> Emitter<'a> {
                 .rev()
                 .map(|(k, key)| (key.clone(), k))
                 .collect(),
+            groups: super::groups::GroupPlan::new(graph, plan),
+            has_geom: false,
         }
     }
 
@@ -399,7 +405,7 @@ impl<'a> Emitter<'a> {
         let mut tables: Vec<&'static WgslTable> = Vec::new();
         for &i in &order {
             let n = &nodes[i];
-            if emits_call(n.node_type.evaluation()) && !self.folded(i) {
+            if self.is_call(i) || self.groups.body_calls.contains(&i) {
                 for t in n.node_type.wgsl_tables_for(literal_choice(n)) {
                     if !tables.iter().any(|x| std::ptr::eq(*x, t)) {
                         tables.push(t);
@@ -428,6 +434,9 @@ impl<'a> Emitter<'a> {
         let mut uses_time = false;
         for &i in &order {
             let n = &nodes[i];
+            if n.forwards() {
+                continue;
+            }
             match n.node_type.evaluation() {
                 Evaluation::Parameter if !self.folded(i) => {
                     let exposed = exposed_by_node.get(&i).copied();
@@ -494,16 +503,26 @@ impl<'a> Emitter<'a> {
         let mut calls: Vec<(NodeIndex, usize)> = Vec::new();
         for &i in &order {
             let n = &nodes[i];
-            if !emits_call(n.node_type.evaluation()) || self.folded(i) {
+            if let Some(g) = self.groups.calls.get(&i) {
+                // A group call: its function follows the node functions (index fixed below).
+                calls.push((i, usize::MAX - g.function));
+                continue;
+            }
+            let outer = self.is_call(i);
+            if !outer && !self.groups.body_calls.contains(&i) {
                 continue;
             }
             // Keyed by the emitted name: vec3 and colour share one function.
             let key = emitted_name(&n.node_type, n.generic, literal_choice(n));
             if let Some(&f) = function_index.get(&key) {
-                calls.push((i, f));
+                if outer {
+                    calls.push((i, f));
+                }
                 continue;
             }
-            calls.push((i, functions.len()));
+            if outer {
+                calls.push((i, functions.len()));
+            }
             function_index.insert(key.clone(), functions.len());
             let f = node_function(&n.node_type, n.generic, literal_choice(n)).ok_or_else(|| {
                 ShaderError::MissingWgsl {
@@ -517,6 +536,21 @@ impl<'a> Emitter<'a> {
                 }
             }
             functions.push((key, f, n.id.clone()));
+        }
+        // The group functions, after the node functions they call.
+        self.has_geom = !attributes.is_empty();
+        self.vars = (0..nodes.len()).map(|_| None).collect();
+        self.bake_group_arguments();
+        let base = functions.len();
+        for k in 0..self.groups.functions.len() {
+            let f = self.group_function(k, &functions, &function_index);
+            let label = self.groups.functions[k].label.clone();
+            functions.push((format!("group:{k}"), f, format!("(group {label})")));
+        }
+        for (_, f) in calls.iter_mut() {
+            if *f > usize::MAX - self.groups.functions.len().max(1) {
+                *f = base + (usize::MAX - *f);
+            }
         }
 
         // Header and declarations.
@@ -600,14 +634,21 @@ impl<'a> Emitter<'a> {
         // bounded-size part functions sharing their values through a state struct.
         self.vars = (0..nodes.len()).map(|_| None).collect();
         for &(i, f) in &calls {
+            let name = match self.groups.calls.get(&i) {
+                Some(g) => format!("g{i}_{}", ident(&g.path)),
+                None => format!("n{i}_{}", ident(&nodes[i].id)),
+            };
             self.vars[i] = Some(CallVar {
-                name: format!("n{i}_{}", ident(&nodes[i].id)),
+                name,
                 function: f,
                 part: 0,
                 slots: Vec::new(),
             });
         }
-        let calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
+        let mut calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
+        if calls.len() <= SPLIT_CALLS {
+            self.merge_equal_group_calls(&mut calls, &functions);
+        }
         let mut hoisted = false;
         if calls.len() > SPLIT_CALLS {
             self.split_material(&calls, &functions, &attributes, &outputs);
@@ -761,6 +802,20 @@ impl<'a> Emitter<'a> {
         if let Some(v) = self.plan.folded(r) {
             return literal(&v.convert(to).unwrap_or(v));
         }
+        let r = self.canonical(r);
+        let n = &self.graph.nodes()[r.node];
+        if n.forwards() && !self.groups.calls.contains_key(&r.node) {
+            // A reroute or muted node: its passed input's expression (a constant passed on
+            // was folded above).
+            let e = match n.passthrough(r.output).map(|j| (j, &n.inputs[j])) {
+                Some((j, InputSource::Link(src, _))) => self.source_expr(*src, n.input_type(j)),
+                Some((_, InputSource::Default(v) | InputSource::Value { value: v, .. })) => {
+                    literal(v)
+                }
+                None => literal(&Value::zero(from)),
+            };
+            return convert(&e, from, to);
+        }
         let e = match &self.vars[r.node] {
             Some(var) => {
                 let stored = var.slots.get(r.output).copied().flatten();
@@ -777,6 +832,316 @@ impl<'a> Emitter<'a> {
         convert(&e, from, to)
     }
 
+    /// The node output whose value `r` is: `r`, or through reroutes and muted nodes the
+    /// output they pass on; `None` where that is a constant.
+    fn resolve(&self, mut r: OutputRef) -> Option<OutputRef> {
+        let nodes = self.graph.nodes();
+        while nodes[r.node].forwards() {
+            if self.groups.out_of.contains_key(&r.node) {
+                return Some(self.canonical(r));
+            }
+            let n = &nodes[r.node];
+            match n.passthrough(r.output).map(|j| &n.inputs[j]) {
+                Some(InputSource::Link(src, _)) => r = *src,
+                _ => return None,
+            }
+        }
+        Some(r)
+    }
+
+    /// The node outputs whose values node `i` reads (through reroutes and muted nodes), in
+    /// port order.
+    fn sources(&self, i: NodeIndex) -> Vec<OutputRef> {
+        if let Some(g) = self.groups.calls.get(&i) {
+            // A group call reads what its instance passes to its inputs.
+            return g.inputs.iter().flat_map(|&n| self.sources(n)).collect();
+        }
+        self.graph.nodes()[i]
+            .inputs
+            .iter()
+            .filter_map(|src| match src {
+                InputSource::Link(r, _) => self.resolve(*r),
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// `r`, or for an output of a called group instance the call's node and member.
+    fn canonical(&self, r: OutputRef) -> OutputRef {
+        match self.groups.out_of.get(&r.node) {
+            Some(&(node, output)) => OutputRef { node, output },
+            None => r,
+        }
+    }
+
+    /// Whether node `i` is a call of the material function (not a group call).
+    fn is_call(&self, i: NodeIndex) -> bool {
+        let n = &self.graph.nodes()[i];
+        emits_call(n.node_type.evaluation())
+            && !self.folded(i)
+            && !n.forwards()
+            && !self.groups.hidden.contains(&i)
+    }
+
+    /// The arguments every call of a group function passes alike and that read nothing
+    /// local (a literal, a folded value, a parameter's uniform, the time, an attribute of
+    /// `geom`): written into the function's body instead of each call, as specialising the
+    /// function on them.
+    fn bake_group_arguments(&mut self) {
+        let nodes = self.graph.nodes();
+        let mut calls: Vec<(NodeIndex, usize)> = self
+            .groups
+            .calls
+            .iter()
+            .map(|(&c, g)| (c, g.function))
+            .collect();
+        calls.sort_unstable();
+        let mut baked: Vec<Vec<Option<String>>> = self
+            .groups
+            .functions
+            .iter()
+            .map(|f| {
+                let inputs = self
+                    .graph
+                    .instances()
+                    .map_or(0, |i| i.list[f.rep].inputs.len());
+                vec![None; inputs]
+            })
+            .collect();
+        let mut seen: Vec<bool> = vec![false; self.groups.functions.len()];
+        for (c, f) in calls {
+            let inputs = self.groups.calls[&c].inputs.clone();
+            for (j, &n) in inputs.iter().enumerate() {
+                let global = match &nodes[n].inputs[0] {
+                    InputSource::Link(r, _) => match self.resolve(*r) {
+                        None => true,
+                        Some(r) => {
+                            self.plan.folded(r).is_some()
+                                || matches!(
+                                    nodes[r.node].node_type.evaluation(),
+                                    Evaluation::Parameter
+                                )
+                                || self.exprs.get(&r).is_some_and(|e| {
+                                    e.starts_with("mg_params.") || e.starts_with("geom.")
+                                })
+                        }
+                    },
+                    _ => true,
+                };
+                let arg = global.then(|| self.input_expr(n, 0));
+                let slot = &mut baked[f][j];
+                if !seen[f] {
+                    *slot = arg;
+                } else if *slot != arg {
+                    *slot = None;
+                }
+            }
+            seen[f] = true;
+        }
+        for (f, b) in self.groups.functions.iter_mut().zip(baked) {
+            f.baked = b;
+        }
+    }
+
+    /// Instances called with the same arguments compute the same values: each such call
+    /// after the first is dropped and its outputs read from the first. (Not in a split
+    /// material function, where the first call's values may lie in another part.)
+    fn merge_equal_group_calls(
+        &mut self,
+        calls: &mut Vec<NodeIndex>,
+        functions: &[(String, NodeFunction, String)],
+    ) {
+        let mut first: HashMap<String, NodeIndex> = HashMap::new();
+        let mut merged: HashMap<NodeIndex, NodeIndex> = HashMap::new();
+        for &c in calls.iter() {
+            let Some(g) = self.groups.calls.get(&c) else {
+                continue;
+            };
+            let baked = &self.groups.functions[g.function].baked;
+            let args: Vec<String> = g
+                .inputs
+                .iter()
+                .zip(baked)
+                .filter(|(_, b)| b.is_none())
+                .map(|(&n, _)| self.input_expr(n, 0))
+                .collect();
+            let name = &functions[self.var(c).function].1.name;
+            let key = format!("{name}({})", args.join(", "));
+            match first.get(&key) {
+                Some(&c0) => {
+                    merged.insert(c, c0);
+                }
+                None => {
+                    first.insert(key, c);
+                }
+            }
+        }
+        if merged.is_empty() {
+            return;
+        }
+        for (c, _) in self.groups.out_of.values_mut() {
+            if let Some(&c0) = merged.get(c) {
+                *c = c0;
+            }
+        }
+        calls.retain(|c| !merged.contains_key(c));
+        for c in merged.keys() {
+            self.vars[*c] = None;
+        }
+    }
+
+    /// The number of values call node `i` gives.
+    fn call_outputs(&self, i: NodeIndex) -> usize {
+        match self.groups.calls.get(&i) {
+            Some(g) => self.groups.functions[g.function].members.len(),
+            None => self.graph.nodes()[i].node_type.outputs().len(),
+        }
+    }
+
+    /// The type of value `k` of call node `i`.
+    fn call_output_type(&self, i: NodeIndex, k: usize) -> SocketType {
+        match self.groups.calls.get(&i) {
+            Some(g) => self.groups.functions[g.function].members[k].1,
+            None => self.graph.nodes()[i].output_type(k),
+        }
+    }
+
+    /// The definition of group function `k` (see [`super::groups`]): its result struct,
+    /// then `fn NAME(geom, inputs…) -> STRUCT` with its body's calls and its return.
+    fn group_function(
+        &self,
+        k: usize,
+        functions: &[(String, NodeFunction, String)],
+        function_index: &HashMap<String, usize>,
+    ) -> NodeFunction {
+        let g = &self.groups.functions[k];
+        let nodes = self.graph.nodes();
+        let inst = &self.graph.instances().expect("a grouped graph").list[g.rep];
+        let mut def = format!("struct {} {{\n", g.out_struct);
+        for (field, ty, _) in &g.members {
+            let _ = writeln!(def, "    {field}: {},", wgsl_type(*ty));
+        }
+        def.push_str("}\n\n");
+        let mut params: HashMap<NodeIndex, String> = HashMap::new();
+        let mut args: Vec<String> = Vec::new();
+        for (j, (name, node)) in inst.inputs.iter().enumerate() {
+            if let Some(value) = &g.baked[j] {
+                params.insert(*node, value.clone());
+                continue;
+            }
+            let p = format!("a{j}_{}", ident(name));
+            args.push(format!("{p}: {}", wgsl_type(nodes[*node].output_type(0))));
+            params.insert(*node, p);
+        }
+        let mut body = String::new();
+        let prefix = format!("{}/", inst.path);
+        let mut vars: HashMap<NodeIndex, String> = HashMap::new();
+        for &i in &g.body {
+            let n = &nodes[i];
+            let local = n.id.strip_prefix(&prefix).unwrap_or(&n.id);
+            let var = format!("b{i}_{}", ident(local));
+            let key = emitted_name(&n.node_type, n.generic, literal_choice(n));
+            let fname = function_index
+                .get(&key)
+                .map_or(key.as_str(), |&f| functions[f].1.name.as_str());
+            let mut call_args: Vec<String> = Vec::new();
+            if let Some(src) = &n.texture {
+                let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
+                call_args.push(format!("{slot}u"));
+            }
+            for (j, src) in n.inputs.iter().enumerate() {
+                call_args.push(match src {
+                    InputSource::Default(v) | InputSource::Value { value: v, .. } => literal(v),
+                    InputSource::Link(r, _) => {
+                        self.body_expr(g, &params, &vars, *r, n.input_type(j))
+                    }
+                });
+            }
+            let _ = writeln!(body, "    let {var} = {fname}({});", call_args.join(", "));
+            vars.insert(i, var);
+        }
+        let values: Vec<String> = g
+            .members
+            .iter()
+            .map(|(_, ty, node)| {
+                self.body_expr(
+                    g,
+                    &params,
+                    &vars,
+                    OutputRef {
+                        node: *node,
+                        output: 0,
+                    },
+                    *ty,
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            body,
+            "    return {}({});\n}}",
+            g.out_struct,
+            values.join(", ")
+        );
+        // `geom` is passed only to a body that reads it.
+        if body.contains("geom.") {
+            args.insert(0, "geom: MgGeometry".into());
+        }
+        let _ = writeln!(
+            def,
+            "fn {}({}) -> {} {{",
+            g.name,
+            args.join(", "),
+            g.out_struct
+        );
+        def.push_str(&body);
+        NodeFunction {
+            name: g.name.clone(),
+            out_struct: Some(g.out_struct.clone()),
+            definition: def,
+        }
+    }
+
+    /// The expression of node output `r` inside group function `g`, converted to `to`.
+    fn body_expr(
+        &self,
+        g: &super::groups::GroupFunction,
+        params: &HashMap<NodeIndex, String>,
+        vars: &HashMap<NodeIndex, String>,
+        r: OutputRef,
+        to: SocketType,
+    ) -> String {
+        let from = self.graph.output_type(r);
+        if let Some(p) = params.get(&r.node) {
+            return convert(p, from, to);
+        }
+        if !g.varying.contains(&r.node)
+            && let Some(v) = self.plan.folded(r)
+        {
+            return literal(&v.convert(to).unwrap_or(v));
+        }
+        let n = &self.graph.nodes()[r.node];
+        let e = if n.forwards() {
+            match n.passthrough(r.output).map(|j| (j, &n.inputs[j])) {
+                Some((j, InputSource::Link(src, _))) => {
+                    self.body_expr(g, params, vars, *src, n.input_type(j))
+                }
+                Some((_, InputSource::Default(v) | InputSource::Value { value: v, .. })) => {
+                    literal(v)
+                }
+                None => literal(&Value::zero(from)),
+            }
+        } else if let Some(var) = vars.get(&r.node) {
+            if n.node_type.outputs().len() > 1 {
+                format!("{var}.{}", output_member(&n.node_type, r.output))
+            } else {
+                var.clone()
+            }
+        } else {
+            self.exprs.get(&r).cloned().unwrap_or_else(|| "0.0".into())
+        };
+        convert(&e, from, to)
+    }
+
     /// The variable of call node `i`.
     fn var(&self, i: NodeIndex) -> &CallVar {
         self.vars[i].as_ref().expect("a call node has a variable")
@@ -785,6 +1150,10 @@ impl<'a> Emitter<'a> {
     /// Node output `r` of a call, by its local variable.
     fn local_value(&self, r: OutputRef) -> String {
         let var = self.var(r.node);
+        if let Some(g) = self.groups.calls.get(&r.node) {
+            let member = &self.groups.functions[g.function].members[r.output].0;
+            return format!("{}.{member}", var.name);
+        }
         let n = &self.graph.nodes()[r.node];
         if n.node_type.outputs().len() > 1 {
             format!("{}.{}", var.name, output_member(&n.node_type, r.output))
@@ -799,12 +1168,26 @@ impl<'a> Emitter<'a> {
         let var = self.var(i);
         let f = &functions[var.function].1;
         let mut args: Vec<String> = Vec::new();
-        if let Some(src) = &n.texture {
+        if let Some(g) = self.groups.calls.get(&i) {
+            if f.definition.contains("geom: MgGeometry") {
+                args.push("geom".into());
+            }
+            let baked = &self.groups.functions[g.function].baked;
+            args.extend(
+                g.inputs
+                    .iter()
+                    .zip(baked)
+                    .filter(|(_, b)| b.is_none())
+                    .map(|(&n, _)| self.input_expr(n, 0)),
+            );
+        } else if let Some(src) = &n.texture {
             // Texture nodes take their slot in the packed texture set first.
             let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
             args.push(format!("{slot}u"));
         }
-        args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        if !self.groups.calls.contains_key(&i) {
+            args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        }
         let mut text = format!("    let {} = {}({});\n", var.name, f.name, args.join(", "));
         for (k, slot) in var.slots.iter().enumerate() {
             if let Some((array, j)) = slot {
@@ -825,32 +1208,29 @@ impl<'a> Emitter<'a> {
         calls: &[NodeIndex],
         outputs: &[(String, SocketType, OutputRef)],
     ) -> Vec<NodeIndex> {
-        let nodes = self.graph.nodes();
         let mut done: HashSet<NodeIndex> = HashSet::with_capacity(calls.len());
         let mut order = Vec::with_capacity(calls.len());
-        let mut stack: Vec<(NodeIndex, usize)> = Vec::new();
+        let mut stack: Vec<(NodeIndex, Vec<OutputRef>, usize)> = Vec::new();
         let roots = outputs
             .iter()
-            .map(|(_, _, r)| r.node)
+            .filter_map(|(_, _, r)| self.resolve(*r))
+            .map(|r| r.node)
             .chain(calls.iter().copied());
         for root in roots {
             if self.vars[root].is_none() || !done.insert(root) {
                 continue;
             }
-            stack.push((root, 0));
-            while let Some(&mut (i, ref mut k)) = stack.last_mut() {
-                if let Some(src) = nodes[i].inputs.get(*k) {
+            stack.push((root, self.sources(root), 0));
+            while let Some((i, sources, k)) = stack.last_mut() {
+                if let Some(r) = sources.get(*k).copied() {
                     *k += 1;
-                    if let InputSource::Link(r, _) = src
-                        && self.vars[r.node].is_some()
-                        && done.insert(r.node)
-                    {
-                        stack.push((r.node, 0));
+                    if self.vars[r.node].is_some() && done.insert(r.node) {
+                        stack.push((r.node, self.sources(r.node), 0));
                     }
                     continue;
                 }
+                order.push(*i);
                 stack.pop();
-                order.push(i);
             }
         }
         order
@@ -870,7 +1250,6 @@ impl<'a> Emitter<'a> {
         attributes: &[Attribute],
         outputs: &[(String, SocketType, OutputRef)],
     ) {
-        let nodes = self.graph.nodes();
         let calls = &self.post_order(calls, outputs);
         for (k, i) in calls.iter().enumerate() {
             if let Some(v) = &mut self.vars[*i] {
@@ -881,31 +1260,28 @@ impl<'a> Emitter<'a> {
         let mut shared: HashSet<OutputRef> = HashSet::new();
         for &i in calls {
             let part = self.var(i).part;
-            for src in &nodes[i].inputs {
-                if let InputSource::Link(r, _) = src
-                    && self.vars[r.node].as_ref().is_some_and(|v| v.part != part)
-                {
-                    shared.insert(*r);
+            for r in self.sources(i) {
+                if self.vars[r.node].as_ref().is_some_and(|v| v.part != part) {
+                    shared.insert(r);
                 }
             }
         }
-        for (_, _, r) in outputs {
+        for r in outputs.iter().filter_map(|(_, _, r)| self.resolve(*r)) {
             if self.vars[r.node].is_some() {
-                shared.insert(*r);
+                shared.insert(r);
             }
         }
         // They are kept in one array per WGSL type (index lookups stay constant-time, where
         // naga resolves a struct member by a search over the members).
         let mut arrays: Vec<(&'static str, &'static str, usize)> = Vec::new(); // (member, type, len)
         for &i in calls {
-            let n = &nodes[i];
-            let outs = n.node_type.outputs().len();
+            let outs = self.call_outputs(i);
             let mut slots = vec![None; outs];
             for (k, slot) in slots.iter_mut().enumerate() {
                 if !shared.contains(&OutputRef { node: i, output: k }) {
                     continue;
                 }
-                let ty = wgsl_type(n.output_type(k));
+                let ty = wgsl_type(self.call_output_type(i, k));
                 let a = match arrays.iter().position(|(_, t, _)| *t == ty) {
                     Some(a) => a,
                     None => {
@@ -992,12 +1368,10 @@ impl<'a> Emitter<'a> {
         let mut lit = HashSet::new();
         // Calls are in dependency order: a call's sources come before it.
         for &i in calls {
-            let reads_light = nodes[i].inputs.iter().any(|src| match src {
-                InputSource::Link(r, _) => {
+            let reads_light = self.groups.calls.get(&i).is_some_and(|g| g.reads_light)
+                || self.sources(i).iter().any(|r| {
                     self.plan.folded(*r).is_none() && (is_light(r) || lit.contains(&r.node))
-                }
-                _ => false,
-            });
+                });
             if reads_light {
                 lit.insert(i);
             }
@@ -1026,12 +1400,9 @@ impl<'a> Emitter<'a> {
         let nodes = self.graph.nodes();
         let read: HashSet<NodeIndex> = lit_calls
             .iter()
-            .flat_map(|&i| nodes[i].inputs.iter())
-            .filter_map(|src| match src {
-                InputSource::Link(r, _) => Some(r.node),
-                _ => None,
-            })
-            .chain(outputs.iter().map(|(_, _, r)| r.node))
+            .flat_map(|&i| self.sources(i))
+            .chain(outputs.iter().filter_map(|(_, _, r)| self.resolve(*r)))
+            .map(|r| r.node)
             .collect();
         let carried: Vec<(String, String)> = unlit
             .iter()

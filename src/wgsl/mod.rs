@@ -10,6 +10,7 @@
 //! is deterministic: the same graph and options give the same bytes.
 
 mod emit;
+mod groups;
 mod hardware;
 mod harness;
 mod layout;

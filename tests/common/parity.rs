@@ -637,17 +637,18 @@ pub fn shipped_graph_cases() -> Vec<GraphCase> {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let graph =
             matgraph::io::load_graph(&path, Registry::builtin()).unwrap_or_else(|e| panic!("{e}"));
-        let text = std::fs::read_to_string(&path).unwrap();
-        let doc = matgraph::GraphDocument::parse(&text).unwrap();
-        graphs.push((name.clone(), path.clone(), graph));
-        for (variant, v) in &doc.variants {
+        let at = graphs.len();
+        for (variant, v) in &graph.variants() {
             for choice in v.choices.iter().filter(|c| **c != v.default) {
                 let selection = vec![(variant.clone(), choice.clone())];
-                let g = Graph::with_variants(&doc, Registry::builtin(), &selection)
+                // Through the loaded graph, which reads the files its groups name.
+                let g = graph
+                    .select(Registry::builtin(), &selection)
                     .unwrap_or_else(|e| panic!("{name} {variant}={choice}: {e:?}"));
                 graphs.push((format!("{name} {variant}={choice}"), path.clone(), g));
             }
         }
+        graphs.insert(at, (name.clone(), path.clone(), graph));
     }
     graphs
         .into_iter()
