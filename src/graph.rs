@@ -74,8 +74,7 @@ impl Node {
     /// first of the output's type (Blender's rule for muted nodes); `None` where there is
     /// none, and the output is its type's zero.
     pub fn passthrough(&self, k: usize) -> Option<usize> {
-        let ty = self.output_type(k);
-        (0..self.inputs.len()).find(|&j| self.input_type(j) == ty)
+        self.node_type.passthrough(self.generic, k)
     }
 
     /// The inputs whose values the node uses: all of them, or for a forwarding node the
@@ -797,8 +796,11 @@ impl Builder<'_> {
     }
 
     /// A topological order, or `None` after reporting every cycle. Iterative throughout
-    /// (Kahn's sort, then an explicit-stack Tarjan over what it could not sort), so a chain
-    /// of any length runs in linear time and constant stack.
+    /// (Kahn's sort, then petgraph's `kosaraju_scc` over what it could not sort), so a chain
+    /// of any length runs in linear time and constant stack. The sort is Kahn's with the
+    /// lowest file index first among ready nodes, not petgraph's `toposort` (a depth-first
+    /// order): the order follows the file, so plans and WGSL stay stable under edits
+    /// elsewhere in the graph.
     fn topological_order(
         &mut self,
         doc: &GraphDocument,
@@ -1321,65 +1323,39 @@ impl Successors {
     }
 }
 
-/// The strongly connected components of the nodes not marked `skip`, by Tarjan's algorithm
-/// with an explicit stack (no recursion), each component's members in ascending order and
-/// the components ordered by their lowest member.
+/// The strongly connected components of the nodes not marked `skip`, by petgraph's
+/// Kosaraju (iterative: any depth in constant stack, linear time), each component's members
+/// in ascending order and the components ordered by their lowest member.
 fn strongly_connected(g: &Successors, skip: &[bool]) -> Vec<Vec<NodeIndex>> {
-    const UNSEEN: usize = usize::MAX;
-    let n = g.len();
-    let mut index = vec![UNSEEN; n];
-    let mut lowlink = vec![0usize; n];
-    let mut on_stack = vec![false; n];
-    let mut stack: Vec<NodeIndex> = Vec::new();
-    let mut calls: Vec<(NodeIndex, usize)> = Vec::new();
-    let mut next = 0usize;
-    let mut components = Vec::new();
-    for root in 0..n {
-        if skip[root] || index[root] != UNSEEN {
-            continue;
-        }
-        index[root] = next;
-        lowlink[root] = next;
-        next += 1;
-        stack.push(root);
-        on_stack[root] = true;
-        calls.push((root, 0));
-        while let Some(&mut (u, ref mut pos)) = calls.last_mut() {
-            if let Some(&w) = g.of(u).get(*pos) {
-                *pos += 1;
-                if skip[w] {
-                    continue;
-                }
-                if index[w] == UNSEEN {
-                    index[w] = next;
-                    lowlink[w] = next;
-                    next += 1;
-                    stack.push(w);
-                    on_stack[w] = true;
-                    calls.push((w, 0));
-                } else if on_stack[w] {
-                    lowlink[u] = lowlink[u].min(index[w]);
-                }
-                continue;
-            }
-            calls.pop();
-            if let Some(&(parent, _)) = calls.last() {
-                lowlink[parent] = lowlink[parent].min(lowlink[u]);
-            }
-            if lowlink[u] == index[u] {
-                let mut members = Vec::new();
-                while let Some(w) = stack.pop() {
-                    on_stack[w] = false;
-                    members.push(w);
-                    if w == u {
-                        break;
-                    }
-                }
-                members.sort_unstable();
-                components.push(members);
+    let kept: Vec<NodeIndex> = (0..g.len()).filter(|&i| !skip[i]).collect();
+    let mut at = vec![usize::MAX; g.len()];
+    for (k, &i) in kept.iter().enumerate() {
+        at[i] = k;
+    }
+    let mut sub: petgraph::Graph<NodeIndex, (), petgraph::Directed, usize> =
+        petgraph::Graph::with_capacity(kept.len(), kept.len());
+    for &i in &kept {
+        sub.add_node(i);
+    }
+    for &u in &kept {
+        for &v in g.of(u) {
+            if !skip[v] {
+                sub.add_edge(
+                    petgraph::graph::NodeIndex::new(at[u]),
+                    petgraph::graph::NodeIndex::new(at[v]),
+                    (),
+                );
             }
         }
     }
+    let mut components: Vec<Vec<NodeIndex>> = petgraph::algo::kosaraju_scc(&sub)
+        .into_iter()
+        .map(|c| {
+            let mut members: Vec<NodeIndex> = c.into_iter().map(|n| sub[n]).collect();
+            members.sort_unstable();
+            members
+        })
+        .collect();
     components.sort_unstable_by_key(|m| m[0]);
     components
 }

@@ -813,6 +813,32 @@ impl NodeType {
     pub fn output_index(&self, name: &str) -> Option<usize> {
         self.outputs.iter().position(|o| o.name == name)
     }
+    /// Muted at generic type `generic` (Blender's rule): the input output `k` passes on,
+    /// the first of the output's type; `None` where there is none and the output is its
+    /// type's zero.
+    pub fn passthrough(&self, generic: SocketType, k: usize) -> Option<usize> {
+        let ty = self.outputs[k].ty.resolve(generic);
+        self.inputs.iter().position(|i| i.ty.resolve(generic) == ty)
+    }
+    /// What muting the node does, one clause per output: `result ← a`, `alpha = 0`; for a
+    /// generic node at its widest `T` (where no port of fixed type shares `T`'s type).
+    pub fn muted_rule(&self) -> String {
+        let generic = self
+            .generic_types()
+            .into_iter()
+            .max_by_key(|t| t.width())
+            .unwrap_or(SocketType::Float);
+        if self.evaluation == Evaluation::Parameter {
+            return "no effect (the value is the input)".into();
+        }
+        (0..self.outputs.len())
+            .map(|k| match self.passthrough(generic, k) {
+                Some(j) => format!("{} ← {}", self.outputs[k].name, self.inputs[j].name),
+                None => format!("{} = 0", self.outputs[k].name),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
     /// Whether any port has the generic type `T`.
     pub fn is_generic(&self) -> bool {
         self.variants.iter().any(|v| v.generic.is_some())

@@ -971,3 +971,99 @@ fn a_frame_may_hold_a_group_instance() {
     let g = Graph::from_json(&doc.to_string(), Registry::builtin()).unwrap();
     assert_eq!(g.to_document().frames[0].nodes, ["c0", "c1", "cos"]);
 }
+
+/// Blender's rule for a muted node, written from the node's declared ports: output `k`
+/// passes the first input of its type.
+fn first_of_type(
+    t: &matgraph::node::NodeType,
+    g: matgraph::types::SocketType,
+    k: usize,
+) -> Option<usize> {
+    let want = t.outputs()[k].ty.resolve(g);
+    t.inputs().iter().position(|i| i.ty.resolve(g) == want)
+}
+
+#[test]
+fn every_muted_node_type_passes_its_first_input_of_each_outputs_type() {
+    use matgraph::node::Evaluation;
+    use matgraph::types::SocketType;
+    let mut rng = common::rng::Rng(0x5eed_34);
+    let mut checked = 0;
+    for t in Registry::builtin().types() {
+        if matches!(
+            t.evaluation(),
+            Evaluation::Parameter | Evaluation::Texture | Evaluation::Attributes(_)
+        ) {
+            continue;
+        }
+        let g = t
+            .generic_types()
+            .into_iter()
+            .max_by_key(|t| t.width())
+            .unwrap_or(SocketType::Float);
+        // Every input a seeded literal of its type (enum inputs keep their defaults).
+        let mut inputs = serde_json::Map::new();
+        let mut written: Vec<Option<matgraph::Value>> = Vec::new();
+        for i in t.inputs() {
+            let ty = i.ty.resolve(g);
+            if !i.choices.is_empty() || matches!(ty, SocketType::Int | SocketType::Bool) {
+                written.push(None);
+                continue;
+            }
+            // Seeded, within the input's soft (else hard) range.
+            let r = i.soft.or(i.hard).unwrap_or(matgraph::node::Range {
+                min: -0.5,
+                max: 1.5,
+            });
+            let lanes: Vec<f32> = (0..ty.width())
+                .map(|_| {
+                    let u = (rng.next() >> 40) as f32 / (1u64 << 24) as f32;
+                    (r.min + u * (r.max - r.min)).clamp(r.min, r.max)
+                })
+                .collect();
+            let v = matgraph::Value::from_lanes(ty, &lanes);
+            inputs.insert(i.name.to_owned(), v.to_json());
+            written.push(Some(v));
+        }
+        let outputs: Vec<serde_json::Value> = t
+            .outputs()
+            .iter()
+            .map(|o| json!({ "name": o.name, "from": format!("m.{}", o.name) }))
+            .collect();
+        let doc = json!({ "version": 2, "name": "muted",
+            "nodes": [ { "id": "m", "type": t.name(), "data_type": g.name(), "muted": true, "inputs": inputs } ],
+            "outputs": outputs });
+        let mut doc = doc;
+        if !t.is_generic() {
+            doc["nodes"][0].as_object_mut().unwrap().remove("data_type");
+        }
+        let graph = Graph::from_json(&doc.to_string(), Registry::builtin())
+            .unwrap_or_else(|e| panic!("{}: {e:?}", t.name()));
+        let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
+        assert_eq!(
+            plan.stats().per_sample_steps,
+            0,
+            "{}: a muted node is no step",
+            t.name()
+        );
+        let out = plan
+            .execute(&grid_batch(), &plan.default_parameters())
+            .unwrap();
+        for k in 0..t.outputs().len() {
+            let ty = t.outputs()[k].ty.resolve(g);
+            let want: Vec<f32> = match first_of_type(t, g, k) {
+                Some(j) => match written[j] {
+                    Some(v) => v.lanes()[..ty.width()].to_vec(),
+                    None => t.inputs()[j].default.lanes()[..ty.width()].to_vec(),
+                },
+                None => vec![0.0; ty.width()],
+            };
+            let got: Vec<f32> = (0..ty.width())
+                .map(|c| out.planar(k)[c * out.len()])
+                .collect();
+            assert_eq!(got, want, "{} output {}", t.name(), t.outputs()[k].name);
+        }
+        checked += 1;
+    }
+    assert!(checked > 50, "{checked}");
+}

@@ -65,6 +65,7 @@ pub fn run(args: &Args) -> CliResult {
                 o.doc
             );
         }
+        println!("    muted: {}", t.muted_rule());
         println!();
     }
     Ok(())
@@ -99,5 +100,6 @@ fn node_json(t: &NodeType) -> serde_json::Value {
             "unit": o.unit,
             "doc": o.doc,
         })).collect::<Vec<_>>(),
+        "muted": t.muted_rule(),
     })
 }
