@@ -19,10 +19,12 @@ pub fn adapter_available() -> bool {
 
 /// A harness of `app` at `size` (points = pixels), rendering with wgpu.
 pub fn harness(app: EditorApp, size: [u32; 2]) -> Harness<'static, EditorApp> {
-    Harness::builder()
+    let h = Harness::builder()
         .with_size(egui::vec2(size[0] as f32, size[1] as f32))
         .wgpu()
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app)
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
+    h.ctx.set_fonts(super::fonts());
+    h
 }
 
 /// Renders `app` at `size` to RGBA8 pixels (row-major, top row first), after the preview

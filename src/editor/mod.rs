@@ -91,6 +91,19 @@ impl eframe::App for WindowApp {
     }
 }
 
+/// egui's fonts with Hack (its monospace font) as the last fallback of the proportional
+/// family: Ubuntu Light has no arrows, and messages inside groups read
+/// `node 'g' (group G) → node 'f': …`.
+pub fn fonts() -> egui::FontDefinitions {
+    let mut fonts = egui::FontDefinitions::default();
+    if let Some(family) = fonts.families.get_mut(&egui::FontFamily::Proportional)
+        && !family.iter().any(|f| f == "Hack")
+    {
+        family.push("Hack".to_owned());
+    }
+    fonts
+}
+
 /// Opens the editor window on `file` (eframe, wgpu backend).
 pub fn run_window(file: Option<&Path>) -> Result<(), EditorError> {
     if !has_display() {
@@ -110,7 +123,8 @@ pub fn run_window(file: Option<&Path>) -> Result<(), EditorError> {
     eframe::run_native(
         "matgraph",
         options,
-        Box::new(move |_cc| {
+        Box::new(move |cc| {
+            cc.egui_ctx.set_fonts(fonts());
             Ok(Box::new(WindowApp {
                 app,
                 title: String::new(),
