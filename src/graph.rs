@@ -229,7 +229,9 @@ impl Graph {
             return Graph::with_variants(doc, registry, selection);
         }
         doc.check_features()?;
-        let (x, errors) = crate::group::expand(doc, &*files);
+        // One copy of the document, shared by the expansion and the graph (which saves it).
+        let source = Arc::new(doc.clone());
+        let (x, errors) = crate::group::expand(&source, &*files);
         let relocate = |errors: Vec<GraphError>| -> Vec<GraphError> {
             errors
                 .into_iter()
@@ -241,7 +243,7 @@ impl Graph {
         }
         let mut graph = Graph::flat_with_variants(&x.doc, registry, selection).map_err(relocate)?;
         graph.instances = Some(Arc::new(crate::group::Instances::new(&graph, &x)));
-        graph.source = Some(Arc::new(doc.clone()));
+        graph.source = Some(source);
         graph.files = Some(files);
         Ok(graph)
     }

@@ -109,12 +109,15 @@ struct Expander<'a> {
 /// Inlines every group instance of `doc` (see the module doc). The errors name the node in
 /// the scope it is written in under its flat path; [`super::relocate`] moves them into the
 /// groups with the returned document's `scopes` and `inputs`.
-pub(crate) fn expand(doc: &GraphDocument, files: &dyn GroupFiles) -> (Expanded, Vec<GraphError>) {
+pub(crate) fn expand(
+    doc: &Arc<GraphDocument>,
+    files: &dyn GroupFiles,
+) -> (Expanded, Vec<GraphError>) {
     let top = Arc::new(File {
         key: files.top_key(),
         label: files.top_label(),
         folder: String::new(),
-        doc: Arc::new(doc.clone()),
+        doc: doc.clone(),
     });
     let mut x = Expander {
         files,
