@@ -1502,7 +1502,14 @@ fn bundled_graphs_draw_each_node_within_its_estimated_rect() {
         let mut state = EditorState::open(&file, Registry::builtin()).unwrap();
         state.dialog = None;
         let n = state.doc.doc().nodes.len();
-        let mut h = harness(state);
+        // Wider than `harness`: the Material Output node, right of the rightmost node,
+        // widens the framed canvas, and at 1400 points bubble_iridescent was framed at
+        // 0.295×, in the overview (under 0.3×), where nodes are not drawn in full.
+        state.preview.enabled = false;
+        let mut h = Harness::builder()
+            .with_size(egui::vec2(1700.0, 900.0))
+            .with_max_steps(64)
+            .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state));
         let start = std::time::Instant::now();
         h.step();
         while !h.state().settled() && start.elapsed().as_secs() < 60 {
@@ -1689,10 +1696,10 @@ fn a_version_2_file_draws_groups_as_one_node_and_saves_as_fmt_writes_it() {
     preview::cut_at_in(s.doc.doc(), "lib", Registry::builtin(), files).unwrap();
     // The reroute is a registered type.
     assert!(matches!(s.doc.ports("rr").unwrap().kind, Kind::Type(_)));
-    // One canvas node per document node and a wire per link (geo→d twice, d→inl, inl→lib,
-    // lib→rr, rr→mu).
-    assert_eq!(s.snarl.nodes().count(), 6);
-    assert_eq!(s.snarl.wires().count(), 6);
+    // One canvas node per document node and the Material Output node, and a wire per link
+    // (geo→d twice, d→inl, inl→lib, lib→rr, rr→mu) and the output's (mu→emission).
+    assert_eq!(s.snarl.nodes().count(), 7);
+    assert_eq!(s.snarl.wires().count(), 7);
 
     let mut h = harness(s);
     settle_all(&mut h);
@@ -1866,8 +1873,8 @@ fn a_group_of_another_file_resolves_once_the_graph_has_a_file() {
     };
     assert_eq!(names(&lib.inputs), ["x"]);
     assert_eq!(names(&lib.outputs), ["y"]);
-    // The wires through it stay.
-    assert_eq!(s.snarl.wires().count(), 6);
+    // The wires through it stay (and the output's, mu→emission).
+    assert_eq!(s.snarl.wires().count(), 7);
     let mut h = harness(s);
     settle_all(&mut h);
     assert_eq!(h.state().drawn_frames().len(), 6);
@@ -1904,4 +1911,331 @@ fn a_reroute_added_to_a_version_1_file_makes_it_version_2() {
     assert!(again.doc.errors().is_empty(), "{:?}", again.doc.errors());
     assert_eq!(again.doc.link("reroute", "input"), Some("geo.normal"));
     assert_eq!(std::fs::read_to_string(&file).unwrap(), fmt_text(&file));
+}
+
+// ---- The Material Output node (issue 35, item 1) ----
+
+use matgraph::editor::outputs::{OUTPUT_NODE, OUTPUT_TITLE};
+
+/// File → New, then geometry → dot → fresnel_schlick built through the editor's own edits.
+fn fresnel_material() -> EditorState {
+    let mut s = untitled();
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    s.add_node("dot", [250.0, 0.0]).unwrap();
+    s.add_node("fresnel_schlick", [500.0, 0.0]).unwrap();
+    s.connect("geometry", "normal", "dot", "a").unwrap();
+    s.connect("geometry", "view", "dot", "b").unwrap();
+    s.connect("dot", "result", "fresnel_schlick", "cos_theta")
+        .unwrap();
+    s
+}
+
+/// The graph outputs of `s` as (name, from) pairs.
+fn outputs_of(s: &EditorState) -> Vec<(String, String)> {
+    s.doc
+        .doc()
+        .outputs
+        .iter()
+        .map(|o| (o.name.clone(), o.from.clone()))
+        .collect()
+}
+
+/// A new graph gets an output through the Material Output node: the node is added, a
+/// "color" pin added (unconnected: an error until wired), fresnel_schlick.reflectance
+/// wired into it, and the saved file has that output, in canonical form, and loads.
+#[test]
+fn a_new_graph_gets_its_output_through_the_material_output_node() {
+    let dir = scratch("material-output");
+    let mut s = fresnel_material();
+    assert!(s.doc.doc().outputs.is_empty());
+    assert!(matgraph::editor::view::output_node_id(&s.snarl).is_none());
+    let before = s.doc.canonical_json();
+    assert_eq!(s.add_output_node([800.0, 0.0]), OUTPUT_NODE);
+    let out = matgraph::editor::view::output_node_id(&s.snarl).expect("the node is on the canvas");
+    assert_eq!(s.snarl[out].id, OUTPUT_NODE);
+    assert_eq!(
+        s.doc.canonical_json(),
+        before,
+        "the node alone changes nothing in the file"
+    );
+    s.add_output("color").unwrap();
+    assert_eq!(outputs_of(&s), [("color".into(), String::new())]);
+    assert_eq!(
+        matgraph::editor::outputs::note(&s.doc, 0).as_deref(),
+        Some("unconnected")
+    );
+    // What the canvas does for a wire dropped on the pin.
+    s.connect("fresnel_schlick", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    assert_eq!(
+        outputs_of(&s),
+        [("color".into(), "fresnel_schlick.reflectance".into())]
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(
+        s.snarl.wires().count(),
+        4,
+        "three links and the output's wire"
+    );
+    let file = dir.join("fresnel.json");
+    s.save_as(&file).unwrap();
+    let g = matgraph::io::load_graph(&file, Registry::builtin()).expect("loads without errors");
+    let saved: Vec<(&str, String)> = g
+        .outputs()
+        .iter()
+        .map(|o| (o.name.as_str(), g.output_name(o.source)))
+        .collect();
+    assert_eq!(saved, [("color", "fresnel_schlick.reflectance".to_owned())]);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(
+        doc["outputs"],
+        serde_json::json!([{ "name": "color", "from": "fresnel_schlick.reflectance" }])
+    );
+    assert!(!text.contains(OUTPUT_NODE), "the node's place is not saved");
+    assert_eq!(g.to_json(), text, "canonical");
+    // Dragging the wire off keeps the entry, unconnected.
+    s.clear_input(OUTPUT_NODE, "color");
+    assert_eq!(outputs_of(&s), [("color".into(), String::new())]);
+    assert_eq!(s.doc.link(OUTPUT_NODE, "color"), None);
+}
+
+/// Deleting the node an output reads keeps the output, marked on its pin; undo brings the
+/// wire back, and a new node does not take the deleted one's id.
+#[test]
+fn deleting_the_node_an_output_reads_keeps_the_output_marked_and_undo_restores_it() {
+    let mut s = fresnel_material();
+    s.add_output("color").unwrap();
+    s.connect("fresnel_schlick", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    let wires = s.snarl.wires().count();
+    s.remove_nodes(&["fresnel_schlick".to_owned()]);
+    assert_eq!(
+        outputs_of(&s),
+        [("color".into(), "fresnel_schlick.reflectance".into())],
+        "the output is kept"
+    );
+    assert_eq!(
+        matgraph::editor::outputs::note(&s.doc, 0).as_deref(),
+        Some("reads deleted node 'fresnel_schlick'")
+    );
+    assert!(!s.doc.errors().is_empty(), "the loader reports it");
+    assert!(matgraph::editor::view::output_node_id(&s.snarl).is_some());
+    // The node is drawn with its pin marked.
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label(OUTPUT_TITLE);
+    h.get_by_label("color");
+    h.get_by_label("reads deleted node 'fresnel_schlick'");
+    // A node added now gets a fresh id: it does not silently become the output.
+    let id = h
+        .state_mut()
+        .state
+        .add_node("fresnel_schlick", [500.0, 0.0])
+        .unwrap();
+    assert_eq!(id, "fresnel_schlick_2");
+    h.state_mut().state.undo();
+    h.state_mut().state.undo();
+    h.run();
+    let s = &h.state().state;
+    assert!(s.doc.node("fresnel_schlick").is_some(), "undone");
+    assert_eq!(
+        outputs_of(s),
+        [("color".into(), "fresnel_schlick.reflectance".into())]
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(s.snarl.wires().count(), wires, "the output's wire is back");
+    assert!(
+        h.query_by_label("reads deleted node 'fresnel_schlick'")
+            .is_none()
+    );
+}
+
+/// A file with outputs shows the Material Output node right of its rightmost node, with
+/// a pin per output; the search finds it ("output"), and adding it again focuses the one
+/// there.
+#[test]
+fn the_material_output_node_is_drawn_and_found_by_the_search() {
+    let mut s = fresnel_material();
+    s.add_output("color").unwrap();
+    s.add_output("alpha").unwrap();
+    s.connect("fresnel_schlick", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    let dir = scratch("material-output-drawn");
+    let file = dir.join("g.json");
+    s.save_as(&file).unwrap();
+    let mut opened = EditorState::open(&file, Registry::builtin()).unwrap();
+    opened.dialog = None;
+    let out = matgraph::editor::view::output_node_id(&opened.snarl).expect("shown on open");
+    let rightmost = opened
+        .doc
+        .doc()
+        .nodes
+        .iter()
+        .map(|n| n.position.unwrap()[0])
+        .fold(f32::MIN, f32::max);
+    assert!(opened.snarl.get_node_info(out).unwrap().pos.x > rightmost);
+    let mut h = harness(opened);
+    h.run();
+    h.get_by_label(OUTPUT_TITLE);
+    h.get_by_label("color");
+    h.get_by_label("alpha");
+    h.get_by_label("unconnected");
+
+    // The search of a new graph finds it.
+    let mut h = harness(fresnel_material());
+    h.run();
+    h.key_press_modifiers(Modifiers::SHIFT, Key::A);
+    h.run();
+    h.event(egui::Event::Text("output".into()));
+    h.run();
+    h.get_by_label(&format!("{OUTPUT_TITLE}   (output)"));
+    h.key_press(Key::Enter);
+    h.run();
+    {
+        let s = &h.state().state;
+        assert!(s.search.is_none());
+        assert!(matgraph::editor::view::output_node_id(&s.snarl).is_some());
+        assert_eq!(s.focus.as_deref(), Some(OUTPUT_NODE));
+        assert_eq!(node_types(s), ["geometry", "dot", "fresnel_schlick"]);
+    }
+    // On the canvas and, focused, as the side panel's heading.
+    assert_eq!(h.query_all_by_label(OUTPUT_TITLE).count(), 2);
+    // The side panel offers the standard outputs.
+    h.get_by_label("+ color").click();
+    h.run();
+    assert_eq!(
+        outputs_of(&h.state().state),
+        [("color".into(), String::new())]
+    );
+    // Again: the one node is focused, not a second one added.
+    h.key_press_modifiers(Modifiers::SHIFT, Key::A);
+    h.run();
+    h.event(egui::Event::Text("output".into()));
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    let s = &h.state().state;
+    let outs = s
+        .snarl
+        .node_ids()
+        .filter(|(_, v)| v.id == OUTPUT_NODE)
+        .count();
+    assert_eq!(outs, 1);
+    assert_eq!(s.focus.as_deref(), Some(OUTPUT_NODE));
+}
+
+/// Pins are renamed (keeping the wire) and removed; invalid or taken names are refused.
+#[test]
+fn material_output_pins_are_renamed_and_removed() {
+    let mut s = fresnel_material();
+    s.add_output_node([800.0, 0.0]);
+    s.add_output("color").unwrap();
+    s.add_output("my-mask_2").unwrap();
+    assert!(s.add_output("bad name").is_err());
+    assert!(s.add_output("color").is_err(), "taken");
+    s.connect("fresnel_schlick", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    s.rename_output("color", "emission").unwrap();
+    assert_eq!(
+        outputs_of(&s),
+        [
+            ("emission".into(), "fresnel_schlick.reflectance".into()),
+            ("my-mask_2".into(), String::new())
+        ]
+    );
+    assert!(s.rename_output("emission", "my-mask_2").is_err(), "taken");
+    assert!(s.rename_output("emission", "a.b").is_err(), "invalid");
+    s.remove_output("my-mask_2");
+    assert_eq!(
+        outputs_of(&s),
+        [("emission".into(), "fresnel_schlick.reflectance".into())]
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    // Through the side panel: rename by typing, remove with ×.
+    s.focus = Some(OUTPUT_NODE.to_owned());
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("emission ← fresnel_schlick.reflectance");
+    h.get_by_label("add output…");
+    h.get_by_label("×").click();
+    h.run();
+    assert!(outputs_of(&h.state().state).is_empty());
+    // The node stays, empty: it was added.
+    assert!(matgraph::editor::view::output_node_id(&h.state().state.snarl).is_some());
+    h.state_mut().state.undo();
+    h.run();
+    assert_eq!(
+        outputs_of(&h.state().state),
+        [("emission".into(), "fresnel_schlick.reflectance".into())]
+    );
+}
+
+/// "Preview this output" shows a node's output in the main preview, without changing the
+/// file; cut there even while an output is not wired yet.
+#[test]
+fn preview_this_output_changes_the_preview_not_the_file() {
+    let mut s = fresnel_material();
+    s.add_output("color").unwrap();
+    let before = s.doc.canonical_json();
+    s.preview_output(Some("dot"));
+    assert_eq!(s.preview.main_output(), Some("dot"));
+    assert_eq!(s.doc.canonical_json(), before);
+    s.remove_nodes(&["dot".to_owned()]);
+    let mut h = harness(s);
+    h.run();
+    assert_eq!(
+        h.state().state.preview.main_output(),
+        None,
+        "its node is gone"
+    );
+}
+
+/// Ctrl+Shift+click on a node shows it in the main preview (the file unchanged); again on
+/// it, the graph's outputs.
+#[test]
+fn ctrl_shift_click_previews_a_node_and_again_goes_back() {
+    let mut s = fresnel_material();
+    s.add_output("color").unwrap();
+    s.connect("fresnel_schlick", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    let before = s.doc.canonical_json();
+    let mut h = harness(s);
+    h.run();
+    let (rect, to_screen) = {
+        let app = h.state();
+        let (_, r) = *app
+            .drawn_frames()
+            .iter()
+            .find(|(id, _)| *id == "dot")
+            .expect("dot is drawn");
+        (r, app.to_screen())
+    };
+    let at = to_screen * (rect.min + egui::vec2(rect.width() / 2.0, 6.0));
+    let ctrl_shift = Modifiers::COMMAND | Modifiers::SHIFT;
+    let click = |h: &mut Harness<'static, EditorApp>| {
+        h.event(egui::Event::PointerMoved(at));
+        h.event(egui::Event::ModifiersChanged(ctrl_shift));
+        h.run();
+        for pressed in [true, false] {
+            h.event(egui::Event::PointerButton {
+                pos: at,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: ctrl_shift,
+            });
+        }
+        h.run();
+        h.event(egui::Event::ModifiersChanged(Modifiers::default()));
+        h.run();
+    };
+    click(&mut h);
+    assert_eq!(h.state().state.preview.main_output(), Some("dot"));
+    assert_eq!(
+        h.state().state.doc.canonical_json(),
+        before,
+        "the file is unchanged"
+    );
+    click(&mut h);
+    assert_eq!(h.state().state.preview.main_output(), None);
 }

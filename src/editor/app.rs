@@ -4,6 +4,7 @@
 
 use super::code::{TARGETS, extension, node_lines};
 use super::handoff;
+use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD};
 use super::ports::Kind;
 use super::search_ui::{self, SearchState};
 use super::stand_in::Looks;
@@ -263,7 +264,17 @@ impl EditorApp {
             });
             let next = handoff::predict(self.to_screen, zoom, scroll, pointer, canvas);
             let selected = egui_snarl::ui::get_selected_nodes(canvas_id(), ui.ctx());
-            let keep = viewer.hand_over(next, &selected, pointer);
+            let mut keep = viewer.hand_over(next, &selected, pointer);
+            // The Material Output node is no document node: in the overview it is handed
+            // over only while selected (egui-snarl drawing it beside the stand-ins made
+            // their pixels vary from run to run).
+            if let Some(out) = super::view::output_node_id(&self.state.snarl) {
+                if keep.len() <= out.0 {
+                    keep.resize(out.0 + 1, true);
+                }
+                keep[out.0] =
+                    next.scaling >= super::viewer::LOW_DETAIL_ZOOM || selected.contains(&out);
+            }
             part = handoff::partial(&self.state.snarl, &keep);
             viewer.handed = part.as_ref().map(|_| keep);
         }
@@ -324,6 +335,42 @@ impl EditorApp {
             .collect();
         if !moves.is_empty() {
             self.state.move_nodes(&moves);
+        }
+        // The Material Output node's place is the editor's, not the file's.
+        if let Some(out) = super::view::output_node_id(&self.state.snarl)
+            && let Some(info) = self.state.snarl.get_node_info(out)
+        {
+            let pos = [info.pos.x, info.pos.y];
+            if self.state.doc.output_node() != Some(pos) {
+                self.state.move_output_node(pos);
+            }
+        }
+        // Ctrl+Shift+click on a node shows its output in the main preview (Blender's node
+        // wrangler); on the same node again, the graph's outputs.
+        let (clicked, ctrl_shift, at) = ui.input(|i| {
+            (
+                i.pointer.primary_clicked(),
+                i.modifiers.command && i.modifiers.shift,
+                i.pointer.interact_pos(),
+            )
+        });
+        if clicked
+            && ctrl_shift
+            && let Some(at) = at.filter(|p| canvas.contains(*p))
+        {
+            let p = self.to_screen.inverse() * at;
+            let nodes = &self.state.doc.doc().nodes;
+            let hit = self
+                .drawn
+                .iter()
+                .rev()
+                .find(|(_, r)| r.contains(p))
+                .and_then(|&(k, _)| nodes.get(k))
+                .map(|n| n.id.clone());
+            if let Some(id) = hit {
+                let again = self.state.preview.main_output() == Some(id.as_str());
+                actions.push(Action::PreviewOutput((!again).then_some(id)));
+            }
         }
         let selected = self.selected(ui.ctx());
         if selected.len() == 1 && ui.input(|i| i.pointer.any_pressed()) {
@@ -424,6 +471,14 @@ impl EditorApp {
                 Action::Focus(id) => s.focus = Some(id),
                 Action::Remove(ids) => s.remove_nodes(&ids),
                 Action::TogglePreview(id) => s.preview.toggle_node(&id),
+                Action::PreviewOutput(id) => s.preview_output(id.as_deref()),
+                Action::AddOutput(name) => {
+                    let _ = s.add_output(&name);
+                }
+                Action::RenameOutput { old, new } => {
+                    let _ = s.rename_output(&old, &new);
+                }
+                Action::RemoveOutput(name) => s.remove_output(&name),
                 Action::Duplicate(ids) => {
                     let copies = s.duplicate(&ids);
                     if let Some(c) = copies.first() {
@@ -675,6 +730,10 @@ impl EditorApp {
             ui.weak("Click a node's title to see its documentation.");
             return;
         };
+        if id == OUTPUT_NODE {
+            self.outputs_inspector(ui);
+            return;
+        }
         let doc = &self.state.doc;
         let (Some(n), Some(ports)) = (doc.node(&id), doc.ports(&id)) else {
             ui.weak(format!(
@@ -756,6 +815,85 @@ impl EditorApp {
             ui.label(egui::RichText::new(format!("out {} : {}", o.name, ty_of(o))).strong());
             if !o.doc.is_empty() {
                 ui.label(o.doc.as_ref());
+            }
+        }
+    }
+
+    /// The side panel of the Material Output node: each graph output (rename, remove, what
+    /// it reads or why it reads nothing), and the standard and any-name outputs to add.
+    fn outputs_inspector(&mut self, ui: &mut Ui) {
+        ui.heading(OUTPUT_TITLE);
+        ui.label("The graph's outputs: wire a node output into a pin to set what it reads.");
+        ui.separator();
+        let outputs = self.state.doc.doc().outputs.clone();
+        let mut rename = None;
+        let mut remove = None;
+        for (k, o) in outputs.iter().enumerate() {
+            let key = egui::Id::new("matgraph-inspector-output").with(k);
+            let mut text = ui.data_mut(|d| d.get_temp::<String>(key).unwrap_or(o.name.clone()));
+            ui.horizontal(|ui| {
+                let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(110.0));
+                if edit.lost_focus() && text != o.name {
+                    rename = Some((o.name.clone(), text.clone()));
+                }
+                if ui
+                    .small_button("×")
+                    .on_hover_text(format!("remove output '{}'", o.name))
+                    .clicked()
+                {
+                    remove = Some(o.name.clone());
+                }
+            });
+            match super::outputs::note(&self.state.doc, k) {
+                Some(n) => {
+                    ui.colored_label(Color32::from_rgb(255, 120, 110), format!("{}: {n}", o.name));
+                }
+                None => {
+                    ui.weak(format!("{} ← {}", o.name, o.from));
+                }
+            }
+            ui.data_mut(|d| d.insert_temp(key, text));
+        }
+        ui.separator();
+        ui.horizontal_wrapped(|ui| {
+            for s in STANDARD {
+                if ui
+                    .add_enabled(
+                        !outputs.iter().any(|o| o.name == s),
+                        egui::Button::new(format!("+ {s}")),
+                    )
+                    .clicked()
+                {
+                    let _ = self.state.add_output(s);
+                }
+            }
+        });
+        let key = egui::Id::new("matgraph-inspector-add-output");
+        let mut text = ui.data_mut(|d| d.get_temp::<String>(key).unwrap_or_default());
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::TextEdit::singleline(&mut text)
+                    .hint_text("name")
+                    .desired_width(110.0),
+            );
+            if ui.button("add output…").clicked() && self.state.add_output(&text).is_ok() {
+                text.clear();
+            }
+        });
+        ui.data_mut(|d| d.insert_temp(key, text));
+        let changed = rename.is_some() || remove.is_some();
+        if let Some((old, new)) = rename {
+            // Refused (a name taken or invalid): the status line says why.
+            let _ = self.state.rename_output(&old, &new);
+        }
+        if let Some(name) = remove {
+            self.state.remove_output(&name);
+        }
+        if changed {
+            // The fields show the outputs' names again.
+            for k in 0..outputs.len() {
+                let key = egui::Id::new("matgraph-inspector-output").with(k);
+                ui.data_mut(|d| d.remove::<String>(key));
             }
         }
     }
@@ -865,6 +1003,18 @@ impl EditorApp {
         match result {
             None => self.state.search = Some(search),
             Some(Err(())) => {}
+            Some(Ok(pick)) if pick.type_name == OUTPUT_NODE => {
+                self.state.add_output_node(search.pos);
+                // A wire dropped from an output: a new pin for it.
+                if let Some((node, port, super::search::WireFilter::InputAccepting(_))) =
+                    &search.wire
+                {
+                    let name = super::outputs::fresh_name(&self.state.doc, Some(port));
+                    if self.state.add_output(&name).is_ok() {
+                        let _ = self.state.connect(node, port, OUTPUT_NODE, &name);
+                    }
+                }
+            }
             Some(Ok(pick)) => {
                 if let Ok(id) = self.state.add_node(&pick.type_name, search.pos)
                     && let (Some((node, port, filter)), Some(k)) = (&search.wire, pick.port)

@@ -2,7 +2,8 @@
 //! the default cargo feature `editor`. It reaches the core only through the public API: the
 //! document it edits is a [`crate::GraphDocument`], checked by the loader after every edit.
 //!
-//! Modules: [`model`] (the document and its validation), [`ports`] (a node's pins: its
+//! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
+//! node: the graph's `outputs` on the canvas), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
@@ -16,6 +17,7 @@ pub mod handoff;
 pub mod headless;
 pub mod layout;
 pub mod model;
+pub mod outputs;
 pub mod overview;
 pub mod ports;
 pub mod preview;

@@ -5,6 +5,7 @@
 //! [`GroupFiles`] ([`Graph::from_document_in`]), so that groups of other files resolve as
 //! `matgraph check` resolves them.
 
+use super::outputs::OUTPUT_NODE;
 use super::ports::{Ports, ports_of};
 use crate::document::{GraphDocument, NodeDocument};
 use crate::error::GraphError;
@@ -40,6 +41,10 @@ pub struct EditorDoc {
     /// The files groups of other files are read from (the graph file's folder); `None`
     /// for a document without a file, whose groups must be its own.
     files: Option<Arc<dyn GroupFiles>>,
+    /// Where the Material Output node ([`super::outputs`]) is on the canvas: editor-only,
+    /// never saved; `None` until it is placed (a file with outputs places it right of its
+    /// rightmost node when shown, [`EditorDoc::output_node_place`]).
+    output_node: Option<[f32; 2]>,
 }
 
 impl EditorDoc {
@@ -68,6 +73,7 @@ impl EditorDoc {
             ids,
             ports: OnceLock::new(),
             files,
+            output_node: None,
         }
     }
 
@@ -273,12 +279,22 @@ impl EditorDoc {
                 }
             })
             .collect();
-        if self.index(&base).is_none() {
+        // An id a graph output still reads (its node was deleted) is taken: a new node
+        // under it would silently become that output.
+        let free = |id: &str| {
+            self.index(id).is_none()
+                && !self
+                    .doc
+                    .outputs
+                    .iter()
+                    .any(|o| o.from.split_once('.').is_some_and(|(n, _)| n == id))
+        };
+        if free(&base) {
             return base;
         }
         (2..)
             .map(|k| format!("{base}_{k}"))
-            .find(|id| self.index(id).is_none())
+            .find(|id| free(id))
             .expect("an unused id exists")
     }
 
@@ -310,8 +326,10 @@ impl EditorDoc {
         Ok(id)
     }
 
-    /// Removes nodes and everything that refers to them (links, graph outputs, parameters,
-    /// the frames' lists).
+    /// Removes nodes and everything that refers to them (links, parameters, the frames'
+    /// lists). A graph output reading a removed node is kept, still naming it: the loader
+    /// reports it and the Material Output node marks its pin ("reads deleted node 'x'"),
+    /// never dropping the output (undo brings the wire back).
     pub fn remove_nodes(&mut self, ids: &[String]) {
         let gone = |s: &str| {
             s.split_once('.')
@@ -321,7 +339,6 @@ impl EditorDoc {
         for n in &mut self.doc.nodes {
             n.inputs.retain(|_, v| link_of(v).is_none_or(|l| !gone(l)));
         }
-        self.doc.outputs.retain(|o| !gone(&o.from));
         self.doc.parameters.retain(|p| !ids.contains(&p.node));
         for f in &mut self.doc.frames {
             f.nodes.retain(|n| !ids.contains(n));
@@ -372,6 +389,9 @@ impl EditorDoc {
         to_node: &str,
         to_input: &str,
     ) -> Result<(), String> {
+        if to_node == OUTPUT_NODE {
+            return self.connect_output(from_node, from_output, to_input);
+        }
         let k = self
             .index(to_node)
             .ok_or_else(|| format!("no node '{to_node}'"))?;
@@ -384,6 +404,13 @@ impl EditorDoc {
 
     /// Removes the link (or literal) of `node.input`: it takes its default again.
     pub fn clear_input(&mut self, node: &str, input: &str) {
+        if node == OUTPUT_NODE {
+            if let Some(o) = self.doc.outputs.iter_mut().find(|o| o.name == input) {
+                o.from.clear();
+                self.revalidate();
+            }
+            return;
+        }
         if let Some(k) = self.index(node) {
             self.doc.nodes[k].inputs.remove(input);
             self.revalidate();
@@ -415,9 +442,117 @@ impl EditorDoc {
         }
     }
 
-    /// The link written on `node.input`, as `node_id.output`.
+    /// The link written on `node.input`, as `node_id.output` (for the Material Output
+    /// node, [`OUTPUT_NODE`], the graph output `input`'s `from`, when set).
     pub fn link(&self, node: &str, input: &str) -> Option<&str> {
+        if node == OUTPUT_NODE {
+            return self
+                .doc
+                .outputs
+                .iter()
+                .find(|o| o.name == input)
+                .map(|o| o.from.as_str())
+                .filter(|f| !f.is_empty());
+        }
         link_of(self.node(node)?.inputs.get(input)?)
+    }
+
+    /// Where the Material Output node was placed on the canvas (editor-only).
+    pub fn output_node(&self) -> Option<[f32; 2]> {
+        self.output_node
+    }
+
+    /// Places the Material Output node (`None`: forgets its place; it is shown again, right
+    /// of the rightmost node, while the graph has outputs). Not a document change.
+    pub fn set_output_node(&mut self, place: Option<[f32; 2]>) {
+        self.output_node = place;
+    }
+
+    /// Whether the canvas shows the Material Output node: the graph has outputs, or it
+    /// was added.
+    pub fn shows_output_node(&self) -> bool {
+        self.output_node.is_some() || !self.doc.outputs.is_empty()
+    }
+
+    /// Where the canvas draws the Material Output node, given the nodes' `places`: its
+    /// place, else (a graph with outputs) right of the rightmost node; `None` when it is
+    /// not shown.
+    pub fn output_node_place(&self, places: &[[f32; 2]]) -> Option<[f32; 2]> {
+        self.shows_output_node().then(|| {
+            self.output_node
+                .unwrap_or_else(|| super::outputs::default_place(self, places))
+        })
+    }
+
+    /// Wires `from_node.from_output` into the graph output `name` (its `from`). Any type
+    /// is accepted, as the loader accepts it; a source that does not exist is refused.
+    pub fn connect_output(
+        &mut self,
+        from_node: &str,
+        from_output: &str,
+        name: &str,
+    ) -> Result<(), String> {
+        let k = self
+            .doc
+            .outputs
+            .iter()
+            .position(|o| o.name == name)
+            .ok_or_else(|| format!("no graph output '{name}'"))?;
+        let mut candidate = self.doc.clone();
+        candidate.outputs[k].from = format!("{from_node}.{from_output}");
+        self.try_apply(candidate)
+    }
+
+    /// Adds the graph output `name`, unconnected (empty `from`, reported by the loader
+    /// until wired). Refused for a name that is taken or not letters, digits, `_`, `-`.
+    pub fn add_output(&mut self, name: &str) -> Result<(), String> {
+        if !super::outputs::valid_name(name) {
+            return Err(format!(
+                "'{name}' cannot name an output: use letters, digits, '_' and '-'"
+            ));
+        }
+        if self.doc.outputs.iter().any(|o| o.name == name) {
+            return Err(format!("the graph already has an output '{name}'"));
+        }
+        self.doc.outputs.push(crate::document::OutputDocument {
+            name: name.to_owned(),
+            from: String::new(),
+        });
+        self.revalidate();
+        Ok(())
+    }
+
+    /// Renames the graph output `old` to `new`, keeping its wire and place.
+    pub fn rename_output(&mut self, old: &str, new: &str) -> Result<(), String> {
+        if old == new {
+            return Ok(());
+        }
+        if !super::outputs::valid_name(new) {
+            return Err(format!(
+                "'{new}' cannot name an output: use letters, digits, '_' and '-'"
+            ));
+        }
+        if self.doc.outputs.iter().any(|o| o.name == new) {
+            return Err(format!("the graph already has an output '{new}'"));
+        }
+        let o = self
+            .doc
+            .outputs
+            .iter_mut()
+            .find(|o| o.name == old)
+            .ok_or_else(|| format!("no graph output '{old}'"))?;
+        o.name = new.to_owned();
+        self.revalidate();
+        Ok(())
+    }
+
+    /// Removes the graph output `name`.
+    pub fn remove_output(&mut self, name: &str) {
+        let before = self.doc.outputs.len();
+        self.doc.outputs.retain(|o| o.name != name);
+        if self.doc.outputs.len() != before {
+            self.revalidate();
+        }
     }
 
     /// Applies `candidate` when it has no error the current document lacks; otherwise

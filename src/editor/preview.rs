@@ -350,6 +350,9 @@ pub struct Preview {
     pub clock: Clock,
     /// Nodes whose swatch is on.
     nodes: BTreeSet<String>,
+    /// The node the main swatch shows instead of the graph's outputs ("Preview this
+    /// output", Ctrl+Shift+click): the graph cut there ([`cut_at`]); the file is unchanged.
+    main_output: Option<String>,
     slots: BTreeMap<Slot, SlotState>,
     /// Programs built so far (structure changes), all slots.
     compiles: usize,
@@ -381,6 +384,7 @@ impl Preview {
             orbit: Orbit::default(),
             clock: Clock::default(),
             nodes: BTreeSet::new(),
+            main_output: None,
             slots: BTreeMap::new(),
             compiles: 0,
             renders: 0,
@@ -435,6 +439,17 @@ impl Preview {
         if !self.nodes.remove(id) {
             self.nodes.insert(id.to_owned());
         }
+    }
+
+    /// Shows node `id`'s output in the main swatch (the graph cut there, as a node's
+    /// swatch), or (`None`) the graph's own outputs again. The document is unchanged.
+    pub fn preview_output(&mut self, id: Option<&str>) {
+        self.main_output = id.map(str::to_owned);
+    }
+
+    /// The node the main swatch shows instead of the graph's outputs, if any.
+    pub fn main_output(&self) -> Option<&str> {
+        self.main_output.as_deref()
     }
 
     /// Whether node `id`'s swatch is on.
@@ -509,12 +524,25 @@ impl Preview {
     /// Collects finished renders, and queues the renders due for `edited` (its graph
     /// `None` while it has errors), its file `file` (for its images).
     pub fn poll(&mut self, ctx: &egui::Context, edited: &EditorDoc, file: Option<&PathBuf>) {
+        if self
+            .main_output
+            .as_deref()
+            .is_some_and(|id| edited.index(id).is_none())
+        {
+            // Its node was deleted: the graph's outputs again.
+            self.main_output = None;
+        }
         if !self.enabled {
             return;
         }
         self.collect(ctx);
         let (doc, graph, registry) = (edited.doc(), edited.graph(), edited.registry());
         let structure = edited.structure_key();
+        // The main swatch's structure names the node it is cut at, if any.
+        let main_structure: Arc<str> = match &self.main_output {
+            Some(id) => format!("{structure}\n@preview:{id}").into(),
+            None => structure.clone(),
+        };
         let params: Vec<(String, Value)> = graph
             .map(|g| {
                 g.parameters()
@@ -528,7 +556,7 @@ impl Preview {
         let mut wanted: Vec<(Slot, Request)> = vec![(
             None,
             Request {
-                structure: structure.clone(),
+                structure: main_structure,
                 params: params.clone(),
                 orbit: self.orbit,
                 time: self.clock.time,
@@ -549,6 +577,14 @@ impl Preview {
         }
         let playing = self.clock.playing;
         for (slot, request) in wanted {
+            let structure = request.structure.clone();
+            // Where the swatch shows the graph cut at a node (a node's swatch, or the main
+            // one's "Preview this output"); a cut replaces the outputs, so an output not
+            // wired yet does not stop it.
+            let cut = match &slot {
+                Some(id) => Some(id.clone()),
+                None => self.main_output.clone(),
+            };
             let state = self.slots.entry(slot.clone()).or_default();
             state.wanted = Some(request.clone());
             let shown = state.shown.as_ref() == Some(&request);
@@ -578,17 +614,18 @@ impl Preview {
             if !stand_in && !due {
                 continue;
             }
-            let Some(graph) = graph else {
+            if graph.is_none() && !cut.as_deref().is_some_and(|id| cuttable(edited, id)) {
                 if state.running.is_none() {
                     state.shown = Some(request);
                     state.message = Some("the graph has errors".into());
                 }
                 continue;
-            };
+            }
             if state.program.as_ref().map(|p| &p.0) != Some(&structure) {
-                let built = match &slot {
-                    None => Ok(graph.clone()),
-                    Some(id) => cut_at_in(doc, id, registry, edited.files().cloned()),
+                let built = match (&cut, graph) {
+                    (Some(id), _) => cut_at_in(doc, id, registry, edited.files().cloned()),
+                    (None, Some(graph)) => Ok(graph.clone()),
+                    (None, None) => Err("the graph has errors".into()),
                 };
                 self.compiles += 1;
                 match built {
@@ -1070,6 +1107,17 @@ pub fn draft_detail(scene: &mut Scene) {
         }
         SceneKind::Bubble(b) => b.segments = b.segments.map(half),
     }
+}
+
+/// Whether the graph of `doc` cut at node `id` may build while the whole graph has errors:
+/// every error is one of its outputs' (an output not wired yet, or reading a deleted
+/// node), which the cut replaces.
+fn cuttable(doc: &EditorDoc, id: &str) -> bool {
+    doc.index(id).is_some()
+        && doc
+            .errors()
+            .iter()
+            .all(|e| matches!(e, crate::GraphError::BadOutput { .. }))
 }
 
 /// The structure of `doc`: its canonical JSON without node positions and without the

@@ -37,6 +37,18 @@ pub fn preview_panel(ui: &mut Ui, state: &mut EditorState) {
         ui.weak("off");
         return;
     }
+    if let Some(id) = p.main_output().map(str::to_owned) {
+        ui.horizontal(|ui| {
+            ui.label(format!("showing '{id}' (not saved)"));
+            if ui
+                .small_button("show the outputs")
+                .on_hover_text("Ctrl+Shift+click the node again, or click here")
+                .clicked()
+            {
+                p.preview_output(None);
+            }
+        });
+    }
     match (p.texture().map(|t| t.id()), p.message()) {
         (_, Some(m)) => {
             ui.colored_label(Color32::from_rgb(255, 120, 110), m);

@@ -96,9 +96,68 @@ pub fn search(registry: &Registry, query: &str, filter: Option<WireFilter>) -> V
     hits.into_iter().map(|(_, _, t)| t.clone()).collect()
 }
 
+/// One result of the add-node search: a node type, or the Material Output node
+/// ([`super::outputs`]).
+#[derive(Clone, Debug)]
+pub enum Hit {
+    /// A registered node type.
+    Type(Arc<NodeType>),
+    /// The Material Output node (the graph's outputs).
+    Output,
+}
+
+/// The Material Output node's score for `query`, scored as a type's name ("Material
+/// Output", "output") and summary.
+pub fn output_score(query: &str) -> Option<i32> {
+    [
+        fuzzy_score(query, super::outputs::OUTPUT_TITLE).map(|s| s * 3 + 1000),
+        fuzzy_score(query, "output").map(|s| s * 3 + 1000),
+        fuzzy_score(query, "graph outputs: color emission alpha displacement"),
+    ]
+    .into_iter()
+    .flatten()
+    .max()
+}
+
+/// [`search`]'s node types and the Material Output node, best first (after the types
+/// that score as well). A wire dropped from an output may end on it (it takes any type);
+/// one dropped from an input may not (it has no outputs).
+pub fn search_all(registry: &Registry, query: &str, filter: Option<WireFilter>) -> Vec<Hit> {
+    let mut hits: Vec<(i32, usize, Hit)> = registry
+        .types()
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| filter.is_none_or(|f| compatible_port(t, f).is_some()))
+        .filter_map(|(k, t)| type_score(t, query).map(|s| (s, k, Hit::Type(t.clone()))))
+        .collect();
+    if !matches!(filter, Some(WireFilter::OutputFeeding(_)))
+        && let Some(s) = output_score(query)
+    {
+        hits.push((s, usize::MAX, Hit::Output));
+    }
+    hits.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    hits.into_iter().map(|(_, _, h)| h).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn output_finds_the_material_output_node_first() {
+        let r = Registry::builtin();
+        assert!(matches!(search_all(r, "output", None)[0], Hit::Output));
+        assert!(matches!(
+            search_all(r, "material out", None)[0],
+            Hit::Output
+        ));
+        let from_input = Some(WireFilter::OutputFeeding(SocketType::Float));
+        assert!(
+            !search_all(r, "output", from_input)
+                .iter()
+                .any(|h| matches!(h, Hit::Output))
+        );
+    }
 
     #[test]
     fn subsequences_match_and_others_do_not() {

@@ -1,7 +1,8 @@
 //! The add-node search window (Shift+A, Tab, right-click on the canvas, or a wire dropped in
 //! empty space): type to filter, Up/Down to move, Enter or a click to add, Escape to close.
 
-use super::search::{WireFilter, compatible_port, search};
+use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE};
+use super::search::{Hit, WireFilter, compatible_port, search_all};
 use crate::registry::Registry;
 use egui::{Key, Ui};
 
@@ -21,7 +22,7 @@ pub struct SearchState {
 /// What the user picked: the node type and, for a dropped wire, the port of it to connect.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pick {
-    /// The node type's name.
+    /// The node type's name ([`OUTPUT_NODE`] for the Material Output node).
     pub type_name: String,
     /// The index of the new node's port the wire connects to.
     pub port: Option<usize>,
@@ -45,7 +46,7 @@ pub fn show(ui: &mut Ui, s: &mut SearchState, registry: &Registry) -> Option<Res
             .id(egui::Id::new("matgraph-search-query")),
     );
     edit.request_focus();
-    let hits = search(registry, &s.query, filter);
+    let hits = search_all(registry, &s.query, filter);
     let (down, up, enter, escape) = ui.input(|i| {
         (
             i.key_pressed(Key::ArrowDown),
@@ -66,12 +67,15 @@ pub fn show(ui: &mut Ui, s: &mut SearchState, registry: &Registry) -> Option<Res
     if up {
         s.selected = s.selected.saturating_sub(1);
     }
-    let pick = |k: usize| {
-        let t = &hits[k];
-        Pick {
+    let pick = |k: usize| match &hits[k] {
+        Hit::Type(t) => Pick {
             type_name: t.name().to_owned(),
             port: filter.and_then(|f| compatible_port(t, f)),
-        }
+        },
+        Hit::Output => Pick {
+            type_name: OUTPUT_NODE.to_owned(),
+            port: None,
+        },
     };
     if enter && !hits.is_empty() {
         return Some(Ok(pick(s.selected.min(hits.len() - 1))));
@@ -80,11 +84,17 @@ pub fn show(ui: &mut Ui, s: &mut SearchState, registry: &Registry) -> Option<Res
     egui::ScrollArea::vertical()
         .max_height(320.0)
         .show(ui, |ui| {
-            for (k, t) in hits.iter().enumerate().take(MAX_RESULTS) {
-                let text = format!("{}   ({})", t.name(), t.category());
+            for (k, hit) in hits.iter().enumerate().take(MAX_RESULTS) {
+                let (text, hover) = match hit {
+                    Hit::Type(t) => (format!("{}   ({})", t.name(), t.category()), t.summary()),
+                    Hit::Output => (
+                        format!("{OUTPUT_TITLE}   (output)"),
+                        "the graph's outputs (one per graph)",
+                    ),
+                };
                 let r = ui
                     .selectable_label(k == s.selected, text)
-                    .on_hover_text(t.summary());
+                    .on_hover_text(hover);
                 if r.clicked() {
                     chosen = Some(k);
                 }

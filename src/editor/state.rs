@@ -174,6 +174,75 @@ impl EditorState {
             d.replace(arranged);
             Ok(())
         });
+        // The Material Output node goes right of the arranged nodes again.
+        if self.doc.output_node().is_some() {
+            self.doc.set_output_node(None);
+            let places: Vec<[f32; 2]> = self
+                .doc
+                .doc()
+                .nodes
+                .iter()
+                .map(|n| n.position.unwrap_or_default())
+                .collect();
+            let place = super::outputs::default_place(&self.doc, &places);
+            self.doc.set_output_node(Some(place));
+            self.snarl = build_snarl(&self.doc);
+        }
+    }
+
+    /// Shows the Material Output node at canvas position `pos` ([`super::outputs`]); when
+    /// it is already on the canvas (one per graph) it is focused instead, where it is. Not
+    /// an undo step: the node is the editor's picture of the graph's `outputs`.
+    pub fn add_output_node(&mut self, pos: [f32; 2]) -> String {
+        use super::outputs::OUTPUT_NODE;
+        if self.doc.shows_output_node() {
+            self.status = Some("the graph has one Material Output node: focused it".into());
+        } else {
+            self.doc.set_output_node(Some(pos));
+            self.snarl = build_snarl(&self.doc);
+            self.status = Some("added the Material Output node".into());
+        }
+        self.focus = Some(OUTPUT_NODE.to_owned());
+        OUTPUT_NODE.to_owned()
+    }
+
+    /// Adds the graph output `name` (a new, unconnected pin of the Material Output node,
+    /// which is shown if it was not).
+    pub fn add_output(&mut self, name: &str) -> Result<(), String> {
+        self.edit(None, true, |d| d.add_output(name))?;
+        self.status = Some(format!("added output '{name}' (unconnected)"));
+        Ok(())
+    }
+
+    /// Renames the graph output `old` to `new`, keeping its wire.
+    pub fn rename_output(&mut self, old: &str, new: &str) -> Result<(), String> {
+        self.edit(None, true, |d| d.rename_output(old, new))?;
+        self.status = Some(format!("renamed output '{old}' to '{new}'"));
+        Ok(())
+    }
+
+    /// Removes the graph output `name` (its pin).
+    pub fn remove_output(&mut self, name: &str) {
+        let _ = self.edit(None, true, |d| {
+            d.remove_output(name);
+            Ok(())
+        });
+        self.status = Some(format!("removed output '{name}'"));
+    }
+
+    /// Shows node `id`'s output in the main preview ("Preview this output",
+    /// Ctrl+Shift+click), or (`None`) the graph's outputs again; the file is unchanged.
+    pub fn preview_output(&mut self, id: Option<&str>) {
+        self.preview.preview_output(id);
+        self.status = Some(match id {
+            Some(id) => format!("the preview shows '{id}' (the file is unchanged)"),
+            None => "the preview shows the graph's outputs".into(),
+        });
+    }
+
+    /// Moves the Material Output node (editor-only; not an undo step).
+    pub fn move_output_node(&mut self, pos: [f32; 2]) {
+        self.doc.set_output_node(Some(pos));
     }
 
     /// Adds `path` to the recent files (when the editor keeps the list).

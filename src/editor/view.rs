@@ -2,6 +2,7 @@
 //! and the colours of categories and socket types.
 
 use super::model::{EditorDoc, link_of};
+use super::outputs::OUTPUT_NODE;
 use crate::node::Category;
 use crate::types::SocketType;
 use egui::Color32;
@@ -89,7 +90,14 @@ pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
     let d = doc.doc();
     let count = count.min(d.nodes.len());
     let mut snarl = Snarl::new();
-    for (k, (n, pos)) in d.nodes.iter().zip(places(doc)).enumerate().take(count) {
+    let places = places(doc);
+    for (k, (n, pos)) in d
+        .nodes
+        .iter()
+        .zip(places.iter().copied())
+        .enumerate()
+        .take(count)
+    {
         let id = snarl.insert_node(egui::pos2(pos[0], pos[1]), NodeView { id: n.id.clone() });
         debug_assert_eq!(id, NodeId(k));
     }
@@ -124,7 +132,48 @@ pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
             );
         }
     }
+    // The Material Output node ([`super::outputs`]) after the document's nodes, once they
+    // are all shown: one input pin per graph output, wired from the node output it reads.
+    if count == d.nodes.len()
+        && let Some(place) = doc.output_node_place(&places)
+    {
+        let out = snarl.insert_node(
+            egui::pos2(place[0], place[1]),
+            NodeView {
+                id: OUTPUT_NODE.to_owned(),
+            },
+        );
+        for (i, o) in d.outputs.iter().enumerate() {
+            let Some((src, name)) = o.from.split_once('.') else {
+                continue;
+            };
+            let Some(s) = doc.index(src) else {
+                continue;
+            };
+            let Some(k) = doc.ports_at(s).and_then(|p| p.output_index(name)) else {
+                continue;
+            };
+            snarl.connect(
+                OutPinId {
+                    node: NodeId(s),
+                    output: k,
+                },
+                InPinId {
+                    node: out,
+                    input: i,
+                },
+            );
+        }
+    }
     snarl
+}
+
+/// The Material Output node's id on `snarl`, when it is shown.
+pub fn output_node_id(snarl: &Snarl<NodeView>) -> Option<NodeId> {
+    snarl
+        .node_ids()
+        .find(|(_, v)| v.id == OUTPUT_NODE)
+        .map(|(n, _)| n)
 }
 
 /// Link depth of every node (0 for nodes no link reaches), for the automatic layout.

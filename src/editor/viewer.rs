@@ -6,6 +6,7 @@ use super::cull::{Culling, Wire};
 use super::handoff::POINTER_REACH;
 use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
+use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD, note};
 use super::overview::{Body, Overview, pin_shape};
 use super::ports::Kind;
 use super::search::WireFilter;
@@ -62,6 +63,20 @@ pub enum Action {
     Duplicate(Vec<String>),
     /// Turn this node's preview swatch on or off.
     TogglePreview(String),
+    /// Show this node's output in the main preview ("Preview this output",
+    /// Ctrl+Shift+click), or (`None`) the graph's outputs again; the file is unchanged.
+    PreviewOutput(Option<String>),
+    /// Add a graph output (a pin of the Material Output node).
+    AddOutput(String),
+    /// Rename a graph output.
+    RenameOutput {
+        /// Its name.
+        old: String,
+        /// The new name.
+        new: String,
+    },
+    /// Remove a graph output.
+    RemoveOutput(String),
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -170,8 +185,12 @@ impl Viewer<'_> {
         &snarl[node].id
     }
 
-    /// The name of input pin `k` of node `id`.
+    /// The name of input pin `k` of node `id` (of the Material Output node: its `k`th
+    /// graph output).
     fn input_name(&self, id: &str, k: usize) -> Option<String> {
+        if id == OUTPUT_NODE {
+            return Some(self.doc.doc().outputs.get(k)?.name.clone());
+        }
         Some(self.doc.ports(id)?.inputs.get(k)?.name.clone().into_owned())
     }
 
@@ -319,6 +338,9 @@ impl Viewer<'_> {
     /// The fill of node `id`'s header: its category's colour ([`GROUP_COLOR`] for a group
     /// instance, dark red for an unknown type), dimmed when the node is muted.
     fn header_fill(&self, id: &str) -> Color32 {
+        if id == OUTPUT_NODE {
+            return OUTPUT_COLOR;
+        }
         let fill = match self.doc.ports(id).map(|p| &p.kind) {
             Some(Kind::Type(t)) => category_color(t.category()),
             Some(Kind::Group { .. }) => GROUP_COLOR,
@@ -451,6 +473,162 @@ impl Viewer<'_> {
     }
 }
 
+/// The header colour of the Material Output node (Blender's output nodes' red).
+pub const OUTPUT_COLOR: Color32 = Color32::from_rgb(0x8a, 0x2e, 0x2e);
+
+/// The colour of a Material Output pin that reads nothing, and of its note.
+pub const UNCONNECTED_COLOR: Color32 = Color32::from_rgb(230, 60, 50);
+
+impl Viewer<'_> {
+    /// The Material Output node's header: its title (a click shows its outputs in the side
+    /// panel) and a ⚠ when an output reads nothing.
+    fn show_output_header(&mut self, ui: &mut Ui) {
+        let notes: Vec<String> = (0..self.doc.doc().outputs.len())
+            .filter_map(|k| {
+                let n = note(self.doc, k)?;
+                Some(format!("{}: {n}", self.doc.doc().outputs[k].name))
+            })
+            .collect();
+        ui.horizontal(|ui| {
+            let label = ui.add(
+                egui::Label::new(
+                    egui::RichText::new(OUTPUT_TITLE)
+                        .strong()
+                        .color(Color32::WHITE),
+                )
+                .sense(egui::Sense::click()),
+            );
+            if label.clicked() {
+                self.actions.push(Action::Focus(OUTPUT_NODE.to_owned()));
+            }
+            if !notes.is_empty() {
+                ui.label(egui::RichText::new("⚠").color(UNCONNECTED_COLOR))
+                    .on_hover_text(notes.join("\n"));
+            }
+        });
+    }
+
+    /// Pin `k` of the Material Output node: the output's name, its note when it reads
+    /// nothing (red), and a menu to rename, disconnect or remove it.
+    fn show_output_pin(&mut self, k: usize, ui: &mut Ui) -> PinInfo {
+        let Some(o) = self.doc.doc().outputs.get(k) else {
+            return PinInfo::default();
+        };
+        let name = o.name.clone();
+        let note = note(self.doc, k);
+        let ty = self
+            .doc
+            .graph()
+            .and_then(|g| g.outputs().iter().find(|g| g.name == name))
+            .map(|g| g.ty);
+        let fill = match (&note, ty) {
+            (Some(_), _) => UNCONNECTED_COLOR,
+            (None, Some(t)) => socket_color(t),
+            (None, None) => GENERIC_UNKNOWN,
+        };
+        let info = PinInfo::default()
+            .with_shape(PinShape::Circle)
+            .with_fill(fill)
+            .with_wire_color(fill);
+        if self.low_detail() {
+            return info;
+        }
+        ui.horizontal(|ui| {
+            let text = egui::RichText::new(&name);
+            let text = match note.is_some() {
+                true => text.color(UNCONNECTED_COLOR),
+                false => text,
+            };
+            let label = ui
+                .add(egui::Label::new(text).sense(egui::Sense::click()))
+                .on_hover_text(format!(
+                    "graph output '{name}'{}; right-click to rename or remove",
+                    ty.map_or(String::new(), |t| format!(" ({t})"))
+                ));
+            if let Some(n) = &note {
+                ui.label(egui::RichText::new(n).italics().color(UNCONNECTED_COLOR));
+            }
+            label.context_menu(|ui| self.output_pin_menu(ui, &name));
+        });
+        info
+    }
+
+    /// The menu of the Material Output node's pin `name`: rename, disconnect, remove.
+    fn output_pin_menu(&mut self, ui: &mut Ui, name: &str) {
+        let key = egui::Id::new("matgraph-output-rename").with(name);
+        let mut text = ui.data_mut(|d| d.get_temp::<String>(key).unwrap_or(name.to_owned()));
+        ui.horizontal(|ui| {
+            let edit = ui.add(egui::TextEdit::singleline(&mut text).desired_width(110.0));
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("Rename").clicked() || enter) && text != name {
+                self.actions.push(Action::RenameOutput {
+                    old: name.to_owned(),
+                    new: text.clone(),
+                });
+                ui.close();
+            }
+        });
+        ui.data_mut(|d| d.insert_temp(key, text));
+        if ui.button("Disconnect").clicked() {
+            self.actions.push(Action::Disconnect {
+                node: OUTPUT_NODE.to_owned(),
+                input: name.to_owned(),
+            });
+            ui.close();
+        }
+        if ui.button(format!("Remove output '{name}'")).clicked() {
+            self.actions.push(Action::RemoveOutput(name.to_owned()));
+            ui.close();
+        }
+    }
+
+    /// The Material Output node's menu: add a standard output or any name, remove one.
+    fn output_node_menu(&mut self, ui: &mut Ui) {
+        let outputs = &self.doc.doc().outputs;
+        let taken = |n: &str| outputs.iter().any(|o| o.name == n);
+        for s in STANDARD {
+            if ui
+                .add_enabled(!taken(s), egui::Button::new(format!("Add output '{s}'")))
+                .clicked()
+            {
+                self.actions.push(Action::AddOutput(s.to_owned()));
+                ui.close();
+            }
+        }
+        let key = egui::Id::new("matgraph-output-add");
+        let mut text = ui.data_mut(|d| d.get_temp::<String>(key).unwrap_or_default());
+        ui.horizontal(|ui| {
+            let edit = ui.add(
+                egui::TextEdit::singleline(&mut text)
+                    .hint_text("name")
+                    .desired_width(110.0),
+            );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if (ui.button("add output…").clicked() || enter) && !text.is_empty() {
+                self.actions
+                    .push(Action::AddOutput(std::mem::take(&mut text)));
+                ui.close();
+            }
+        });
+        ui.data_mut(|d| d.insert_temp(key, text));
+        let names: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
+        if !names.is_empty() {
+            ui.separator();
+        }
+        for n in names {
+            if ui.button(format!("Remove output '{n}'")).clicked() {
+                self.actions.push(Action::RemoveOutput(n));
+                ui.close();
+            }
+        }
+        ui.separator();
+        if ui.button("Show outputs").clicked() {
+            self.actions.push(Action::Focus(OUTPUT_NODE.to_owned()));
+            ui.close();
+        }
+    }
+}
+
 /// A node's header text in the overview: its id, and an error mark when it has errors.
 fn overview_title(id: &str, errors: bool) -> String {
     match errors {
@@ -495,6 +673,9 @@ fn plain(frame: egui::Frame) -> egui::Frame {
 
 impl SnarlViewer<NodeView> for Viewer<'_> {
     fn title(&mut self, node: &NodeView) -> String {
+        if node.id == OUTPUT_NODE {
+            return OUTPUT_TITLE.to_owned();
+        }
         // The id alone keeps nodes narrow (the bundled graphs leave 200 units per column);
         // the type is in the hover, the header colour and the side panel.
         node.id.clone()
@@ -510,6 +691,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     ) {
         let id = self.id(snarl, node).to_owned();
         if self.culled(&id) {
+            return;
+        }
+        if id == OUTPUT_NODE {
+            self.show_output_header(ui);
             return;
         }
         let errors = self.errors_of(&id);
@@ -615,6 +800,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         // their tessellation was a third of the frame of a 300-node graph framed whole
         // (benches/editor.rs).
         let default = self.frame_for_zoom(default);
+        if snarl[node].id == OUTPUT_NODE {
+            let notes = (0..self.doc.doc().outputs.len()).any(|k| note(self.doc, k).is_some());
+            return default.stroke(frame_stroke(notes));
+        }
         match self.errors_of(&snarl[node].id).is_empty() {
             true => default,
             false => default.stroke(frame_stroke(true)),
@@ -622,6 +811,13 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn inputs(&mut self, node: &NodeView) -> usize {
+        if node.id == OUTPUT_NODE {
+            // The overview paints no pins on it (its wires are the loader's outputs).
+            return match self.low_detail() {
+                true => 0,
+                false => self.doc.doc().outputs.len(),
+            };
+        }
         let all = self.doc.ports(&node.id).map_or(0, |p| p.inputs.len());
         self.pins_shown(node, all, Culling::inputs)
     }
@@ -634,6 +830,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     #[allow(refining_impl_trait)]
     fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
         let id = self.id(snarl, pin.id.node).to_owned();
+        if id == OUTPUT_NODE {
+            return self.show_output_pin(pin.id.input, ui);
+        }
         let doc = self.doc;
         let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
             return PinInfo::default();
@@ -792,6 +991,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         ui: &mut Ui,
         snarl: &mut Snarl<NodeView>,
     ) {
+        if snarl[node].id == OUTPUT_NODE {
+            ui.strong(OUTPUT_TITLE);
+            ui.label("The graph's outputs: wire a node output into a pin; right-click for more.");
+            return;
+        }
         match self.doc.ports(&snarl[node].id).map(|p| &p.kind) {
             Some(Kind::Type(t)) => {
                 ui.strong(format!("{}  ({})", t.name(), t.category()));
@@ -918,6 +1122,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
+        if id == OUTPUT_NODE {
+            self.output_node_menu(ui);
+            return;
+        }
         if ui.button("Duplicate").clicked() {
             self.actions.push(Action::Duplicate(vec![id.clone()]));
             ui.close();
@@ -928,6 +1136,14 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         }
         if ui.button("Toggle preview").clicked() {
             self.actions.push(Action::TogglePreview(id.clone()));
+            ui.close();
+        }
+        if ui
+            .button("Preview this output")
+            .on_hover_text("show this node's output in the main preview (Ctrl+Shift+click); the file is unchanged")
+            .clicked()
+        {
+            self.actions.push(Action::PreviewOutput(Some(id.clone())));
             ui.close();
         }
         if ui.button("Show docs").clicked() {
