@@ -2239,3 +2239,308 @@ fn ctrl_shift_click_previews_a_node_and_again_goes_back() {
     click(&mut h);
     assert_eq!(h.state().state.preview.main_output(), None);
 }
+
+// ---- Parameters (issue 35, item 2) ----
+
+use matgraph::editor::params::PARAMETERS_PANEL;
+
+/// geometry → dot → fresnel_dielectric, its reflectance the graph's `color`, and
+/// `ior_inside` written 1.7 (not its default, 1.5).
+fn dielectric_material() -> EditorState {
+    let mut s = untitled();
+    s.add_node("geometry", [0.0, 0.0]).unwrap();
+    s.add_node("dot", [250.0, 0.0]).unwrap();
+    s.add_node("fresnel_dielectric", [500.0, 0.0]).unwrap();
+    s.connect("geometry", "normal", "dot", "a").unwrap();
+    s.connect("geometry", "view", "dot", "b").unwrap();
+    s.connect("dot", "result", "fresnel_dielectric", "cos_theta")
+        .unwrap();
+    s.add_output("color").unwrap();
+    s.connect("fresnel_dielectric", "reflectance", OUTPUT_NODE, "color")
+        .unwrap();
+    s.set_input(
+        "fresnel_dielectric",
+        "ior_inside",
+        serde_json::json!(1.7),
+        None,
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    s
+}
+
+/// The saved form of `s`'s document, as JSON.
+fn saved_json(s: &EditorState) -> serde_json::Value {
+    serde_json::from_str(&s.doc.canonical_json()).unwrap()
+}
+
+/// The names in `s`'s `parameters`, in order.
+fn parameter_names(s: &EditorState) -> Vec<String> {
+    s.doc
+        .doc()
+        .parameters
+        .iter()
+        .map(|p| p.name.clone())
+        .collect()
+}
+
+/// Exposing `ior_inside` makes a parameter node holding its value, links it in and lists it
+/// in `parameters` (the port's doc); the saved file loads, and the plan and the app contract
+/// list the parameter. One undo step takes it all back; names the loader refuses, and an
+/// input already linked, are refused. The input's right-click menu does the same.
+#[test]
+fn exposing_an_input_makes_a_linked_parameter_node_listed_in_parameters() {
+    let dir = scratch("expose-parameter");
+    let mut s = dielectric_material();
+    let before = s.doc.canonical_json();
+    assert_eq!(
+        s.expose_input("fresnel_dielectric", "ior_inside", None),
+        Ok("ior_inside".to_owned())
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    let json = saved_json(&s);
+    let node = json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["id"] == "ior_inside")
+        .expect("a parameter node");
+    assert_eq!(node["type"], "parameter");
+    assert_eq!(node["inputs"], serde_json::json!({ "value": 1.7 }));
+    assert_eq!(
+        s.doc.link("fresnel_dielectric", "ior_inside"),
+        Some("ior_inside.value")
+    );
+    assert_eq!(
+        json["parameters"],
+        serde_json::json!([{
+            "name": "ior_inside",
+            "node": "ior_inside",
+            "doc": "Index of refraction behind the surface."
+        }])
+    );
+    let after = s.doc.canonical_json();
+    let file = dir.join("exposed.json");
+    s.save_as(&file).unwrap();
+    let g = matgraph::io::load_graph(&file, Registry::builtin()).expect("loads");
+    let p = &g.parameters()[0];
+    assert_eq!((p.name.as_str(), p.default.as_f32()), ("ior_inside", 1.7));
+    assert_eq!(p.feeds.len(), 1, "it feeds the ranged input");
+    let plan = matgraph::Plan::compile(&g, &Default::default()).unwrap();
+    let names: Vec<&str> = plan.parameters().iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["ior_inside"]);
+    let m = matgraph::material::Material::new(&g, &Default::default()).unwrap();
+    assert!(
+        m.contract()
+            .parameters
+            .members
+            .iter()
+            .any(|m| m.parameter.as_deref() == Some("ior_inside")),
+        "{:?}",
+        m.contract().parameters
+    );
+
+    // Refused: a linked input, a name taken, an attribute's name, a bad name.
+    assert!(
+        s.expose_input("fresnel_dielectric", "ior_inside", None)
+            .unwrap_err()
+            .contains("linked")
+    );
+    let taken = s
+        .expose_input("fresnel_dielectric", "ior_outside", Some("ior_inside"))
+        .unwrap_err();
+    assert!(taken.contains("already has a parameter"), "{taken}");
+    let attribute = s
+        .expose_input("fresnel_dielectric", "ior_outside", Some("normal"))
+        .unwrap_err();
+    assert!(attribute.contains("geometry attribute"), "{attribute}");
+    assert!(
+        s.expose_input("fresnel_dielectric", "ior_outside", Some("a b"))
+            .is_err()
+    );
+    assert_eq!(s.doc.canonical_json(), after, "refusals change nothing");
+
+    // One undo step, and redo.
+    s.undo();
+    assert_eq!(s.doc.canonical_json(), before);
+    s.redo();
+    assert_eq!(s.doc.canonical_json(), after);
+
+    // A value outside the hard range is refused (the loader would report the parameter).
+    s.set_input(
+        "fresnel_dielectric",
+        "ior_outside",
+        serde_json::json!(500.0),
+        None,
+    );
+    let out = s
+        .expose_input("fresnel_dielectric", "ior_outside", None)
+        .unwrap_err();
+    assert!(out.contains("ior_outside"), "{out}");
+    s.undo();
+
+    // A colour input: a `color` parameter node; int inputs are refused.
+    let mut c = untitled();
+    let id = c.add_node("ramp", [0.0, 0.0]).unwrap();
+    c.expose_input(&id, "color_light", None).unwrap();
+    assert_eq!(
+        c.doc.node("color_light").unwrap().data_type.as_deref(),
+        Some("color")
+    );
+    assert!(c.doc.errors().is_empty(), "{:?}", c.doc.errors());
+    assert!(c.expose_input(&id, "steps", None).is_err(), "an int input");
+
+    // Through the input's right-click menu: a default name made unique.
+    let mut h = harness(s);
+    h.run();
+    // The label's rect is in canvas coordinates: the click goes where it is on screen.
+    let rect = h.get_by_label("ior_outside").rect();
+    let at = h.state().to_screen() * rect.center();
+    h.event(egui::Event::PointerMoved(at));
+    h.run();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::default(),
+        });
+    }
+    h.run();
+    h.get_by_label("Expose as parameter").click();
+    h.run();
+    let s = &h.state().state;
+    assert_eq!(parameter_names(s), ["ior_inside", "ior_outside"]);
+    assert_eq!(
+        s.doc.link("fresnel_dielectric", "ior_outside"),
+        Some("ior_outside.value")
+    );
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    // The sliders list both.
+    h.get_by_label("Parameters");
+    assert!(h.query_all_by_label("ior_outside").count() >= 2);
+}
+
+/// Renaming, grouping, documenting and reordering write the saved `parameters` (and the
+/// plan's order); each is one undo step. Through the parameters' editor too.
+#[test]
+fn renaming_and_reordering_parameters_change_the_saved_parameters() {
+    let dir = scratch("rename-parameter");
+    let mut s = dielectric_material();
+    s.expose_input("fresnel_dielectric", "ior_inside", None)
+        .unwrap();
+    s.expose_input("fresnel_dielectric", "ior_outside", None)
+        .unwrap();
+    let exposed = s.doc.canonical_json();
+    s.rename_parameter("ior_inside", "ior").unwrap();
+    assert!(s.rename_parameter("ior", "ior_outside").is_err(), "taken");
+    let e = s.rename_parameter("ior", "position").unwrap_err();
+    assert!(e.contains("geometry attribute"), "{e}");
+    assert!(s.rename_parameter("ior", "").is_err());
+    assert_eq!(parameter_names(&s), ["ior", "ior_outside"]);
+    assert_eq!(
+        s.doc.link("fresnel_dielectric", "ior_inside"),
+        Some("ior_inside.value"),
+        "the node keeps its id"
+    );
+    let renamed = s.doc.canonical_json();
+    s.move_parameter("ior_outside", true).unwrap();
+    assert_eq!(parameter_names(&s), ["ior_outside", "ior"]);
+    s.set_parameter_group("ior", "glass").unwrap();
+    s.set_parameter_doc("ior", "Index of the glass.").unwrap();
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    let file = dir.join("renamed.json");
+    s.save_as(&file).unwrap();
+    let text: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(
+        text["parameters"],
+        serde_json::json!([
+            { "name": "ior_outside", "node": "ior_outside", "doc": "Index of refraction on the normal's side." },
+            { "name": "ior", "node": "ior_inside", "doc": "Index of the glass.", "group": "glass" }
+        ])
+    );
+    let g = matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
+    let plan = matgraph::Plan::compile(&g, &Default::default()).unwrap();
+    let names: Vec<&str> = plan.parameters().iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["ior_outside", "ior"]);
+    // Undo: doc, group, move, rename, one step each.
+    for _ in 0..3 {
+        s.undo();
+    }
+    assert_eq!(s.doc.canonical_json(), renamed);
+    s.undo();
+    assert_eq!(s.doc.canonical_json(), exposed);
+    s.redo();
+    assert_eq!(s.doc.canonical_json(), renamed);
+
+    // The parameters' editor: a click on the Parameters heading, then "down" on the first.
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("Parameters").click();
+    h.run();
+    assert_eq!(h.state().state.focus.as_deref(), Some(PARAMETERS_PANEL));
+    h.query_all_by_label("down").next().unwrap().click();
+    h.run();
+    assert_eq!(parameter_names(&h.state().state), ["ior_outside", "ior"]);
+    h.get_by_label("add parameter").click();
+    h.run();
+    let s = &h.state().state;
+    assert_eq!(parameter_names(s), ["ior_outside", "ior", "param"]);
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(s.doc.node("param").unwrap().node_type, "parameter");
+}
+
+/// Un-exposing writes the parameter's value (as last set) on every input it fed, removes
+/// the entry and the node; one undo step brings them back. In the editor with ×.
+#[test]
+fn un_exposing_keeps_the_value_on_the_inputs_it_fed() {
+    let mut s = dielectric_material();
+    let before = s.doc.canonical_json();
+    s.expose_input("fresnel_dielectric", "ior_inside", None)
+        .unwrap();
+    // The panel's slider writes the parameter node's value.
+    s.set_input("ior_inside", "value", serde_json::json!(2.25), None);
+    // It feeds a second input too.
+    s.connect("ior_inside", "value", "fresnel_dielectric", "ior_outside")
+        .unwrap();
+    let exposed = s.doc.canonical_json();
+    s.unexpose_parameter("ior_inside").unwrap();
+    let n = s.doc.node("fresnel_dielectric").unwrap();
+    assert_eq!(n.inputs["ior_inside"], serde_json::json!(2.25));
+    assert_eq!(n.inputs["ior_outside"], serde_json::json!(2.25));
+    assert!(s.doc.doc().parameters.is_empty());
+    assert!(s.doc.node("ior_inside").is_none(), "nothing reads it");
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    let unexposed = s.doc.canonical_json();
+    s.undo();
+    assert_eq!(s.doc.canonical_json(), exposed, "one step");
+    s.redo();
+    assert_eq!(s.doc.canonical_json(), unexposed);
+
+    // A node a graph output reads stays, unlisted.
+    let mut s = dielectric_material();
+    s.expose_input("fresnel_dielectric", "ior_inside", None)
+        .unwrap();
+    s.add_output("ior").unwrap();
+    s.connect("ior_inside", "value", OUTPUT_NODE, "ior")
+        .unwrap();
+    s.unexpose_parameter("ior_inside").unwrap();
+    assert!(s.doc.node("ior_inside").is_some());
+    assert_eq!(
+        s.doc.node("fresnel_dielectric").unwrap().inputs["ior_inside"],
+        serde_json::json!(1.7)
+    );
+
+    // In the parameters' editor: ×.
+    let mut s = dielectric_material();
+    s.expose_input("fresnel_dielectric", "ior_inside", None)
+        .unwrap();
+    s.focus = Some(PARAMETERS_PANEL.to_owned());
+    let mut h = harness(s);
+    h.run();
+    h.get_by_label("×").click();
+    h.run();
+    let s = &h.state().state;
+    assert!(s.doc.doc().parameters.is_empty());
+    assert_eq!(s.doc.canonical_json(), before, "as before it was exposed");
+}

@@ -479,6 +479,15 @@ impl EditorApp {
                     let _ = s.rename_output(&old, &new);
                 }
                 Action::RemoveOutput(name) => s.remove_output(&name),
+                Action::Expose { node, input, name } => {
+                    let _ = s.expose_input(&node, &input, name.as_deref());
+                }
+                Action::Unexpose(name) => {
+                    let _ = s.unexpose_parameter(&name);
+                }
+                Action::ListParameter(id) => {
+                    let _ = s.list_parameter_node(&id);
+                }
                 Action::Duplicate(ids) => {
                     let copies = s.duplicate(&ids);
                     if let Some(c) = copies.first() {
@@ -711,15 +720,8 @@ impl EditorApp {
             .show(ui, |ui| {
                 super::preview_ui::preview_panel(ui, &mut self.state);
                 let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
-                if self
-                    .state
-                    .doc
-                    .graph()
-                    .is_some_and(|g| !g.parameters().is_empty())
-                {
-                    ui.separator();
-                    super::preview_ui::parameters_panel(ui, &mut self.state, hard);
-                }
+                ui.separator();
+                super::preview_ui::parameters_panel(ui, &mut self.state, hard);
                 ui.separator();
                 egui::ScrollArea::vertical().show(ui, |ui| self.inspector(ui));
             });
@@ -732,6 +734,10 @@ impl EditorApp {
         };
         if id == OUTPUT_NODE {
             self.outputs_inspector(ui);
+            return;
+        }
+        if id == super::params::PARAMETERS_PANEL {
+            super::preview_ui::parameters_editor(ui, &mut self.state);
             return;
         }
         let doc = &self.state.doc;

@@ -3,7 +3,8 @@
 //! document it edits is a [`crate::GraphDocument`], checked by the loader after every edit.
 //!
 //! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
-//! node: the graph's `outputs` on the canvas), [`ports`] (a node's pins: its
+//! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
+//! parameters), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
@@ -19,6 +20,7 @@ pub mod layout;
 pub mod model;
 pub mod outputs;
 pub mod overview;
+pub mod params;
 pub mod ports;
 pub mod preview;
 pub mod preview_ui;

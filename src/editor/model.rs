@@ -555,6 +555,13 @@ impl EditorDoc {
         }
     }
 
+    /// Replaces the document by `candidate` when it has no error the current document
+    /// lacks; otherwise keeps it and returns the new errors' messages, one a line (the
+    /// edits of [`super::params`]).
+    pub fn try_replace(&mut self, candidate: GraphDocument) -> Result<(), String> {
+        self.try_apply(candidate)
+    }
+
     /// Applies `candidate` when it has no error the current document lacks; otherwise
     /// returns the new errors' messages, one a line.
     fn try_apply(&mut self, candidate: GraphDocument) -> Result<(), String> {

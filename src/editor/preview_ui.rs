@@ -1,6 +1,7 @@
 //! The side panel's preview (the swatch with its orbit camera, play/pause and time) and
-//! the parameters panel (the graph's exposed parameters as sliders).
+//! the parameters panel (the graph's exposed parameters as sliders) and their editor.
 
+use super::params;
 use super::ports::Port;
 use super::preview::{Orbit, TIME_SPAN};
 use super::state::EditorState;
@@ -107,39 +108,65 @@ struct Row {
     decl: Port,
 }
 
-/// The exposed parameters as sliders (grouped as the file groups them); a change writes
-/// the parameter node's value, which the preview renders without rebuilding its program.
+/// The exposed parameters as sliders (grouped as the file groups them, in its order); a
+/// change writes the parameter node's value, which the preview renders without rebuilding
+/// its program. A click on the heading opens the parameters' editor in the side panel
+/// ([`parameters_editor`]).
 pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
-    let Some(graph) = state.doc.graph() else {
-        return;
+    let rows: Vec<Row> = match state.doc.graph() {
+        Some(graph) => graph
+            .parameters()
+            .iter()
+            .filter_map(|p| {
+                let node = graph.nodes()[p.node].id.clone();
+                // The slider spans the range of the first input the parameter feeds (the
+                // first with a hard range, which the loader checks the value against, else
+                // the first linked whose range holds the value), else the parameter node's own.
+                let fed = p
+                    .feeds
+                    .first()
+                    .and_then(|f| input_port(state, graph, &f.node, f.input))
+                    .or_else(|| {
+                        params::fed_inputs(state.doc.doc(), &node)
+                            .into_iter()
+                            .filter_map(|(n, i)| {
+                                let ports = state.doc.ports(&n)?;
+                                Some(ports.inputs[ports.input_index(&i)?].clone())
+                            })
+                            // Not where the value lies outside it (toon_ball's shininess, 48,
+                            // feeds pow's exponent, soft range [-4, 8]): a drag value then.
+                            .find(|d| d.soft.or(d.hard).is_some_and(|r| r.contains(&p.default)))
+                    });
+                let decl = fed.or_else(|| input_port(state, graph, &node, "value"))?;
+                Some(Row {
+                    name: p.name.clone(),
+                    node,
+                    group: p.group.clone(),
+                    doc: p.doc.clone(),
+                    ty: p.ty,
+                    lanes: p.default.lanes().to_vec(),
+                    decl,
+                })
+            })
+            .collect(),
+        None => Vec::new(),
     };
-    if graph.parameters().is_empty() {
+    let heading = ui
+        .add(
+            egui::Label::new(egui::RichText::new("Parameters").strong())
+                .sense(egui::Sense::click()),
+        )
+        .on_hover_text("click to add, rename, group, reorder or remove the parameters");
+    if heading.clicked() {
+        state.focus = Some(params::PARAMETERS_PANEL.to_owned());
+    }
+    if rows.is_empty() {
+        ui.weak(match state.doc.doc().parameters.is_empty() {
+            true => "none: right-click an input → Expose as parameter",
+            false => "shown once the graph has no errors",
+        });
         return;
     }
-    let rows: Vec<Row> = graph
-        .parameters()
-        .iter()
-        .filter_map(|p| {
-            let node = graph.nodes()[p.node].id.clone();
-            // The slider spans the range of the first input the parameter feeds, else the
-            // parameter node's own.
-            let fed = p
-                .feeds
-                .first()
-                .and_then(|f| input_port(state, graph, &f.node, f.input));
-            let decl = fed.or_else(|| input_port(state, graph, &node, "value"))?;
-            Some(Row {
-                name: p.name.clone(),
-                node,
-                group: p.group.clone(),
-                doc: p.doc.clone(),
-                ty: p.ty,
-                lanes: p.default.lanes().to_vec(),
-                decl,
-            })
-        })
-        .collect();
-    ui.strong("Parameters");
     let mut group: Option<&str> = None;
     let mut changes = Vec::new();
     egui::Grid::new("matgraph-parameters")
@@ -154,8 +181,12 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
                     }
                 }
                 let label = ui.label(&r.name);
-                if !r.doc.is_empty() {
-                    label.on_hover_text(&r.doc);
+                let mut hover = r.doc.clone();
+                if !r.decl.unit.is_empty() {
+                    hover.push_str(&format!(" [{}]", r.decl.unit));
+                }
+                if !hover.is_empty() {
+                    label.on_hover_text(hover.trim_start());
                 }
                 ui.push_id(&r.name, |ui| {
                     if let Some(v) = value_editor(ui, &r.decl, r.ty, &r.lanes, hard) {
@@ -167,6 +198,160 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
         });
     for (name, node, value) in changes {
         set_parameter(state, &name, &node, value);
+    }
+}
+
+/// What the parameters' editor was asked for this frame.
+enum ParamOp {
+    Rename(String, String),
+    Doc(String, String),
+    Group(String, String),
+    Move(String, bool),
+    Unexpose(String),
+}
+
+/// The parameters' editor (the side panel, a click on the Parameters heading): each
+/// parameter's name (rename by typing, Enter), group and doc, moved up or down, or
+/// un-exposed (×); and a new parameter of a chosen type added.
+pub fn parameters_editor(ui: &mut Ui, state: &mut EditorState) {
+    ui.heading("Parameters");
+    ui.label(
+        "The graph's exposed parameters, in the order callers and the sliders list them. \
+         Right-click an input to expose it; × un-exposes one (the inputs it feeds keep its value).",
+    );
+    ui.separator();
+    let list = state.doc.doc().parameters.clone();
+    let mut op = None;
+    for (k, p) in list.iter().enumerate() {
+        let field = |what: &str| egui::Id::new("matgraph-parameter").with(what).with(k);
+        let text = |ui: &mut Ui, what: &str, now: &str| {
+            ui.data_mut(|d| d.get_temp::<String>(field(what)).unwrap_or(now.to_owned()))
+        };
+        let mut name = text(ui, "name", &p.name);
+        let mut group = text(ui, "group", p.group.as_deref().unwrap_or(""));
+        let mut doc = text(ui, "doc", &p.doc);
+        ui.horizontal(|ui| {
+            let edit = ui.add(egui::TextEdit::singleline(&mut name).desired_width(120.0));
+            if edit.lost_focus() && name != p.name {
+                op = Some(ParamOp::Rename(p.name.clone(), name.clone()));
+            }
+            if ui
+                .add_enabled(k > 0, egui::Button::new("up").small())
+                .on_hover_text(format!("move '{}' up", p.name))
+                .clicked()
+            {
+                op = Some(ParamOp::Move(p.name.clone(), true));
+            }
+            if ui
+                .add_enabled(k + 1 < list.len(), egui::Button::new("down").small())
+                .on_hover_text(format!("move '{}' down", p.name))
+                .clicked()
+            {
+                op = Some(ParamOp::Move(p.name.clone(), false));
+            }
+            if ui
+                .small_button("×")
+                .on_hover_text(format!(
+                    "un-expose '{}': the inputs it feeds keep its value",
+                    p.name
+                ))
+                .clicked()
+            {
+                op = Some(ParamOp::Unexpose(p.name.clone()));
+            }
+        });
+        let edit = ui.add(
+            egui::TextEdit::singleline(&mut group)
+                .hint_text("group")
+                .desired_width(120.0),
+        );
+        if edit.lost_focus() && group != p.group.as_deref().unwrap_or("") {
+            op = Some(ParamOp::Group(p.name.clone(), group.clone()));
+        }
+        let edit = ui.add(
+            egui::TextEdit::multiline(&mut doc)
+                .hint_text("doc")
+                .desired_rows(1)
+                .desired_width(f32::INFINITY),
+        );
+        if edit.lost_focus() && doc != p.doc {
+            op = Some(ParamOp::Doc(p.name.clone(), doc.clone()));
+        }
+        let fed = params::fed_inputs(state.doc.doc(), &p.node);
+        let ty = state
+            .doc
+            .graph()
+            .and_then(|g| g.parameters().iter().find(|q| q.name == p.name))
+            .map_or(String::new(), |q| format!(" · {}", q.ty));
+        ui.weak(match fed.is_empty() {
+            true => format!("node '{}'{ty} · feeds nothing", p.node),
+            false => format!(
+                "node '{}'{ty} · feeds {}",
+                p.node,
+                fed.iter()
+                    .map(|(n, i)| format!("{n}.{i}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        });
+        ui.data_mut(|d| {
+            d.insert_temp(field("name"), name);
+            d.insert_temp(field("group"), group);
+            d.insert_temp(field("doc"), doc);
+        });
+        ui.separator();
+    }
+    let ty_key = egui::Id::new("matgraph-parameter-add-type");
+    let name_key = egui::Id::new("matgraph-parameter-add-name");
+    let mut ty = ui.data_mut(|d| d.get_temp::<usize>(ty_key).unwrap_or(0));
+    let mut name = ui.data_mut(|d| d.get_temp::<String>(name_key).unwrap_or_default());
+    let mut add = false;
+    ui.horizontal(|ui| {
+        egui::ComboBox::from_id_salt("matgraph-parameter-add-type")
+            .selected_text(params::TYPES[ty].name())
+            .width(70.0)
+            .show_ui(ui, |ui| {
+                for (k, t) in params::TYPES.iter().enumerate() {
+                    ui.selectable_value(&mut ty, k, t.name());
+                }
+            });
+        ui.add(
+            egui::TextEdit::singleline(&mut name)
+                .hint_text("name")
+                .desired_width(100.0),
+        );
+        add = ui
+            .button("add parameter")
+            .on_hover_text("a new parameter node, unlinked: wire its output where it is needed")
+            .clicked();
+    });
+    if add {
+        let wanted = Some(name.as_str()).filter(|n| !n.is_empty());
+        if state.add_parameter(params::TYPES[ty], wanted).is_ok() {
+            name.clear();
+        }
+    }
+    ui.data_mut(|d| {
+        d.insert_temp(ty_key, ty);
+        d.insert_temp(name_key, name);
+    });
+    if let Some(op) = op {
+        // Refused edits (a name taken or an attribute's) leave the reason in the status line.
+        let _ = match op {
+            ParamOp::Rename(old, new) => state.rename_parameter(&old, &new),
+            ParamOp::Doc(name, doc) => state.set_parameter_doc(&name, &doc),
+            ParamOp::Group(name, group) => state.set_parameter_group(&name, &group),
+            ParamOp::Move(name, up) => state.move_parameter(&name, up),
+            ParamOp::Unexpose(name) => state.unexpose_parameter(&name),
+        };
+        // The fields show the document's parameters again.
+        ui.data_mut(|d| {
+            for k in 0..list.len() {
+                for what in ["name", "group", "doc"] {
+                    d.remove::<String>(egui::Id::new("matgraph-parameter").with(what).with(k));
+                }
+            }
+        });
     }
 }
 

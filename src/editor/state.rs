@@ -230,6 +230,74 @@ impl EditorState {
         self.status = Some(format!("removed output '{name}'"));
     }
 
+    /// Exposes `node.input` as a parameter ([`super::params::expose`]): one undo step.
+    /// Returns the parameter's name.
+    pub fn expose_input(
+        &mut self,
+        node: &str,
+        input: &str,
+        name: Option<&str>,
+    ) -> Result<String, String> {
+        let name = self.edit(None, true, |d| super::params::expose(d, node, input, name))?;
+        self.status = Some(format!("exposed {node}.{input} as parameter '{name}'"));
+        Ok(name)
+    }
+
+    /// Adds a new, unlinked parameter of type `ty` ([`super::params::add`]).
+    pub fn add_parameter(
+        &mut self,
+        ty: crate::types::SocketType,
+        name: Option<&str>,
+    ) -> Result<String, String> {
+        let name = self.edit(None, true, |d| super::params::add(d, ty, name))?;
+        self.status = Some(format!("added parameter '{name}' ({ty})"));
+        Ok(name)
+    }
+
+    /// Lists the `parameter` node `id` in the graph's parameters.
+    pub fn list_parameter_node(&mut self, id: &str) -> Result<String, String> {
+        let name = self.edit(None, true, |d| super::params::list_node(d, id))?;
+        self.status = Some(format!("exposed '{id}' as parameter '{name}'"));
+        Ok(name)
+    }
+
+    /// Renames parameter `old` to `new` (refused, with the reason in the status line, for a
+    /// name the loader refuses).
+    pub fn rename_parameter(&mut self, old: &str, new: &str) -> Result<(), String> {
+        self.edit(None, false, |d| super::params::rename(d, old, new))?;
+        self.status = Some(format!("renamed parameter '{old}' to '{new}'"));
+        Ok(())
+    }
+
+    /// Sets parameter `name`'s doc.
+    pub fn set_parameter_doc(&mut self, name: &str, doc: &str) -> Result<(), String> {
+        self.edit(None, false, |d| super::params::set_doc(d, name, doc))
+    }
+
+    /// Sets parameter `name`'s group (`""`: none).
+    pub fn set_parameter_group(&mut self, name: &str, group: &str) -> Result<(), String> {
+        self.edit(None, false, |d| super::params::set_group(d, name, group))
+    }
+
+    /// Moves parameter `name` one place up or down.
+    pub fn move_parameter(&mut self, name: &str, up: bool) -> Result<(), String> {
+        self.edit(None, false, |d| super::params::move_by_one(d, name, up))
+    }
+
+    /// Un-exposes parameter `name`, keeping its value on the inputs it fed
+    /// ([`super::params::unexpose`]): one undo step.
+    pub fn unexpose_parameter(&mut self, name: &str) -> Result<(), String> {
+        let fed = self.edit(None, true, |d| super::params::unexpose(d, name))?;
+        self.status = Some(match fed.is_empty() {
+            true => format!("removed parameter '{name}'"),
+            false => format!(
+                "un-exposed '{name}': its value is written on {}",
+                fed.join(", ")
+            ),
+        });
+        Ok(())
+    }
+
     /// Shows node `id`'s output in the main preview ("Preview this output",
     /// Ctrl+Shift+click), or (`None`) the graph's outputs again; the file is unchanged.
     pub fn preview_output(&mut self, id: Option<&str>) {

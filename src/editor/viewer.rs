@@ -8,11 +8,12 @@ use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD, note};
 use super::overview::{Body, Overview, pin_shape};
+use super::params;
 use super::ports::Kind;
 use super::search::WireFilter;
 use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
-use super::widgets::{current_lanes, port_hover, value_editor};
+use super::widgets::{current_lanes, port_hover, value_editor_response};
 use crate::node::PortType;
 use egui::{Color32, Shape, Stroke, Ui};
 use egui_snarl::ui::{AnyPins, BackgroundPattern, PinInfo, PinShape, SnarlStyle, SnarlViewer};
@@ -77,6 +78,19 @@ pub enum Action {
     },
     /// Remove a graph output.
     RemoveOutput(String),
+    /// Expose an input as a parameter ([`super::params::expose`]).
+    Expose {
+        /// Node id.
+        node: String,
+        /// Input name.
+        input: String,
+        /// The parameter's name (`None`: the input's, made unique).
+        name: Option<String>,
+    },
+    /// Un-expose a parameter, keeping its value on the inputs it fed.
+    Unexpose(String),
+    /// List an unlisted `parameter` node in the graph's parameters.
+    ListParameter(String),
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -582,6 +596,61 @@ impl Viewer<'_> {
         }
     }
 
+    /// The menu of input `input` of node `id` (its label or value editor): "Expose as
+    /// parameter" with an editable name for an unlinked float, vector or colour input;
+    /// "Un-expose" for one an exposed parameter feeds.
+    fn input_pin_menu(&mut self, ui: &mut Ui, id: &str, input: &str) {
+        if let Some(name) = params::feeding(self.doc, id, input) {
+            if ui
+                .button(format!("Un-expose parameter '{name}'"))
+                .on_hover_text("the inputs it feeds keep its value, as literals")
+                .clicked()
+            {
+                self.actions.push(Action::Unexpose(name));
+                ui.close();
+            }
+            return;
+        }
+        if let Err(why) = params::exposable(self.doc, id, input) {
+            ui.weak(why);
+            return;
+        }
+        let key = egui::Id::new("matgraph-expose").with(id).with(input);
+        let mut text = ui.data_mut(|d| {
+            d.get_temp::<String>(key)
+                .unwrap_or_else(|| params::unique_name(self.doc.doc(), input))
+        });
+        ui.horizontal(|ui| {
+            let edit = ui.add(
+                egui::TextEdit::singleline(&mut text)
+                    .hint_text("name")
+                    .desired_width(110.0),
+            );
+            let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            if ui
+                .button("Expose as parameter")
+                .on_hover_text(
+                    "a parameter node holding this value, linked here and listed in the graph's parameters",
+                )
+                .clicked()
+                || enter
+            {
+                self.actions.push(Action::Expose {
+                    node: id.to_owned(),
+                    input: input.to_owned(),
+                    name: Some(std::mem::take(&mut text)).filter(|t| !t.is_empty()),
+                });
+                ui.close();
+            }
+        });
+        match text.is_empty() {
+            true => ui.data_mut(|d| d.remove::<String>(key)),
+            false => ui.data_mut(|d| {
+                d.insert_temp(key, text);
+            }),
+        }
+    }
+
     /// The Material Output node's menu: add a standard output or any name, remove one.
     fn output_node_menu(&mut self, ui: &mut Ui) {
         let outputs = &self.doc.doc().outputs;
@@ -847,22 +916,30 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
         ui.horizontal(|ui| {
-            ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
-                ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
-            });
+            // The label is drawn as a plain one (its colour unchanged); a click-sensing
+            // region over it opens the input's menu (expose as parameter, un-expose).
+            let label = ui.label(decl.name.as_ref());
+            let label = ui
+                .interact(label.rect, label.id.with("menu"), egui::Sense::click())
+                .on_hover_ui(|ui| {
+                    ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
+                });
+            label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
             if pin.remotes.is_empty() {
                 let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
                 let ty = ty.unwrap_or(crate::types::SocketType::Float);
                 let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
                 let default = decl.default_for(generic);
                 let lanes = current_lanes(decl, ty, written, &default);
-                if let Some(value) = value_editor(ui, decl, ty, &lanes, self.hard) {
+                let (value, r) = value_editor_response(ui, decl, ty, &lanes, self.hard);
+                if let Some(value) = value {
                     self.actions.push(Action::SetInput {
                         node: id.clone(),
                         input: decl.name.clone().into_owned(),
                         value,
                     });
                 }
+                r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
             }
         });
         info
@@ -1145,6 +1222,32 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         {
             self.actions.push(Action::PreviewOutput(Some(id.clone())));
             ui.close();
+        }
+        if params::is_parameter_node(self.doc, &id) {
+            ui.separator();
+            match params::of_node(self.doc.doc(), &id).map(|p| p.name.clone()) {
+                Some(name) => {
+                    if ui
+                        .button(format!("Un-expose parameter '{name}'"))
+                        .on_hover_text("the inputs it feeds keep its value, as literals")
+                        .clicked()
+                    {
+                        self.actions.push(Action::Unexpose(name));
+                        ui.close();
+                    }
+                }
+                None => {
+                    if ui.button("Expose as parameter").clicked() {
+                        self.actions.push(Action::ListParameter(id.clone()));
+                        ui.close();
+                    }
+                }
+            }
+            if ui.button("Edit parameters").clicked() {
+                self.actions
+                    .push(Action::Focus(params::PARAMETERS_PANEL.to_owned()));
+                ui.close();
+            }
         }
         if ui.button("Show docs").clicked() {
             self.actions.push(Action::Focus(id));

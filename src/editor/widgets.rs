@@ -46,6 +46,17 @@ pub fn value_editor(
     lanes: &[f32],
     hard: bool,
 ) -> Option<serde_json::Value> {
+    value_editor_response(ui, decl, ty, lanes, hard).0
+}
+
+/// [`value_editor`], with the editor's response (its widgets' union), for a context menu.
+pub fn value_editor_response(
+    ui: &mut Ui,
+    decl: &Port,
+    ty: SocketType,
+    lanes: &[f32],
+    hard: bool,
+) -> (Option<serde_json::Value>, egui::Response) {
     let lane = |k: usize| lanes.get(k).copied().unwrap_or(0.0);
     match ty {
         SocketType::Float => {
@@ -58,47 +69,66 @@ pub fn value_editor(
                 ),
                 _ => ui.add(egui::DragValue::new(&mut v).speed(0.01).max_decimals(4)),
             };
-            (r.changed() && v.is_finite()).then(|| json_f32(v))
+            ((r.changed() && v.is_finite()).then(|| json_f32(v)), r)
         }
         SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => {
             let mut v: Vec<f32> = (0..ty.width()).map(lane).collect();
             let mut changed = false;
-            ui.horizontal(|ui| {
-                for x in &mut v {
-                    changed |= ui
-                        .add(egui::DragValue::new(x).speed(0.01).max_decimals(3))
-                        .changed();
-                }
-            });
-            changed.then(|| serde_json::Value::Array(v.into_iter().map(json_f32).collect()))
+            let r = ui
+                .horizontal(|ui| {
+                    let mut all: Option<egui::Response> = None;
+                    for x in &mut v {
+                        let r = ui.add(egui::DragValue::new(x).speed(0.01).max_decimals(3));
+                        changed |= r.changed();
+                        all = Some(match all {
+                            Some(a) => a | r,
+                            None => r,
+                        });
+                    }
+                    all
+                })
+                .inner
+                .expect("a vector has lanes");
+            (
+                changed.then(|| serde_json::Value::Array(v.into_iter().map(json_f32).collect())),
+                r,
+            )
         }
         SocketType::Color => {
             // egui's picker takes linear RGB and shows (and lets the user type) sRGB.
             let mut c = [lane(0), lane(1), lane(2)];
-            let changed = ui.color_edit_button_rgb(&mut c).changed();
-            changed.then(|| serde_json::Value::Array(c.into_iter().map(json_f32).collect()))
+            let r = ui.color_edit_button_rgb(&mut c);
+            (
+                r.changed()
+                    .then(|| serde_json::Value::Array(c.into_iter().map(json_f32).collect())),
+                r,
+            )
         }
         SocketType::Int if !decl.choices.is_empty() => {
             let mut k = lane(0) as usize;
             let before = k;
-            egui::ComboBox::from_id_salt(ui.id().with(decl.name.as_ref()))
+            let r = egui::ComboBox::from_id_salt(ui.id().with(decl.name.as_ref()))
                 .selected_text(decl.choices.get(k).copied().unwrap_or("?"))
                 .show_ui(ui, |ui| {
                     for (i, c) in decl.choices.iter().enumerate() {
                         ui.selectable_value(&mut k, i, *c);
                     }
-                });
-            (k != before).then(|| serde_json::Value::String(decl.choices[k].to_owned()))
+                })
+                .response;
+            (
+                (k != before).then(|| serde_json::Value::String(decl.choices[k].to_owned())),
+                r,
+            )
         }
         SocketType::Int => {
             let mut v = lane(0) as i32;
-            let changed = ui.add(egui::DragValue::new(&mut v)).changed();
-            changed.then(|| serde_json::Value::from(v))
+            let r = ui.add(egui::DragValue::new(&mut v));
+            (r.changed().then(|| serde_json::Value::from(v)), r)
         }
         SocketType::Bool => {
             let mut b = lane(0) != 0.0;
-            let changed = ui.checkbox(&mut b, "").changed();
-            changed.then_some(serde_json::Value::Bool(b))
+            let r = ui.checkbox(&mut b, "");
+            (r.changed().then_some(serde_json::Value::Bool(b)), r)
         }
     }
 }
