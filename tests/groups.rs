@@ -745,6 +745,12 @@ fn a_switch_inside_a_group_is_resolved_in_every_instance() {
 /// coat by it, lit by N·L (so it reads the light); `n` instances in a chain, each coating
 /// the last, `literal` of them with every input a literal.
 fn coat_chain(n: usize, literal: usize) -> serde_json::Value {
+    coat_chain_with(n, literal, false)
+}
+
+/// [`coat_chain`], where `distinct` gives every instance its own coat colour (so that no
+/// two calls pass alike but for the last one's result: no loop, a call each).
+fn coat_chain_with(n: usize, literal: usize, distinct: bool) -> serde_json::Value {
     let mut nodes = vec![
         json!({ "id": "geo", "type": "geometry" }),
         json!({ "id": "cos", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } } }),
@@ -755,8 +761,14 @@ fn coat_chain(n: usize, literal: usize) -> serde_json::Value {
         let inputs = if k < literal {
             json!({ "cos_theta": 0.5, "ior": 1.3, "base": [0.1, 0.2, 0.3], "coat": [0.9, 0.8, 0.7] })
         } else {
+            let coat = if distinct {
+                let t = k as f64 / 64.0;
+                json!([0.9 - 0.5 * t, 0.8, 0.2 + 0.5 * t])
+            } else {
+                json!([0.9, 0.8, 0.7])
+            };
             json!({ "cos_theta": { "link": "cos.result" }, "ior": { "link": "ior.value" },
-                    "base": prev, "coat": [0.9, 0.8, 0.7] })
+                    "base": prev, "coat": coat })
         };
         nodes.push(
             json!({ "id": format!("c{k}"), "type": "group", "group": "coat", "inputs": inputs }),
@@ -810,38 +822,123 @@ fn wgsl(graph: &Graph, entry: matgraph::wgsl::Entry) -> String {
         .source
 }
 
-/// `n` instances of the library's thin-film coat in a chain (each coating the last's
-/// colour), in a folder with the library.
-fn film_chain(n: usize) -> (tempfile::TempDir, Graph) {
+/// How a chain of instances of a library group is wired: its reference, the input that
+/// takes the last instance's output (and that output), and the other inputs' links.
+struct LibraryChain {
+    group: &'static str,
+    chained: (&'static str, &'static str),
+    first: serde_json::Value,
+    others: serde_json::Value,
+}
+
+/// A chain for each group of `graphs/lib/`: each instance's `chained` input reads the last
+/// one's output, the first's reads `first`, and the others read the geometry (so that no
+/// instance folds to a constant).
+fn library_chains() -> Vec<LibraryChain> {
+    let n = json!({ "link": "geo.normal" });
+    let (l, v) = (
+        json!({ "link": "geo.light" }),
+        json!({ "link": "geo.view" }),
+    );
+    let cos = json!({ "link": "cos.result" });
+    let uv = json!({ "link": "geo.uv" });
+    let chain = |group, chained, first, others| LibraryChain {
+        group,
+        chained,
+        first,
+        others,
+    };
+    vec![
+        chain(
+            "fresnel.json#fresnel_layer",
+            ("base", "color"),
+            json!([0.2, 0.3, 0.4]),
+            json!({ "cos_theta": cos, "coat": [0.9, 0.8, 0.7], "ior": 1.45 }),
+        ),
+        chain(
+            "fresnel.json#fresnel_pair",
+            ("cos_theta", "exact"),
+            cos.clone(),
+            json!({ "ior": 1.45 }),
+        ),
+        chain(
+            "water.json#gerstner_wave_set",
+            ("position", "offset"),
+            json!({ "link": "geo.position" }),
+            json!({ "time": 1.5 }),
+        ),
+        chain(
+            "water.json#noise_distortion",
+            ("screen_uv", "uv"),
+            uv.clone(),
+            json!({ "position": { "link": "geo.position" } }),
+        ),
+        chain(
+            "water.json#screen_distortion",
+            ("screen_uv", "uv"),
+            uv,
+            json!({ "normal": n }),
+        ),
+        chain(
+            "toon.json#toon_highlight",
+            ("threshold", "band"),
+            json!(0.5),
+            json!({ "normal": n, "light": l, "view": v }),
+        ),
+        chain(
+            "toon.json#toon_ramp",
+            ("color_dark", "color"),
+            json!([0.1, 0.1, 0.2]),
+            json!({ "normal": n, "light": l }),
+        ),
+        chain(
+            "thin_film.json#thin_film_coat",
+            ("reflected", "color"),
+            json!([0.9, 0.9, 0.9]),
+            json!({ "cos_theta": cos, "transmitted": [0.1, 0.1, 0.1] }),
+        ),
+    ]
+}
+
+/// `n` instances of `chain`'s group, in a folder with the library.
+fn library_chain(chain: &LibraryChain, n: usize) -> (tempfile::TempDir, Graph) {
     let mut nodes = vec![
         json!({ "id": "geo", "type": "geometry" }),
         json!({ "id": "cos", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } } }),
     ];
-    let mut prev = json!([0.9, 0.9, 0.9]);
+    let mut prev = chain.first.clone();
     let mut last = String::new();
     for k in 0..n {
-        nodes.push(json!({ "id": format!("f{k}"), "type": "group", "group": "lib/thin_film.json#thin_film_coat",
-            "inputs": { "cos_theta": { "link": "cos.result" }, "reflected": prev, "transmitted": [0.1, 0.1, 0.1] } }));
-        last = format!("f{k}.color");
+        let mut inputs = chain.others.clone();
+        inputs[chain.chained.0] = prev;
+        nodes.push(json!({ "id": format!("g{k}"), "type": "group",
+            "group": format!("lib/{}", chain.group), "inputs": inputs }));
+        last = format!("g{k}.{}", chain.chained.1);
         prev = json!({ "link": last });
     }
-    let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/lib/thin_film.json");
-    let lib: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(lib).unwrap()).unwrap();
-    let dir = folder(&[
-        ("lib/thin_film.json", lib),
-        (
-            "g.json",
-            json!({ "version": 2, "name": "films", "nodes": nodes,
-                "outputs": [ { "name": "color", "from": last } ] }),
-        ),
-    ]);
-    let graph = load(&dir.path().join("g.json")).unwrap();
+    let mut files: Vec<(String, serde_json::Value)> = Vec::new();
+    for lib in ["fresnel", "water", "toon", "thin_film"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("graphs/lib/{lib}.json"));
+        let text = std::fs::read_to_string(path).unwrap();
+        files.push((
+            format!("lib/{lib}.json"),
+            serde_json::from_str(&text).unwrap(),
+        ));
+    }
+    files.push((
+        "g.json".into(),
+        json!({ "version": 2, "name": "chain", "nodes": nodes,
+            "outputs": [ { "name": "color", "from": last } ] }),
+    ));
+    let files: Vec<(&str, serde_json::Value)> =
+        files.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
+    let dir = folder(&files);
+    let graph = load(&dir.path().join("g.json")).unwrap_or_else(|e| panic!("{e}"));
     (dir, graph)
 }
 
 #[test]
-fn fifty_instances_of_a_group_are_one_function_and_fifty_calls() {
+fn fifty_instances_of_a_group_are_one_function_and_one_loop_or_fifty_calls() {
     use matgraph::wgsl::Entry;
     for entry in [Entry::Compute, Entry::Render(Default::default())] {
         let one = wgsl(&coat_graph(1, 0), entry);
@@ -849,27 +946,15 @@ fn fifty_instances_of_a_group_are_one_function_and_fifty_calls() {
         // One instance is inlined (nothing to share); fifty share one function.
         assert!(!one.contains("fn mg_group_"), "{one}");
         assert_eq!(fifty.matches("fn mg_group_").count(), 1, "{fifty}");
-        assert_eq!(fifty.matches("= mg_group_0_coat(").count(), 50);
+        // Each passes the last one's colour on, all else alike: one loop of 50 calls.
+        assert_eq!(fifty.matches("= mg_group_0_coat(").count(), 2, "{fifty}");
+        assert!(fifty.contains("mg_k < 50u; mg_k += 1u"), "{fifty}");
         // What every call passes alike (the IOR parameter, the coat colour, the geometry)
         // is in the body, not in the calls.
         assert!(
             fifty.contains("mg_fresnel_dielectric(a0_cos_theta, 1.0, mg_params.ior)"),
             "{fifty}"
         );
-        // The coat's body is 7 short calls and a call costs a line: under 2×.
-        let ratio = fifty.len() as f64 / one.len() as f64;
-        assert!(
-            ratio <= 2.0,
-            "{entry:?}: {} / {} bytes = {ratio:.2}",
-            fifty.len(),
-            one.len()
-        );
-        // The library's thin-film coat: within 1.5×.
-        let (_one_dir, one) = film_chain(1);
-        let (_fifty_dir, fifty) = film_chain(50);
-        let (one, fifty) = (wgsl(&one, entry), wgsl(&fifty, entry));
-        assert!(!one.contains("fn mg_group_"), "{one}");
-        assert_eq!(fifty.matches("fn mg_group_").count(), 1, "{fifty}");
         let ratio = fifty.len() as f64 / one.len() as f64;
         assert!(
             ratio <= 1.5,
@@ -877,6 +962,40 @@ fn fifty_instances_of_a_group_are_one_function_and_fifty_calls() {
             fifty.len(),
             one.len()
         );
+        // Each its own coat colour: fifty calls, each instance one line (its body's ten
+        // lines are in the function once).
+        let distinct = Graph::from_json(
+            &coat_chain_with(50, 0, true).to_string(),
+            Registry::builtin(),
+        )
+        .unwrap();
+        let distinct = wgsl(&distinct, entry);
+        assert_eq!(
+            distinct.matches("= mg_group_0_coat(").count(),
+            50,
+            "{distinct}"
+        );
+        assert!(!distinct.contains("mg_k"), "{distinct}");
+        let per_instance = (distinct.len() - one.len()) as f64 / 49.0;
+        assert!(
+            per_instance <= 120.0,
+            "{entry:?}: {per_instance:.0} bytes an instance"
+        );
+        // Every group of the library, chained 50 times: within 1.5× of one instance.
+        for chain in library_chains() {
+            let (_one_dir, one) = library_chain(&chain, 1);
+            let (_fifty_dir, fifty) = library_chain(&chain, 50);
+            let (one, fifty) = (wgsl(&one, entry), wgsl(&fifty, entry));
+            assert!(fifty.contains("mg_k < 50u"), "{}: {fifty}", chain.group);
+            let ratio = fifty.len() as f64 / one.len() as f64;
+            assert!(
+                ratio <= 1.5,
+                "{} {entry:?}: {} / {} bytes = {ratio:.2}",
+                chain.group,
+                fifty.len(),
+                one.len()
+            );
+        }
     }
     // In a render module the calls read the light: the lit part makes them.
     let render = wgsl(&coat_graph(50, 0), Entry::Render(Default::default()));
@@ -890,11 +1009,18 @@ fn called_instances_match_the_cpu_within_the_parity_bound() {
     else {
         return;
     };
-    // 40 linked instances (called), 3 with literal inputs (folded on the CPU and in the
-    // module alike), and 300 (a split material function, its calls in part functions).
-    for (n, literal) in [(40, 3), (300, 0)] {
-        let graph = coat_graph(n, literal);
+    // 40 linked instances (a loop of calls), 3 with literal inputs (folded on the CPU and in
+    // the module alike); 40 each with its own coat (a call each); and 300 (a split material
+    // function, its calls in part functions).
+    for (n, literal, distinct) in [(40, 3, false), (40, 0, true), (300, 0, false)] {
+        let graph = Graph::from_json(
+            &coat_chain_with(n, literal, distinct).to_string(),
+            Registry::builtin(),
+        )
+        .unwrap();
         let source = wgsl(&graph, Default::default());
+        // A chain of like calls is a loop; calls each with their own coat are not.
+        assert_eq!(source.contains("mg_k <"), !distinct && n <= 256, "{source}");
         assert_eq!(source.matches("fn mg_group_").count(), 1);
         if n > 256 {
             assert!(source.contains("fn mg_part_0("), "not split");
@@ -907,6 +1033,31 @@ fn called_instances_match_the_cpu_within_the_parity_bound() {
         let got = gpu.execute(&batch, &params).unwrap();
         let (_, bad) = compare_batches_within(&want, &got, graph_bound(&graph));
         assert!(bad.is_empty(), "{n} instances: {bad:?}");
+    }
+}
+
+#[test]
+fn chains_of_every_library_group_written_as_loops_match_the_cpu() {
+    let Some(ctx) =
+        common::gpu_context("chains_of_every_library_group_written_as_loops_match_the_cpu")
+    else {
+        return;
+    };
+    // Each chain is a loop in the module (its group's function, or for a group of one
+    // used node that node's, called 50 times): the values of the unrolled calls.
+    for chain in library_chains() {
+        let (_dir, graph) = library_chain(&chain, 50);
+        let source = wgsl(&graph, Default::default());
+        assert!(source.contains("mg_k < 50u"), "{}: {source}", chain.group);
+        let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
+        let gpu = matgraph::gpu::GpuPlan::compile(ctx, &graph, &PlanOptions::default())
+            .unwrap_or_else(|e| panic!("{}: {e}", chain.group));
+        let batch = grid_batch();
+        let params = plan.default_parameters();
+        let want = plan.execute(&batch, &params).unwrap();
+        let got = gpu.execute(&batch, &params).unwrap();
+        let (_, bad) = compare_batches_within(&want, &got, graph_bound(&graph));
+        assert!(bad.is_empty(), "{}: {bad:?}", chain.group);
     }
 }
 
@@ -941,7 +1092,16 @@ fn tint_accepts_modules_with_group_functions() {
     use matgraph::wgsl::Entry;
     let dir = tempfile::tempdir().unwrap();
     let mut files = Vec::new();
-    for (name, graph) in [("chain", coat_graph(40, 3)), ("split", coat_graph(300, 0))] {
+    let distinct = Graph::from_json(
+        &coat_chain_with(40, 0, true).to_string(),
+        Registry::builtin(),
+    )
+    .unwrap();
+    for (name, graph) in [
+        ("chain", coat_graph(40, 3)),
+        ("calls", distinct),
+        ("split", coat_graph(300, 0)),
+    ] {
         for entry in [
             Entry::Compute,
             Entry::Fragment,

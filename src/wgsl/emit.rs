@@ -10,6 +10,8 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt::Write;
 use std::ops::Range;
 
+mod chains;
+
 /// A uniform member the emitter declared in `MgParams`.
 #[derive(Clone, Debug)]
 pub(super) struct UniformSpec {
@@ -317,6 +319,8 @@ pub(super) struct Emitter<'a> {
     groups: super::groups::GroupPlan,
     /// Whether the material's functions take `geom` (the graph reads attributes).
     has_geom: bool,
+    /// The runs of group calls written as loops, by their last call ([`chains`]).
+    runs: HashMap<NodeIndex, chains::Run>,
 }
 
 /// Above this many node calls the material function is split into part functions.
@@ -369,6 +373,7 @@ impl<'a> Emitter<'a> {
                 .collect(),
             groups: super::groups::GroupPlan::new(graph, plan),
             has_geom: false,
+            runs: HashMap::new(),
         }
     }
 
@@ -648,6 +653,7 @@ impl<'a> Emitter<'a> {
         let mut calls: Vec<NodeIndex> = calls.into_iter().map(|(i, _)| i).collect();
         if calls.len() <= SPLIT_CALLS {
             self.merge_equal_group_calls(&mut calls, &functions);
+            self.fold_group_runs(&mut calls, &functions, &outputs);
         }
         let mut hoisted = false;
         if calls.len() > SPLIT_CALLS {
@@ -852,6 +858,10 @@ impl<'a> Emitter<'a> {
     /// The node outputs whose values node `i` reads (through reroutes and muted nodes), in
     /// port order.
     fn sources(&self, i: NodeIndex) -> Vec<OutputRef> {
+        if let Some(run) = self.runs.get(&i) {
+            // A run's loop reads what its first call reads.
+            return self.sources(run.head);
+        }
         if let Some(g) = self.groups.calls.get(&i) {
             // A group call reads what its instance passes to its inputs.
             return g.inputs.iter().flat_map(|&n| self.sources(n)).collect();
@@ -1162,32 +1172,59 @@ impl<'a> Emitter<'a> {
         }
     }
 
-    /// Emits the `let` of node `i`'s call (and its store into `MgState` when shared).
-    fn emit_call(&mut self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) {
-        let n = &self.graph.nodes()[i];
-        let var = self.var(i);
-        let f = &functions[var.function].1;
+    /// The arguments written in group call `i`: `geom` where its function takes it, then
+    /// the inputs not baked into the function.
+    fn group_call_args(
+        &self,
+        i: NodeIndex,
+        functions: &[(String, NodeFunction, String)],
+    ) -> Vec<String> {
+        let g = &self.groups.calls[&i];
+        let f = &functions[self.var(i).function].1;
         let mut args: Vec<String> = Vec::new();
-        if let Some(g) = self.groups.calls.get(&i) {
-            if f.definition.contains("geom: MgGeometry") {
-                args.push("geom".into());
-            }
-            let baked = &self.groups.functions[g.function].baked;
-            args.extend(
-                g.inputs
-                    .iter()
-                    .zip(baked)
-                    .filter(|(_, b)| b.is_none())
-                    .map(|(&n, _)| self.input_expr(n, 0)),
-            );
-        } else if let Some(src) = &n.texture {
+        if f.definition.contains("geom: MgGeometry") {
+            args.push("geom".into());
+        }
+        let baked = &self.groups.functions[g.function].baked;
+        args.extend(
+            g.inputs
+                .iter()
+                .zip(baked)
+                .filter(|(_, b)| b.is_none())
+                .map(|(&n, _)| self.input_expr(n, 0)),
+        );
+        args
+    }
+
+    /// The arguments written in call `i` (a node's or a group instance's).
+    fn call_args(&self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) -> Vec<String> {
+        if self.groups.calls.contains_key(&i) {
+            return self.group_call_args(i, functions);
+        }
+        let n = &self.graph.nodes()[i];
+        let mut args: Vec<String> = Vec::new();
+        if let Some(src) = &n.texture {
             // Texture nodes take their slot in the packed texture set first.
             let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
             args.push(format!("{slot}u"));
         }
-        if !self.groups.calls.contains_key(&i) {
-            args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        args
+    }
+
+    /// Emits the `let` of node `i`'s call (and its store into `MgState` when shared).
+    fn emit_call(&mut self, i: NodeIndex, functions: &[(String, NodeFunction, String)]) {
+        let n = &self.graph.nodes()[i];
+        if let Some(run) = self.runs.get(&i) {
+            let text = self.emit_run(i, run, functions);
+            let start = self.out.len();
+            self.out.push_str(&text);
+            self.spans.push((start..self.out.len(), n.id.clone()));
+            return;
         }
+        let var = self.var(i);
+        let f = &functions[var.function].1;
+        let args = self.call_args(i, functions);
         let mut text = format!("    let {} = {}({});\n", var.name, f.name, args.join(", "));
         for (k, slot) in var.slots.iter().enumerate() {
             if let Some((array, j)) = slot {
