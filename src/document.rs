@@ -110,6 +110,12 @@ pub struct NodeDocument {
     /// (`scene:refraction`, `scene:reflection`, `scene:background`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<TextureSource>,
+    /// For texture nodes naming image files (version 2): how the image's values are read:
+    /// `srgb` (decoded to linear light), `linear` or `data` (unchanged; `data` for maps that
+    /// are not colour: roughness, height, normals, masks). Absent: by the file type, sRGB for
+    /// PNG and JPEG, linear for HDR and EXR.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color_space: Option<crate::color_space::ColorSpace>,
     /// Position in the node editor.
     #[serde(
         default,
@@ -356,6 +362,8 @@ impl GraphDocument {
             Some("nodes of type \"reroute\"")
         } else if nodes().any(|n| n.muted) {
             Some("\"muted\" nodes")
+        } else if nodes().any(|n| n.color_space.is_some()) {
+            Some("\"color_space\" on texture nodes")
         } else {
             None
         }

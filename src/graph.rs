@@ -56,6 +56,9 @@ pub struct Node {
     pub inputs: Vec<InputSource>,
     /// The image of a texture node.
     pub texture: Option<crate::document::TextureSource>,
+    /// The colour space its image is read in, as the file writes it (`None`: the file
+    /// type's default, [`crate::color_space::ColorSpace::default_for`]).
+    pub color_space: Option<crate::color_space::ColorSpace>,
     /// Editor position.
     pub position: Option<[f32; 2]>,
     /// Muted: each output passes through [`Node::passthrough`] (Blender's rule).
@@ -63,6 +66,16 @@ pub struct Node {
 }
 
 impl Node {
+    /// The key a texture node's image is bound under ([`crate::color_space::ColorSpace::key`]),
+    /// or `None` for a node that samples none.
+    pub fn texture_key(&self) -> Option<String> {
+        let source = self.texture.as_ref()?;
+        Some(crate::color_space::ColorSpace::key(
+            &source.key(),
+            self.color_space,
+        ))
+    }
+
     /// Whether the node only passes values on (a `reroute`, or a muted node other than a
     /// `parameter`): the CPU plan and the WGSL read its source in its place, at no cost.
     pub fn forwards(&self) -> bool {
@@ -490,6 +503,7 @@ impl Graph {
                     muted: n.muted,
                     inputs,
                     texture: n.texture.clone(),
+                    color_space: n.color_space,
                     position: n.position,
                 }
             })
@@ -548,7 +562,7 @@ impl Graph {
     /// [`Graph::to_json`] is, as a cache key (a third of the time of the pretty form, which
     /// a GPU frame's material lookup spent a millisecond on).
     pub fn key(&self) -> String {
-        serde_json::to_string(&self.flat_document()).unwrap_or_default()
+        self.with_choices(serde_json::to_string(&self.flat_document()).unwrap_or_default())
     }
 
     /// [`Graph::key`] without the values of the exposed parameters
@@ -558,7 +572,21 @@ impl Graph {
     pub fn structure_key(&self) -> String {
         let mut d = self.flat_document();
         d.remove_parameter_values();
-        serde_json::to_string(&d).unwrap_or_default()
+        self.with_choices(serde_json::to_string(&d).unwrap_or_default())
+    }
+
+    /// `key` followed by the choice made for each variant, where the graph declares any:
+    /// the flat document keeps the switches as written, so two choices of one file would
+    /// otherwise share a key (and a cached material).
+    fn with_choices(&self, key: String) -> String {
+        let chosen = self.variant_choices();
+        if chosen.is_empty() {
+            return key;
+        }
+        format!(
+            "{key}\nvariants {}",
+            serde_json::to_string(&chosen).unwrap_or_default()
+        )
     }
 }
 
@@ -980,6 +1008,17 @@ impl Builder<'_> {
             }),
             _ => {}
         }
+        match (&n.texture, n.color_space) {
+            (None, Some(_)) if t.evaluation() != Evaluation::Texture => self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!("a '{}' node samples no image: remove \"color_space\"", t.name()),
+            }),
+            (Some(src), Some(space)) if src.scene_name().is_some() => self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!("\"color_space\": \"{space}\" on a scene texture: the renderer supplies scene textures in linear light; remove \"color_space\""),
+            }),
+            _ => {}
+        }
         if incomplete || self.errors.len() > errors_before {
             return None;
         }
@@ -990,6 +1029,7 @@ impl Builder<'_> {
             generic,
             inputs,
             texture: n.texture.clone(),
+            color_space: n.color_space,
             position: n.position,
             muted: n.muted,
         })
@@ -1442,6 +1482,7 @@ impl Graph {
                 muted: false,
                 inputs,
                 texture: None,
+                color_space: None,
                 position: None,
             }],
             outputs,

@@ -1,9 +1,12 @@
 //! Reading and writing texture images with the `image` crate: the I/O side of
 //! [`crate::texture`] (which does none).
 //!
-//! Colour conventions: PNG and JPEG files are sRGB-encoded colour (any bit depth) and are
-//! decoded to linear light with the IEC 61966-2-1 transfer function; their alpha is linear
-//! and kept as is. Radiance HDR and OpenEXR files are linear and are read unchanged.
+//! Colour conventions: each image is read in a colour space ([`crate::color_space`]): a
+//! graph's texture node may name it (`"color_space": "srgb" | "linear" | "data"`), else it is
+//! the file type's: PNG and JPEG files are sRGB-encoded colour (any bit depth) and are
+//! decoded to linear light with the IEC 61966-2-1 transfer function; Radiance HDR and
+//! OpenEXR files are linear and are read unchanged. `linear` and `data` images are read
+//! unchanged whatever their type. Alpha is linear and kept as is.
 //! Greyscale images are expanded to RGB; images without alpha get alpha 1. Saving mirrors
 //! this: [`save_png`] clamps to [0, 1] and sRGB-encodes to 8 bits, [`save_exr`] writes linear
 //! f32 RGBA exactly. Saves are atomic (temporary file in the same folder, synced, renamed)
@@ -14,6 +17,7 @@
 //! [`crate::io::resolve_reference`]). Saved images are encoded by extension
 //! ([`SaveFormat`]). Every error names the file at fault.
 
+use crate::color_space::ColorSpace;
 use crate::texture::{Image, Texture, TextureError};
 use image::{ImageEncoder, ImageFormat};
 use std::path::{Path, PathBuf};
@@ -61,14 +65,23 @@ fn file_error(path: &Path, message: impl std::fmt::Display) -> TextureError {
 }
 
 /// Reads an image file (PNG, JPEG, Radiance HDR or OpenEXR, recognised by content, else by
-/// extension) as linear RGBA; see the module doc for the colour conventions.
+/// extension) as linear RGBA, in its file type's default colour space; see the module doc
+/// for the colour conventions.
 pub fn load_image(path: &Path) -> Result<Image, TextureError> {
+    load_image_as(path, None)
+}
+
+/// Reads an image file as [`load_image`] does, its values read in `space`
+/// ([`crate::color_space`]): `srgb` decodes them from sRGB to linear light, `linear` and
+/// `data` keep them as stored; `None` takes the default of the file's type (recognised by
+/// content: sRGB for PNG and JPEG, linear for HDR and EXR).
+pub fn load_image_as(path: &Path, space: Option<ColorSpace>) -> Result<Image, TextureError> {
     let reader = image::ImageReader::open(path)
         .and_then(|r| r.with_guessed_format())
         .map_err(|e| file_error(path, format_args!("cannot read: {e}")))?;
-    let srgb = match reader.format() {
-        Some(ImageFormat::Png | ImageFormat::Jpeg) => true,
-        Some(ImageFormat::Hdr | ImageFormat::OpenExr) => false,
+    let default = match reader.format() {
+        Some(ImageFormat::Png | ImageFormat::Jpeg) => ColorSpace::Srgb,
+        Some(ImageFormat::Hdr | ImageFormat::OpenExr) => ColorSpace::Linear,
         Some(f) => {
             return Err(file_error(
                 path,
@@ -82,6 +95,7 @@ pub fn load_image(path: &Path) -> Result<Image, TextureError> {
             ));
         }
     };
+    let srgb = space.unwrap_or(default).decodes_srgb();
     let decoded = reader
         .decode()
         .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
@@ -109,10 +123,20 @@ pub fn load_image(path: &Path) -> Result<Image, TextureError> {
 /// ignored), each level half the size of the one before ([`Texture::from_levels`]). Errors
 /// name the file at fault.
 pub fn load_texture(paths: &[PathBuf], mips: bool) -> Result<Texture, TextureError> {
+    load_texture_as(paths, mips, None)
+}
+
+/// Reads a texture as [`load_texture`] does, every level's values read in `space`
+/// ([`load_image_as`]).
+pub fn load_texture_as(
+    paths: &[PathBuf],
+    mips: bool,
+    space: Option<ColorSpace>,
+) -> Result<Texture, TextureError> {
     match paths {
         [] => Err(TextureError::NoLevels),
         [one] => {
-            let image = load_image(one)?;
+            let image = load_image_as(one, space)?;
             Texture::new(image, mips).map_err(|e| TextureError::InFile {
                 path: one.clone(),
                 source: Box::new(e),
@@ -121,7 +145,7 @@ pub fn load_texture(paths: &[PathBuf], mips: bool) -> Result<Texture, TextureErr
         several => {
             let levels = several
                 .iter()
-                .map(|p| load_image(p))
+                .map(|p| load_image_as(p, space))
                 .collect::<Result<Vec<_>, _>>()?;
             Texture::from_levels(levels).map_err(|e| {
                 let at = match &e {
@@ -298,7 +322,7 @@ pub fn load_graph_textures_with(
         let Some(source) = &node.texture else {
             continue;
         };
-        let key = source.key();
+        let key = node.texture_key().unwrap_or_default();
         if source.scene_name().is_some() || set.index_of(&key).is_some() {
             continue;
         }
@@ -313,7 +337,7 @@ pub fn load_graph_textures_with(
             node: node.id.clone(),
             source,
         };
-        let texture = load_texture(&paths, true).map_err(wrap)?;
+        let texture = load_texture_as(&paths, true, node.color_space).map_err(wrap)?;
         set.insert(key, texture).map_err(wrap)?;
     }
     Ok(set)

@@ -827,7 +827,7 @@ impl<'g> Compiler<'g> {
         });
         let is_texture = t.evaluation() == Evaluation::Texture;
         let kref = if is_texture {
-            let key = node.texture.as_ref().map(|s| s.key()).unwrap_or_default();
+            let key = node.texture_key().unwrap_or_default();
             let slot = match self.texture_slots.get(&key) {
                 Some(&k) => k,
                 None => {

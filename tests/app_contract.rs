@@ -422,14 +422,16 @@ fn the_example_matches_the_cpu_executor_on_the_same_geometry() {
 /// target's rounding of values in [1, 2), on lavapipe).
 const TOLERANCE: f32 = 2e-3;
 
-/// A graph sampling `texture` at `geo.uv`, level of detail `geo.depth`.
-fn probe_graph(texture: &str, wrap: &str, filter: &str) -> String {
+/// A graph sampling `texture` at `geo.uv`, level of detail `geo.depth`, the image read in
+/// colour space `space` where given.
+fn probe_graph_in(texture: &str, space: Option<&str>, wrap: &str, filter: &str) -> String {
+    let space = space.map_or(String::new(), |s| format!(r#""color_space": "{s}", "#));
     format!(
         r#"{{
-  "version": 1, "name": "probe",
+  "version": 2, "name": "probe",
   "nodes": [
     {{ "id": "geo", "type": "geometry" }},
-    {{ "id": "tex", "type": "image_texture", "texture": "{texture}",
+    {{ "id": "tex", "type": "image_texture", "texture": "{texture}", {space}
        "inputs": {{ "uv": {{ "link": "geo.uv" }}, "lod": {{ "link": "geo.depth" }}, "wrap": "{wrap}", "filter": "{filter}" }} }}
   ],
   "outputs": [{{ "name": "color", "from": "tex.color" }}, {{ "name": "alpha", "from": "tex.alpha" }}]
@@ -620,14 +622,16 @@ fn hardware_textures_stay_within_their_stated_bound_of_the_cpu() {
     let mut report = Vec::new();
     // Bounds per format, relative to the texture's range: 8-bit sRGB 2/255 (the mip levels'
     // quantisation, about 1.2/255 measured), 16-bit float 1e-3 (2⁻¹¹ relative, 2e-4 measured).
-    for (texture, format_bound, mean_bound) in [
-        ("probe.png", 2.0 / 255.0, 1.5e-3f32),
-        ("scene:background", 1e-3, 1e-4),
+    // The same PNG read as data: 8-bit unorm texels, the bytes as stored.
+    for (texture, space, format_bound, mean_bound) in [
+        ("probe.png", None, 2.0 / 255.0, 1.5e-3f32),
+        ("probe.png", Some("data"), 2.0 / 255.0, 1.5e-3f32),
+        ("scene:background", None, 1e-3, 1e-4),
     ] {
         for wrap in ["repeat", "clamp", "mirror"] {
             for filter in ["nearest", "bilinear"] {
                 let file = dir.path().join("probe.json");
-                std::fs::write(&file, probe_graph(texture, wrap, filter)).unwrap();
+                std::fs::write(&file, probe_graph_in(texture, space, wrap, filter)).unwrap();
                 let (material, mut set) =
                     Material::from_path(&file, &options(TextureMode::Hardware)).unwrap();
                 if texture.starts_with("scene:") {
@@ -637,7 +641,8 @@ fn hardware_textures_stay_within_their_stated_bound_of_the_cpu() {
                     )
                     .unwrap();
                 }
-                let t = set.get(set.index_of(texture).unwrap()).unwrap().clone();
+                let key = &material.textures()[0].name;
+                let t = set.get(set.index_of(key).unwrap()).unwrap().clone();
                 let samples = texture_samples(t.level_count() as u32, w, h);
                 let got = sample_library(&device, &queue, &material, &set, &samples);
                 let (wrap_m, filter_m) = (
@@ -669,9 +674,9 @@ fn hardware_textures_stay_within_their_stated_bound_of_the_cpu() {
                 let mean = (sum / n as f64) as f32;
                 let frac = big as f32 / samples.len() as f32;
                 let line = format!(
-                    "{:12} {:16} {wrap:6} {filter:8} max {max:.4} mean {mean:.2e} over {:.2}%",
+                    "{:15} {:16} {wrap:6} {filter:8} max {max:.4} mean {mean:.2e} over {:.2}%",
                     matgraph::material::format_name(material.textures()[0].format),
-                    texture,
+                    key,
                     frac * 100.0
                 );
                 // A nearest lookup that lands on a texel boundary may pick the neighbour on

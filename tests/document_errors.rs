@@ -374,7 +374,7 @@ fn unknown_field_inside_a_node_names_the_node() {
          {\"id\": \"geo\", \"type\": \"geometry\"},\n    \
          {\"id\": \"fr\", \"type\": \"fresnel_dielectric\", \"colour\": 1}\n  ]\n}",
         "g.json: node 'fr': unknown field `colour`, expected one of `id`, `type`, `data_type`, \
-         `variant`, `group`, `muted`, `inputs`, `texture`, `position` at line 6, column 55",
+         `variant`, `group`, `muted`, `inputs`, `texture`, `color_space`, `position` at line 6, column 55",
     );
 }
 

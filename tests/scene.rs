@@ -732,6 +732,7 @@ fn sky_gradient_sun_disc_and_image_environment() {
         path: "studio.hdr".into(),
         intensity: 2.0,
         rotation_deg: 90.0,
+        ..Default::default()
     });
     let lookup = |d: Vec3| d + Vec3::splat(2.0);
     let out = env.radiance(Vec3::X, Vec3::Y, Some(&lookup));

@@ -244,3 +244,17 @@ fn cli_variant_flag_on_eval_wgsl_and_render() {
     assert_ne!(png("schlick"), png("exact"));
     assert_eq!(png("exact"), png("exact"));
 }
+
+/// Two choices of one file compile to different modules, so they must not share a cache key
+/// (the GPU rasteriser keeps materials by `structure_key`: before, a choice rendered after
+/// the default in one process showed the default's material).
+#[test]
+fn each_choice_has_its_own_key() {
+    let (a, b) = (select("schlick"), select("exact"));
+    assert_ne!(a.structure_key(), b.structure_key());
+    assert_ne!(a.key(), b.key());
+    assert_eq!(a.structure_key(), select("schlick").structure_key());
+    // A graph without variants keys as its flat document alone.
+    let g = single("schlick");
+    assert_eq!(g.key(), serde_json::to_string(&g.flat_document()).unwrap());
+}

@@ -106,6 +106,7 @@ fn group_errors(
             muted: false,
             inputs: Default::default(),
             texture: None,
+            color_space: None,
             position: None,
         }];
         probe.outputs = group

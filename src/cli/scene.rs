@@ -67,7 +67,7 @@ pub fn resolve(
     };
     let path = matgraph::io::resolve_reference(&base, "environment image", &img.path, policy)
         .map_err(path_error)?;
-    let texture = image_io::load_texture(&[path], false)
+    let texture = image_io::load_texture_as(&[path], false, img.color_space)
         .map_err(|e| format!("{}: environment: {e}", file.display()))?;
     Ok((scene, Some(Arc::new(texture))))
 }

@@ -316,6 +316,7 @@ impl EditorDoc {
             muted: false,
             inputs: BTreeMap::new(),
             texture: None,
+            color_space: None,
             position: Some(position),
         });
         if self.doc.version < crate::document::GROUPS_VERSION && self.doc.newer_feature().is_some()

@@ -149,6 +149,7 @@ fn parameter_node(id: &str, value: Value, position: [f32; 2]) -> NodeDocument {
         muted: false,
         inputs: BTreeMap::from([("value".to_owned(), value.to_json())]),
         texture: None,
+        color_space: None,
         position: Some(position),
     }
 }

@@ -1013,9 +1013,9 @@ fn graph_textures(
     let mut sources: Vec<_> = graph
         .nodes()
         .iter()
-        .filter_map(|n| n.texture.as_ref())
-        .filter(|t| t.scene_name().is_none())
-        .map(|t| {
+        .filter_map(|n| Some((n.texture.as_ref()?, n.texture_key()?)))
+        .filter(|(t, _)| t.scene_name().is_none())
+        .map(|(t, key)| {
             let stamps = t
                 .files()
                 .iter()
@@ -1024,7 +1024,7 @@ fn graph_textures(
                     Some((m.len(), m.modified().ok()?))
                 })
                 .collect();
-            (t.key(), stamps)
+            (key, stamps)
         })
         .collect();
     sources.sort();

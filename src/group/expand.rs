@@ -295,6 +295,7 @@ impl Expander<'_> {
                             serde_json::json!({ "link": from }),
                         )]),
                         texture: None,
+                        color_space: None,
                         position: None,
                     }),
                     Err(message) => self.errors.push(GraphError::InGroup {
@@ -730,6 +731,7 @@ fn reroute(
             .map(|v| BTreeMap::from([("input".to_owned(), v)]))
             .unwrap_or_default(),
         texture: None,
+        color_space: None,
         position: at.position,
     }
 }

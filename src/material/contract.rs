@@ -218,7 +218,11 @@ pub struct Texture {
     pub name: String,
     /// `file` or `scene`.
     pub source: String,
-    /// Format of the hardware mode (`rgba8unorm-srgb`, `rgba16float`, `rgba32float`).
+    /// How the image's values are read: `srgb` (decoded to linear light), `linear` or
+    /// `data` (unchanged); scene textures are `linear`.
+    pub color_space: String,
+    /// Format of the hardware mode (`rgba8unorm-srgb`, `rgba8unorm`, `rgba16float`,
+    /// `rgba32float`).
     pub format: String,
     /// Binding of its texture (hardware mode).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -475,6 +479,7 @@ pub(super) fn build(m: &Material) -> Contract {
                     super::TextureSource::Scene => "scene",
                 }
                 .into(),
+                color_space: t.color_space.name().into(),
                 format: super::format_name(t.format).into(),
                 binding: t.binding,
                 width: t.size.map(|s| s.0),

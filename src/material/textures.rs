@@ -1,9 +1,11 @@
 //! The textures a material expects: names, formats, sizes and mips, and uploading a
 //! [`TextureSet`] for either texture mode.
 //!
-//! **Formats (hardware mode).** By source: PNG and JPEG (8-bit sRGB files) →
-//! `rgba8unorm-srgb`, so the hardware decodes sRGB before filtering, as the CPU filters in
-//! linear light; Radiance HDR (8-bit shared-exponent) and scene textures (rendered HDR
+//! **Formats (hardware mode).** By source and colour space ([`crate::color_space`]): PNG and
+//! JPEG read as `srgb` (their default) → `rgba8unorm-srgb`, so the hardware decodes sRGB
+//! before filtering, as the CPU filters in linear light; PNG and JPEG read as `linear` or
+//! `data` → `rgba8unorm`, the stored bytes unchanged (a 16-bit PNG is rounded to 8 bits in
+//! this mode, as for `srgb`; the exact mode keeps every bit); Radiance HDR (8-bit shared-exponent) and scene textures (rendered HDR
 //! radiance) → `rgba16float`; OpenEXR (32-bit float) → `rgba32float` when the device has
 //! `FLOAT32_FILTERABLE` ([`super::MaterialOptions::float32_filterable`]), else `rgba16float`:
 //! WebGPU cannot filter `rgba32float` without that feature, and a non-filtering sampler would
@@ -34,6 +36,8 @@ pub struct TextureInfo {
     pub name: String,
     /// File or scene texture.
     pub source: TextureSource,
+    /// How the image's values are read (scene textures: linear).
+    pub color_space: crate::color_space::ColorSpace,
     /// The texture format of the hardware mode.
     pub format: wgpu::TextureFormat,
     /// Binding of its `texture_2d<f32>` in the hardware mode (`None` in the exact mode).
@@ -42,16 +46,26 @@ pub struct TextureInfo {
     pub size: Option<(u32, u32, u32)>,
 }
 
+/// The colour space of texture `key` (scene textures: linear).
+fn space_of(key: &str) -> crate::color_space::ColorSpace {
+    if key.starts_with(crate::document::TextureSource::SCENE) {
+        return crate::color_space::ColorSpace::Linear;
+    }
+    crate::color_space::ColorSpace::of_key(key).1
+}
+
 /// The hardware format for texture `key`.
 pub(super) fn format_for(key: &str, float32_filterable: bool) -> wgpu::TextureFormat {
     use wgpu::TextureFormat as F;
     if key.starts_with(crate::document::TextureSource::SCENE) {
         return F::Rgba16Float;
     }
-    let first = key.split('|').next().unwrap_or(key).to_ascii_lowercase();
+    let (path, space) = crate::color_space::ColorSpace::of_key(key);
+    let first = path.split('|').next().unwrap_or(path).to_ascii_lowercase();
     let ext = first.rsplit('.').next().unwrap_or("");
     match ext {
-        "png" | "jpg" | "jpeg" => F::Rgba8UnormSrgb,
+        "png" | "jpg" | "jpeg" if space.decodes_srgb() => F::Rgba8UnormSrgb,
+        "png" | "jpg" | "jpeg" => F::Rgba8Unorm,
         "exr" if float32_filterable => F::Rgba32Float,
         _ => F::Rgba16Float,
     }
@@ -62,6 +76,7 @@ pub fn format_name(f: wgpu::TextureFormat) -> &'static str {
     use wgpu::TextureFormat as F;
     match f {
         F::Rgba8UnormSrgb => "rgba8unorm-srgb",
+        F::Rgba8Unorm => "rgba8unorm",
         F::Rgba16Float => "rgba16float",
         F::Rgba32Float => "rgba32float",
         _ => "unsupported",
@@ -82,6 +97,7 @@ pub(super) fn infos(module: &ShaderModule, float32_filterable: bool) -> Vec<Text
             } else {
                 TextureSource::File
             },
+            color_space: space_of(name),
             format: format_for(name, float32_filterable),
             binding: module
                 .bindings
@@ -104,6 +120,11 @@ pub fn texel_bytes(image: &Image, format: wgpu::TextureFormat) -> Vec<u8> {
                 let srgb = |c: f32| unorm8(crate::image_io::linear_to_srgb(c.clamp(0.0, 1.0)));
                 [srgb(r), srgb(g), srgb(b), unorm8(a)]
             })
+            .collect(),
+        F::Rgba8Unorm => image
+            .data
+            .iter()
+            .flat_map(|&[r, g, b, a]| [unorm8(r), unorm8(g), unorm8(b), unorm8(a)])
             .collect(),
         F::Rgba32Float => bytemuck::cast_slice(&image.data).to_vec(),
         _ => image

@@ -186,6 +186,11 @@ impl Sky {
 pub struct ImageEnvironment {
     /// The image file, as written in the scene (resolved by the caller).
     pub path: String,
+    /// How its values are read ([`crate::color_space`]); absent, by the file type (linear
+    /// for HDR and EXR, sRGB for PNG and JPEG). An environment is radiance: `data` is
+    /// refused.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub color_space: Option<crate::color_space::ColorSpace>,
     /// Scale on the image's radiance (≥ 0).
     pub intensity: f32,
     /// Rotation of the environment about `+y` in degrees (counter-clockwise seen from above).
@@ -196,6 +201,7 @@ impl Default for ImageEnvironment {
     fn default() -> Self {
         ImageEnvironment {
             path: String::new(),
+            color_space: None,
             intensity: 1.0,
             rotation_deg: 0.0,
         }

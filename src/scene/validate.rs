@@ -77,6 +77,12 @@ impl Scene {
             Environment::Image(img) => {
                 non_negative("environment.image.intensity", img.intensity)?;
                 finite("environment.image.rotation_deg", img.rotation_deg)?;
+                if img.color_space == Some(crate::color_space::ColorSpace::Data) {
+                    return Err(SceneError::invalid(
+                        "environment.image.color_space",
+                        "\"data\" is not colour: an environment is radiance; use \"linear\" or \"srgb\"",
+                    ));
+                }
             }
         }
         finite("time", self.time)?;

@@ -288,6 +288,7 @@ impl<'a> Specialiser<'a> {
                 .into_iter()
                 .collect(),
                 texture: None,
+                color_space: None,
                 position: src.position,
             });
             constants.insert(r, id.clone());

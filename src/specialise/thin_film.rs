@@ -181,6 +181,7 @@ fn incoherent_nodes(id: &str, cos: J, nf: f32, n: f32) -> Vec<NodeDocument> {
             .map(|(k, v)| ((*k).to_owned(), v.clone()))
             .collect::<BTreeMap<_, _>>(),
         texture: None,
+        color_space: None,
         position: None,
     };
     let l = |name: &str, out: &str| json!({ "link": format!("{id}__{name}.{out}") });

@@ -1055,8 +1055,8 @@ impl<'a> Emitter<'a> {
                 .get(&key)
                 .map_or(key.as_str(), |&f| functions[f].1.name.as_str());
             let mut call_args: Vec<String> = Vec::new();
-            if let Some(src) = &n.texture {
-                let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
+            if let Some(key) = n.texture_key() {
+                let slot = self.texture_slots.get(&key).copied().unwrap_or(0);
                 call_args.push(format!("{slot}u"));
             }
             for (j, src) in n.inputs.iter().enumerate() {
@@ -1203,9 +1203,9 @@ impl<'a> Emitter<'a> {
         }
         let n = &self.graph.nodes()[i];
         let mut args: Vec<String> = Vec::new();
-        if let Some(src) = &n.texture {
+        if let Some(key) = n.texture_key() {
             // Texture nodes take their slot in the packed texture set first.
-            let slot = self.texture_slots.get(&src.key()).copied().unwrap_or(0);
+            let slot = self.texture_slots.get(&key).copied().unwrap_or(0);
             args.push(format!("{slot}u"));
         }
         args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
