@@ -98,12 +98,14 @@ fn the_browser_lists_recent_files_folders_and_graphs_and_filters_by_typing() {
     );
     let notes: Vec<String> = b.entries().into_iter().map(|e| e.note).collect();
     assert_eq!(notes[0], "recent_one: Opened before.");
-    assert_eq!(notes[3], "alpha: The first graph.");
-    assert_eq!(notes[4], "beta");
+    assert_eq!(notes[3], "The first graph.", "the name is the file's");
+    assert_eq!(notes[4], "");
     assert_eq!(describe(&work.join("notes.txt")), "");
     // Typing filters by label and note, any case; the parent goes while typing.
     b.query = "ALP".into();
     assert_eq!(labels(&b), [(EntryKind::File, "alpha.json".into())]);
+    b.query = "ALPHA: the".into();
+    assert_eq!(labels(&b), [], "a name that is the file's is not repeated");
     b.query = "second".into();
     assert_eq!(
         labels(&b),
@@ -175,7 +177,7 @@ fn ctrl_o_opens_a_graph_through_keys_alone_and_a_recent_file_through_clicks() {
     h.get_by_label(recent.display().to_string().as_str());
     h.get_by_label("recent_one: Opened before.");
     h.get_by_label("sub/");
-    h.get_by_label("alpha: The first graph.");
+    h.get_by_label("The first graph.");
     assert!(h.query_by_label("notes.txt").is_none());
     // Keys alone: "su", Enter (into sub/), Down past the recent file and `..`, Enter
     // opens gamma.json.

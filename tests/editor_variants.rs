@@ -378,6 +378,17 @@ fn the_drop_down_previews_a_choice_without_changing_the_file() {
     h.run();
     h.get_by_label("▶ bright ← bright.value");
     h.get_by_label("dark (default) ← dark.value");
+    // A second switch, unwired and read by nothing, does not stop the preview (before,
+    // "the graph has errors": the loader checks no further while a switch lacks a choice).
+    h.state_mut()
+        .state
+        .add_switch("tone", [300.0, 300.0])
+        .unwrap();
+    settle(&mut h);
+    assert!(!h.state().state.doc.errors().is_empty());
+    assert_eq!(h.state().state.preview.message(), None);
+    assert!(near(centre(&h), 0.3));
+    h.state_mut().state.undo();
     // Picking the default again renders the first program's pixels.
     h.get(By::new().role(Role::ComboBox).value("bright"))
         .click();

@@ -201,11 +201,11 @@ impl Browser {
         self.recent
             .iter()
             .chain(&self.listing)
-            .cloned()
             .filter(|e| match e.kind {
                 EntryKind::Parent => q.is_empty(),
                 _ => holds(e),
             })
+            .cloned()
             .collect()
     }
 
@@ -276,6 +276,7 @@ impl Browser {
     /// Draws the browser; returns how it was closed, if it was.
     pub fn show(&mut self, ui: &mut Ui) -> Option<Outcome> {
         ui.set_width(560.0);
+        ui.set_max_width(760.0);
         ui.heading("Open a graph");
         ui.horizontal(|ui| {
             ui.label("in");
@@ -343,7 +344,8 @@ impl Browser {
                             clicked = Some(e.clone());
                         }
                         if !e.note.is_empty() {
-                            ui.weak(&e.note);
+                            let note = egui::RichText::new(&e.note).weak();
+                            ui.add(egui::Label::new(note).truncate());
                         }
                     });
                 }
@@ -387,8 +389,9 @@ fn normalise(path: &Path) -> PathBuf {
     out
 }
 
-/// A graph file's `name` and the first sentence of its `doc` ("name: doc."), when it reads
-/// as a graph (a JSON object with `nodes`); empty otherwise.
+/// A graph file's `name` and the first sentence of its `doc` ("name: doc."; the name left
+/// out where it is the file's), when it reads as a graph (a JSON object with `nodes`);
+/// empty otherwise.
 pub fn describe(path: &Path) -> String {
     let small = std::fs::metadata(path).is_ok_and(|m| m.len() <= DESCRIBE_MAX_BYTES);
     let Some(v) = small
@@ -399,7 +402,12 @@ pub fn describe(path: &Path) -> String {
     else {
         return String::new();
     };
-    let name = v.get("name").and_then(|n| n.as_str()).unwrap_or("");
+    let stem = path.file_stem().and_then(|s| s.to_str());
+    let name = v
+        .get("name")
+        .and_then(|n| n.as_str())
+        .filter(|n| Some(*n) != stem)
+        .unwrap_or("");
     let doc = v.get("doc").and_then(|d| d.as_str()).unwrap_or("");
     let sentence = match doc.find(". ") {
         Some(k) => &doc[..=k],

@@ -376,6 +376,8 @@ pub struct Preview {
     jobs: Option<mpsc::Sender<Job>>,
     /// The stand-ins' worker.
     stand_in_jobs: Option<mpsc::Sender<Job>>,
+    /// [`without_unread_switches`] of the document whose structure key it holds.
+    lenient: Option<(Arc<str>, Option<Arc<(GraphDocument, Graph)>>)>,
     done: Arc<Mutex<Vec<Done>>>,
 }
 
@@ -400,6 +402,7 @@ impl Preview {
             gpu_drawn: VecDeque::new(),
             jobs: None,
             stand_in_jobs: None,
+            lenient: None,
             done: Arc::new(Mutex::new(Vec::new())),
         }
     }
@@ -582,7 +585,17 @@ impl Preview {
             return;
         }
         self.collect(ctx);
-        let (doc, graph, registry) = (edited.doc(), edited.graph(), edited.registry());
+        // A switch just added (nothing reads it yet) does not stop the preview while it is
+        // wired: the swatches render the document without it.
+        let lenient = match edited.graph() {
+            Some(_) => None,
+            None => self.lenient_for(edited),
+        };
+        let (doc, graph) = match lenient.as_deref() {
+            Some((d, g)) => (d, Some(g)),
+            None => (edited.doc(), edited.graph()),
+        };
+        let registry = edited.registry();
         // A variant choice picked for the preview is part of what the swatches compile.
         let selection = self.selection(doc);
         let structure: Arc<str> = match selection.is_empty() {
@@ -785,6 +798,19 @@ impl Preview {
                     // Its main job is queued again at the next poll, without a stand-in.
                     Worker::Cpu => self.stand_in_jobs = None,
                 }
+            }
+        }
+    }
+
+    /// [`without_unread_switches`] of `edited`, made once per structure.
+    fn lenient_for(&mut self, edited: &EditorDoc) -> Option<Arc<(GraphDocument, Graph)>> {
+        let key = edited.structure_key();
+        match &self.lenient {
+            Some((k, made)) if Arc::ptr_eq(k, &key) || *k == key => made.clone(),
+            _ => {
+                let made = without_unread_switches(edited).map(Arc::new);
+                self.lenient = Some((key, made.clone()));
+                made
             }
         }
     }
@@ -1178,6 +1204,43 @@ fn cuttable(doc: &EditorDoc, id: &str) -> bool {
             .errors()
             .iter()
             .all(|e| matches!(e, crate::GraphError::BadOutput { .. }))
+}
+
+/// Where `edited`'s only errors are those of `switch` nodes that nothing reads (one just
+/// added, its choices being wired: the loader checks no further while a switch lacks a
+/// choice), the document without those switches and its graph, which the swatches render
+/// meanwhile; else `None`.
+pub fn without_unread_switches(edited: &EditorDoc) -> Option<(GraphDocument, Graph)> {
+    use crate::GraphError::{BadSwitch, BadSwitchInput};
+    use crate::variant::SWITCH;
+    let doc = edited.doc();
+    let read: BTreeSet<&str> = doc
+        .nodes
+        .iter()
+        .flat_map(|n| n.inputs.values().filter_map(super::model::link_of))
+        .chain(doc.outputs.iter().map(|o| o.from.as_str()))
+        .filter_map(|l| l.split_once('.').map(|(id, _)| id))
+        .collect();
+    let unread: BTreeSet<&str> = doc
+        .nodes
+        .iter()
+        .filter(|n| n.node_type == SWITCH && !read.contains(n.id.as_str()))
+        .map(|n| n.id.as_str())
+        .collect();
+    let only_theirs = edited.errors().iter().all(|e| match e {
+        BadSwitch { node, .. } | BadSwitchInput { node, .. } => unread.contains(node.as_str()),
+        _ => false,
+    });
+    if unread.is_empty() || edited.errors().is_empty() || !only_theirs {
+        return None;
+    }
+    let mut d = doc.clone();
+    d.nodes.retain(|n| !unread.contains(n.id.as_str()));
+    for f in &mut d.frames {
+        f.nodes.retain(|n| !unread.contains(n.as_str()));
+    }
+    let graph = build_selected(&d, edited.registry(), edited.files().cloned(), &[]).ok()?;
+    Some((d, graph))
 }
 
 /// The graph of `doc` at the variant choices of `selection` (the others at their
