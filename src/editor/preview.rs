@@ -187,6 +187,10 @@ pub struct Request {
     pub size: u32,
 }
 
+/// A document the swatches render in place of the edited one, and its graph
+/// ([`without_unread_switches`]).
+type Lenient = (GraphDocument, Graph);
+
 /// A slot: `None` is the main swatch, `Some(id)` node `id`'s.
 type Slot = Option<String>;
 
@@ -377,7 +381,7 @@ pub struct Preview {
     /// The stand-ins' worker.
     stand_in_jobs: Option<mpsc::Sender<Job>>,
     /// [`without_unread_switches`] of the document whose structure key it holds.
-    lenient: Option<(Arc<str>, Option<Arc<(GraphDocument, Graph)>>)>,
+    lenient: Option<(Arc<str>, Option<Arc<Lenient>>)>,
     done: Arc<Mutex<Vec<Done>>>,
 }
 
@@ -803,7 +807,7 @@ impl Preview {
     }
 
     /// [`without_unread_switches`] of `edited`, made once per structure.
-    fn lenient_for(&mut self, edited: &EditorDoc) -> Option<Arc<(GraphDocument, Graph)>> {
+    fn lenient_for(&mut self, edited: &EditorDoc) -> Option<Arc<Lenient>> {
         let key = edited.structure_key();
         match &self.lenient {
             Some((k, made)) if Arc::ptr_eq(k, &key) || *k == key => made.clone(),
