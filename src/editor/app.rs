@@ -431,6 +431,20 @@ impl EditorApp {
         }
     }
 
+    /// The canvas position at the middle of the view (where a switch added from the side
+    /// panel goes).
+    fn view_centre(&self) -> [f32; 2] {
+        let screen = match self.canvas_rect.is_positive() {
+            true => self.canvas_rect.center(),
+            false => egui::pos2(200.0, 200.0),
+        };
+        let p = self.to_screen.inverse() * screen;
+        match p.x.is_finite() && p.y.is_finite() {
+            true => [p.x, p.y],
+            false => [0.0, 0.0],
+        }
+    }
+
     /// Opens the add-node search at the pointer.
     pub fn open_search(&mut self, ctx: &egui::Context) {
         self.state.search = Some(SearchState {
@@ -568,10 +582,25 @@ impl EditorApp {
         }
     }
 
-    /// File → Open…: asks for the file.
+    /// File → Open…: the file browser ([`super::browser`]), in the graph's folder (else
+    /// the newest recent file's, else the working folder), the recent files on top.
     fn ask_open(&mut self) {
+        let recent = self
+            .state
+            .recent
+            .as_ref()
+            .map(|r| r.files.clone())
+            .unwrap_or_default();
+        let dir = self
+            .state
+            .path
+            .as_deref()
+            .or(recent.first().map(|p| p.as_path()))
+            .and_then(|p| p.parent())
+            .filter(|d| d.is_dir())
+            .map_or_else(|| std::path::PathBuf::from("."), |d| d.to_owned());
         self.state.dialog = Some(Dialog::Open {
-            path: String::new(),
+            browser: Box::new(super::browser::Browser::graphs(&dir, &recent)),
         });
     }
 
@@ -643,6 +672,10 @@ impl EditorApp {
                     if ui.button("Add node…  (Shift+A)").clicked() {
                         let ctx = ui.ctx().clone();
                         self.open_search(&ctx);
+                    }
+                    if ui.button("Variant sets…").clicked() {
+                        self.state.focus = Some(super::variants::VARIANTS_PANEL.to_owned());
+                        ui.close();
                     }
                 });
                 ui.menu_button("View", |ui| {
@@ -721,6 +754,9 @@ impl EditorApp {
                 super::preview_ui::preview_panel(ui, &mut self.state);
                 let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
                 ui.separator();
+                if super::variants_ui::variants_panel(ui, &mut self.state) {
+                    ui.separator();
+                }
                 super::preview_ui::parameters_panel(ui, &mut self.state, hard);
                 ui.separator();
                 egui::ScrollArea::vertical().show(ui, |ui| self.inspector(ui));
@@ -740,6 +776,15 @@ impl EditorApp {
             super::preview_ui::parameters_editor(ui, &mut self.state);
             return;
         }
+        let centre = self.view_centre();
+        if id == super::variants::VARIANTS_PANEL {
+            super::variants_ui::variants_editor(ui, &mut self.state, centre);
+            return;
+        }
+        if super::variants::is_switch(&self.state.doc, &id) {
+            super::variants_ui::switch_inspector(ui, &mut self.state, &id, centre);
+            return;
+        }
         let doc = &self.state.doc;
         let (Some(n), Some(ports)) = (doc.node(&id), doc.ports(&id)) else {
             ui.weak(format!(
@@ -750,7 +795,7 @@ impl EditorApp {
         let t = match &ports.kind {
             Kind::Type(t) => Some(t.clone()),
             Kind::Group { .. } => None,
-            Kind::Unknown => {
+            Kind::Switch { .. } | Kind::Unknown => {
                 // Of a type the registry lacks.
                 ui.weak(format!("node '{id}': unknown type '{}'", n.node_type));
                 for e in doc.node_errors(&id) {
@@ -1101,7 +1146,15 @@ impl EditorApp {
                     }
                 });
             }
-            Dialog::SaveAs { path } | Dialog::Open { path } => {
+            Dialog::Open { browser } => match browser.show(ui) {
+                Some(super::browser::Outcome::Open(path)) => {
+                    run = Some(Pending::Open(path));
+                    keep = false;
+                }
+                Some(super::browser::Outcome::Cancel) => keep = false,
+                None => {}
+            },
+            Dialog::SaveAs { path } => {
                 ui.label("File:");
                 ui.text_edit_singleline(path);
                 ui.horizontal(|ui| {
@@ -1115,7 +1168,7 @@ impl EditorApp {
                 });
             }
         });
-        // Save as and Open share the path field; tell them apart here.
+        // Save as answers with the path as an Open does; tell them apart here.
         if let (Some(Pending::Open(p)), Dialog::SaveAs { .. }) = (&run, &dialog) {
             let _ = self.state.save_as(p);
             run = None;

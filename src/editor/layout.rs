@@ -141,11 +141,15 @@ pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketTy
 }
 
 /// What a node's header shows after its id: the group a group instance uses, as written
-/// (`blend`, `lib/layers.json#blend`), and `muted` on a muted node (format version 2).
+/// (`blend`, `lib/layers.json#blend`), the variant set a switch follows (`switch fresnel`),
+/// and `muted` on a muted node (format version 2).
 pub fn header_notes(node: &NodeDocument, ports: &Ports) -> Vec<String> {
     let mut notes = Vec::new();
     if let Some(r) = ports.group() {
         notes.push(r.to_owned());
+    }
+    if let Some(v) = ports.switch() {
+        notes.push(format!("switch {v}"));
     }
     if node.muted {
         notes.push("muted".to_owned());

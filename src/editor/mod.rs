@@ -4,13 +4,15 @@
 //!
 //! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
 //! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
-//! parameters), [`ports`] (a node's pins: its
+//! parameters), [`variants`] and [`variants_ui`] (variant sets, their switches and the
+//! previewed choice), [`browser`] (the in-app file browser of File → Open), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
+pub mod browser;
 pub mod code;
 pub mod cull;
 pub mod files;
@@ -29,6 +31,8 @@ pub mod search_ui;
 pub mod stand_in;
 pub mod state;
 pub mod undo;
+pub mod variants;
+pub mod variants_ui;
 pub mod view;
 pub mod viewer;
 pub mod widgets;

@@ -393,6 +393,15 @@ impl EditorDoc {
         if to_node == OUTPUT_NODE {
             return self.connect_output(from_node, from_output, to_input);
         }
+        if super::variants::is_switch(self, to_node) {
+            return super::variants::connect_switch(
+                self,
+                from_node,
+                from_output,
+                to_node,
+                to_input,
+            );
+        }
         let k = self
             .index(to_node)
             .ok_or_else(|| format!("no node '{to_node}'"))?;

@@ -7,7 +7,9 @@
 //! hold them (`g/@out:NAME`, see [`crate::group`]), and are unknown while it has errors.
 //! Where the interface cannot be read (no such group, no file to read it from), and for a
 //! node whose type the registry lacks, the node gets the pins its links use, so that its
-//! wires still show.
+//! wires still show. A `switch` ([`crate::variant`]) gets one input per choice of the variant
+//! set it names, in the set's order, and its output `result`, typed by the first linked
+//! choice's source ([`super::variants`]).
 
 use crate::document::{GraphDocument, GroupDocument, NodeDocument};
 use crate::graph::Graph;
@@ -16,6 +18,7 @@ use crate::node::{InputDecl, NodeType, OutputDecl, PortType, Range};
 use crate::registry::Registry;
 use crate::types::SocketType;
 use crate::value::Value;
+use crate::variant::{SWITCH, SWITCH_OUTPUT};
 use std::borrow::Cow;
 use std::sync::Arc;
 
@@ -106,6 +109,13 @@ pub enum Kind {
         /// could not be read).
         interface: bool,
     },
+    /// A `switch` node: one input per choice of its variant set.
+    Switch {
+        /// The variant set it names (`""` when it names none).
+        variant: String,
+        /// Whether the set is declared (else its pins are its links').
+        declared: bool,
+    },
     /// A node whose type the registry lacks: the pins of its links.
     Unknown,
 }
@@ -156,6 +166,14 @@ impl Ports {
             _ => None,
         }
     }
+
+    /// The variant set a `switch` names, for a switch.
+    pub fn switch(&self) -> Option<&str> {
+        match &self.kind {
+            Kind::Switch { variant, .. } => Some(variant),
+            _ => None,
+        }
+    }
 }
 
 /// The pins of node `node` of `doc`: its registered type's, its group's interface, or
@@ -170,6 +188,9 @@ pub fn ports_of(
 ) -> Ports {
     if node.node_type == GROUP {
         return group_ports(doc, node, graph, files);
+    }
+    if node.node_type == SWITCH {
+        return switch_ports(doc, node, registry, graph);
     }
     match registry.get(&node.node_type) {
         Some(t) => Ports::of_type(t),
@@ -326,5 +347,100 @@ fn link_ports(doc: &GraphDocument, node: &NodeDocument, kind: Kind) -> Ports {
         kind,
         inputs,
         outputs: names.into_iter().map(|n| Port::named(n, None)).collect(),
+    }
+}
+
+/// The pins of `switch` node `node`: one input per choice of its variant set (and one per
+/// other input it writes, which the loader reports), and the output `result`; all of the
+/// type of the first choice whose source's type is known ([`link_type`]).
+fn switch_ports(
+    doc: &GraphDocument,
+    node: &NodeDocument,
+    registry: &Registry,
+    graph: Option<&Graph>,
+) -> Ports {
+    let variant = node.variant.clone().unwrap_or_default();
+    let Some(set) = doc.variants.get(&variant) else {
+        let mut ports = link_ports(
+            doc,
+            node,
+            Kind::Switch {
+                variant,
+                declared: false,
+            },
+        );
+        if ports.outputs.is_empty() {
+            ports.outputs.push(Port::named(SWITCH_OUTPUT, None));
+        }
+        return ports;
+    };
+    let names: Vec<&String> = set
+        .choices
+        .iter()
+        .chain(node.inputs.keys().filter(|k| !set.choices.contains(k)))
+        .collect();
+    let ty = names.iter().find_map(|c| {
+        let link = super::model::link_of(node.inputs.get(c.as_str())?)?;
+        link_type(doc, registry, graph, link, 0)
+    });
+    let doc_of = |c: &str| match set.choices.iter().any(|x| x == c) {
+        true => format!("Passed on when variant '{variant}' is '{c}'."),
+        false => format!("Not a choice of variant '{variant}'."),
+    };
+    Ports {
+        inputs: names
+            .iter()
+            .map(|c| Port {
+                doc: Cow::Owned(doc_of(c)),
+                ..Port::named(c, ty)
+            })
+            .collect(),
+        outputs: vec![Port {
+            doc: Cow::Owned(format!(
+                "The input of the chosen value of variant '{variant}'."
+            )),
+            ..Port::named(SWITCH_OUTPUT, ty)
+        }],
+        kind: Kind::Switch {
+            variant,
+            declared: true,
+        },
+    }
+}
+
+/// The type of the output `link` (`node_id.output`) names in `doc`: the validated graph's,
+/// else (the graph has errors, as while a new switch is wired) the source's declared type
+/// (its `data_type` for a generic one), through switches `depth` deep at most.
+fn link_type(
+    doc: &GraphDocument,
+    registry: &Registry,
+    graph: Option<&Graph>,
+    link: &str,
+    depth: usize,
+) -> Option<SocketType> {
+    let (src, out) = link.split_once('.')?;
+    if let Some(g) = graph
+        && let Some(r) = g.output_ref(link)
+    {
+        return Some(g.output_type(r));
+    }
+    let n = doc.nodes.iter().find(|n| n.id == src)?;
+    match n.node_type.as_str() {
+        GROUP => flat_type(graph, &format!("{src}/@out:{out}")),
+        SWITCH if depth < 16 => {
+            let set = doc.variants.get(n.variant.as_deref()?)?;
+            set.choices.iter().find_map(|c| {
+                let l = super::model::link_of(n.inputs.get(c)?)?;
+                link_type(doc, registry, graph, l, depth + 1)
+            })
+        }
+        t => {
+            let t = registry.get(t)?;
+            let k = t.output_index(out)?;
+            match t.outputs()[k].ty {
+                PortType::Fixed(ty) => Some(ty),
+                PortType::Generic => n.data_type.as_deref().and_then(SocketType::from_name),
+            }
+        }
     }
 }

@@ -187,6 +187,10 @@ pub struct Request {
     pub size: u32,
 }
 
+/// A document the swatches render in place of the edited one, and its graph
+/// ([`without_unread_switches`]).
+type Lenient = (GraphDocument, Graph);
+
 /// A slot: `None` is the main swatch, `Some(id)` node `id`'s.
 type Slot = Option<String>;
 
@@ -353,6 +357,10 @@ pub struct Preview {
     /// The node the main swatch shows instead of the graph's outputs ("Preview this
     /// output", Ctrl+Shift+click): the graph cut there ([`cut_at`]); the file is unchanged.
     main_output: Option<String>,
+    /// The choice each variant set is previewed at, where it is not the file's default
+    /// (the drop-downs of [`super::variants_ui`]): the swatches render the graph at it
+    /// ([`Graph::select`]); the file is unchanged.
+    variants: BTreeMap<String, String>,
     slots: BTreeMap<Slot, SlotState>,
     /// Programs built so far (structure changes), all slots.
     compiles: usize,
@@ -372,6 +380,8 @@ pub struct Preview {
     jobs: Option<mpsc::Sender<Job>>,
     /// The stand-ins' worker.
     stand_in_jobs: Option<mpsc::Sender<Job>>,
+    /// [`without_unread_switches`] of the document whose structure key it holds.
+    lenient: Option<(Arc<str>, Option<Arc<Lenient>>)>,
     done: Arc<Mutex<Vec<Done>>>,
 }
 
@@ -385,6 +395,7 @@ impl Preview {
             clock: Clock::default(),
             nodes: BTreeSet::new(),
             main_output: None,
+            variants: BTreeMap::new(),
             slots: BTreeMap::new(),
             compiles: 0,
             renders: 0,
@@ -395,6 +406,7 @@ impl Preview {
             gpu_drawn: VecDeque::new(),
             jobs: None,
             stand_in_jobs: None,
+            lenient: None,
             done: Arc::new(Mutex::new(Vec::new())),
         }
     }
@@ -450,6 +462,47 @@ impl Preview {
     /// The node the main swatch shows instead of the graph's outputs, if any.
     pub fn main_output(&self) -> Option<&str> {
         self.main_output.as_deref()
+    }
+
+    /// Previews variant set `set` at `choice` (`None`: the file's default again); the
+    /// document is unchanged.
+    pub fn set_variant(&mut self, set: &str, choice: Option<&str>) {
+        match choice {
+            Some(c) => self.variants.insert(set.to_owned(), c.to_owned()),
+            None => self.variants.remove(set),
+        };
+    }
+
+    /// The choice variant set `set` is previewed at, when one was picked.
+    pub fn variant(&self, set: &str) -> Option<&str> {
+        self.variants.get(set).map(String::as_str)
+    }
+
+    /// Follows a renamed variant set.
+    pub fn rename_variant_set(&mut self, old: &str, new: &str) {
+        if let Some(c) = self.variants.remove(old) {
+            self.variants.insert(new.to_owned(), c);
+        }
+    }
+
+    /// Forgets every picked choice (another file was opened).
+    pub fn clear_variants(&mut self) {
+        self.variants.clear();
+    }
+
+    /// The selection the swatches render `doc` at: each picked choice that `doc` declares
+    /// and that is not its set's default (a choice undone away, or the default, selects
+    /// nothing, so that it shares the default's program).
+    pub fn selection(&self, doc: &GraphDocument) -> Vec<(String, String)> {
+        self.variants
+            .iter()
+            .filter(|(set, c)| {
+                doc.variants
+                    .get(*set)
+                    .is_some_and(|v| v.default != **c && v.choices.contains(c))
+            })
+            .map(|(s, c)| (s.clone(), c.clone()))
+            .collect()
     }
 
     /// Whether node `id`'s swatch is on.
@@ -536,8 +589,27 @@ impl Preview {
             return;
         }
         self.collect(ctx);
-        let (doc, graph, registry) = (edited.doc(), edited.graph(), edited.registry());
-        let structure = edited.structure_key();
+        // A switch just added (nothing reads it yet) does not stop the preview while it is
+        // wired: the swatches render the document without it.
+        let lenient = match edited.graph() {
+            Some(_) => None,
+            None => self.lenient_for(edited),
+        };
+        let (doc, graph) = match lenient.as_deref() {
+            Some((d, g)) => (d, Some(g)),
+            None => (edited.doc(), edited.graph()),
+        };
+        let registry = edited.registry();
+        // A variant choice picked for the preview is part of what the swatches compile.
+        let selection = self.selection(doc);
+        let structure: Arc<str> = match selection.is_empty() {
+            true => edited.structure_key(),
+            false => {
+                let picked: Vec<String> =
+                    selection.iter().map(|(s, c)| format!("{s}={c}")).collect();
+                format!("{}\n@variants:{}", edited.structure_key(), picked.join(",")).into()
+            }
+        };
         // The main swatch's structure names the node it is cut at, if any.
         let main_structure: Arc<str> = match &self.main_output {
             Some(id) => format!("{structure}\n@preview:{id}").into(),
@@ -623,8 +695,13 @@ impl Preview {
             }
             if state.program.as_ref().map(|p| &p.0) != Some(&structure) {
                 let built = match (&cut, graph) {
-                    (Some(id), _) => cut_at_in(doc, id, registry, edited.files().cloned()),
-                    (None, Some(graph)) => Ok(graph.clone()),
+                    (Some(id), _) => {
+                        cut_at_selecting(doc, id, registry, edited.files().cloned(), &selection)
+                    }
+                    (None, Some(graph)) if selection.is_empty() => Ok(graph.clone()),
+                    (None, Some(_)) => {
+                        build_selected(doc, registry, edited.files().cloned(), &selection)
+                    }
                     (None, None) => Err("the graph has errors".into()),
                 };
                 self.compiles += 1;
@@ -725,6 +802,19 @@ impl Preview {
                     // Its main job is queued again at the next poll, without a stand-in.
                     Worker::Cpu => self.stand_in_jobs = None,
                 }
+            }
+        }
+    }
+
+    /// [`without_unread_switches`] of `edited`, made once per structure.
+    fn lenient_for(&mut self, edited: &EditorDoc) -> Option<Arc<Lenient>> {
+        let key = edited.structure_key();
+        match &self.lenient {
+            Some((k, made)) if Arc::ptr_eq(k, &key) || *k == key => made.clone(),
+            _ => {
+                let made = without_unread_switches(edited).map(Arc::new);
+                self.lenient = Some((key, made.clone()));
+                made
             }
         }
     }
@@ -1120,6 +1210,78 @@ fn cuttable(doc: &EditorDoc, id: &str) -> bool {
             .all(|e| matches!(e, crate::GraphError::BadOutput { .. }))
 }
 
+/// Where `edited`'s only errors are those of `switch` nodes that nothing reads (one just
+/// added, its choices being wired: the loader checks no further while a switch lacks a
+/// choice), the document without those switches and its graph, which the swatches render
+/// meanwhile; else `None`.
+pub fn without_unread_switches(edited: &EditorDoc) -> Option<(GraphDocument, Graph)> {
+    use crate::GraphError::{BadSwitch, BadSwitchInput};
+    use crate::variant::SWITCH;
+    let doc = edited.doc();
+    let read: BTreeSet<&str> = doc
+        .nodes
+        .iter()
+        .flat_map(|n| n.inputs.values().filter_map(super::model::link_of))
+        .chain(doc.outputs.iter().map(|o| o.from.as_str()))
+        .filter_map(|l| l.split_once('.').map(|(id, _)| id))
+        .collect();
+    let unread: BTreeSet<&str> = doc
+        .nodes
+        .iter()
+        .filter(|n| n.node_type == SWITCH && !read.contains(n.id.as_str()))
+        .map(|n| n.id.as_str())
+        .collect();
+    let only_theirs = edited.errors().iter().all(|e| match e {
+        BadSwitch { node, .. } | BadSwitchInput { node, .. } => unread.contains(node.as_str()),
+        _ => false,
+    });
+    if unread.is_empty() || edited.errors().is_empty() || !only_theirs {
+        return None;
+    }
+    let mut d = doc.clone();
+    d.nodes.retain(|n| !unread.contains(n.id.as_str()));
+    for f in &mut d.frames {
+        f.nodes.retain(|n| !unread.contains(n.as_str()));
+    }
+    let graph = build_selected(&d, edited.registry(), edited.files().cloned(), &[]).ok()?;
+    Some((d, graph))
+}
+
+/// The graph of `doc` at the variant choices of `selection` (the others at their
+/// defaults), groups of other files read through `files`; the loader's messages joined.
+///
+/// A selection is resolved in the document ([`crate::variant::resolve`]: no switches, each
+/// link through one going to the chosen source) rather than by [`Graph::select`]: a selected
+/// graph saves as written, so its [`Graph::structure_key`] is the default's, and the GPU
+/// rasteriser, which keeps each material under that key, drew the default's material for
+/// any choice after the default had been drawn.
+pub fn build_selected(
+    doc: &GraphDocument,
+    registry: &Registry,
+    files: Option<Arc<dyn crate::group::GroupFiles>>,
+    selection: &crate::variant::Selection,
+) -> Result<Graph, String> {
+    let join = |e: Vec<crate::GraphError>| {
+        e.iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let resolved;
+    let doc = match selection.is_empty() {
+        true => doc,
+        false => {
+            resolved = crate::variant::resolve(doc, selection).map_err(join)?;
+            &resolved
+        }
+    };
+    match files {
+        Some(f) => Graph::from_document_in(doc, registry, f),
+        None => Graph::from_document(doc, registry),
+    }
+    .map_err(join)
+}
+
 /// The structure of `doc`: its canonical JSON without node positions and without the
 /// `value` of the `parameter` nodes the graph exposes (those reach the shader as uniforms).
 /// Two documents with the same key compile to the same shaders.
@@ -1146,6 +1308,18 @@ pub fn cut_at_in(
     registry: &Registry,
     files: Option<Arc<dyn crate::group::GroupFiles>>,
 ) -> Result<Graph, String> {
+    cut_at_selecting(doc, id, registry, files, &[])
+}
+
+/// [`cut_at_in`] with the variants of `selection` at the given choices (the others at
+/// their defaults), as the preview's drop-downs pick them.
+pub fn cut_at_selecting(
+    doc: &GraphDocument,
+    id: &str,
+    registry: &Registry,
+    files: Option<Arc<dyn crate::group::GroupFiles>>,
+    selection: &crate::variant::Selection,
+) -> Result<Graph, String> {
     let node = doc
         .nodes
         .iter()
@@ -1166,18 +1340,7 @@ pub fn cut_at_in(
         name: CUT_OUTPUT.into(),
         from: format!("{id}.{output}"),
     }];
-    let build = |d: &GraphDocument| {
-        match &files {
-            Some(f) => Graph::from_document_in(d, registry, f.clone()),
-            None => Graph::from_document(d, registry),
-        }
-        .map_err(|e| {
-            e.iter()
-                .map(|e| e.to_string())
-                .collect::<Vec<_>>()
-                .join("; ")
-        })
-    };
+    let build = |d: &GraphDocument| build_selected(d, registry, files.clone(), selection);
     let graph = build(&cut)?;
     let plan = Plan::compile(
         &graph,

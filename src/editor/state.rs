@@ -34,10 +34,10 @@ pub enum Dialog {
         /// The path being typed.
         path: String,
     },
-    /// Open a file (path typed in).
+    /// Open a file: the file browser ([`super::browser`]).
     Open {
-        /// The path being typed.
-        path: String,
+        /// The browser.
+        browser: Box<super::browser::Browser>,
     },
     /// The file changed on disk while the document has unsaved changes: reload it
     /// (dropping them) or keep the document.
@@ -591,9 +591,13 @@ impl EditorState {
     }
 
     /// Becomes `s`, keeping the session: the preview (whether it is on, CPU only, its
-    /// worker) and the recent files.
+    /// worker; the variant choices it shows only for the same file, reloaded) and the
+    /// recent files.
     fn replace_keeping_session(&mut self, s: EditorState) {
-        let preview = std::mem::take(&mut self.preview);
+        let mut preview = std::mem::take(&mut self.preview);
+        if s.path.is_none() || s.path != self.path {
+            preview.clear_variants();
+        }
         let recent = self.recent.take();
         *self = s;
         self.preview = preview;

@@ -358,6 +358,7 @@ impl Viewer<'_> {
         let fill = match self.doc.ports(id).map(|p| &p.kind) {
             Some(Kind::Type(t)) => category_color(t.category()),
             Some(Kind::Group { .. }) => GROUP_COLOR,
+            Some(Kind::Switch { .. }) => SWITCH_COLOR,
             _ => Color32::from_rgb(0x50, 0x20, 0x20),
         };
         match self.doc.node(id).is_some_and(|n| n.muted) {
@@ -718,6 +719,9 @@ const NOTE_COLOR: Color32 = Color32::from_rgb(0xd8, 0xd8, 0xc0);
 /// The header colour of a group instance (Blender's group node teal).
 pub const GROUP_COLOR: Color32 = Color32::from_rgb(0x3b, 0x59, 0x59);
 
+/// The header of a `switch` node (a variant set's switch): Blender's converter purple.
+pub const SWITCH_COLOR: Color32 = Color32::from_rgb(0x4a, 0x3b, 0x6b);
+
 /// A muted node's header colour: `c` greyed and darkened, as Blender draws muted nodes.
 fn muted(c: Color32) -> Color32 {
     let grey = |x: u8| ((u16::from(x) + 2 * 0x38) / 3) as u8;
@@ -925,7 +929,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
                     ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
                 });
             label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
-            if pin.remotes.is_empty() {
+            // A switch's choices take links only (the loader refuses a literal there).
+            if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
                 let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
                 let ty = ty.unwrap_or(crate::types::SocketType::Float);
                 let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
@@ -1083,6 +1088,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
                 if !doc.is_empty() {
                     ui.label(doc);
                 }
+            }
+            Some(Kind::Switch { variant, .. }) => {
+                ui.strong(format!("switch  (variant set '{variant}')"));
+                ui.label("Passes on the input of the set's chosen value; one input per choice.");
             }
             _ => {}
         }
