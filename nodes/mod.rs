@@ -1,6 +1,7 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod blender_noise;
 pub mod bubble;
 pub mod ibl;
 pub mod image;
@@ -35,6 +36,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(ibl::all());
     v.extend(bubble::all());
     v.extend(texture::all());
+    v.extend(blender_noise::all());
     v.extend(image::all());
     v.extend(sunshine::all());
     v.extend(toon_water::all());
