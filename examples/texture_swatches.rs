@@ -10,27 +10,61 @@ use std::path::Path;
 /// Pixels a side.
 const SIZE: u32 = 256;
 
-/// (file name, node inputs as JSON, output shown).
-const SWATCHES: &[(&str, &str, &str)] = &[
-    ("noise_fbm", r#"{ "scale": 5.0, "detail": 2.0 }"#, "fac"),
+/// (file name, node type, node inputs as JSON, output shown).
+const SWATCHES: &[(&str, &str, &str, &str)] = &[
+    (
+        "noise_fbm",
+        "noise_texture",
+        r#"{ "scale": 5.0, "detail": 2.0 }"#,
+        "fac",
+    ),
     (
         "noise_fbm_detail8",
+        "noise_texture",
         r#"{ "scale": 5.0, "detail": 8.0, "roughness": 0.6 }"#,
         "fac",
     ),
     (
         "noise_color_distorted",
+        "noise_texture",
         r#"{ "scale": 3.0, "detail": 4.0, "distortion": 1.5 }"#,
         "color",
     ),
     (
         "noise_ridged",
+        "noise_texture",
         r#"{ "scale": 3.0, "detail": 6.0, "type": "ridged_multifractal", "offset": 1.0, "gain": 2.0 }"#,
         "fac",
     ),
     (
         "noise_hetero",
+        "noise_texture",
         r#"{ "scale": 3.0, "detail": 5.0, "type": "hetero_terrain", "offset": 0.5 }"#,
+        "fac",
+    ),
+    (
+        "white_noise",
+        "white_noise",
+        r#"{ "dimensions": "2d" }"#,
+        "color",
+    ),
+    (
+        "gradient_easing",
+        "gradient_texture",
+        r#"{ "type": "easing" }"#,
+        "fac",
+    ),
+    // Centred: the radial gradient turns about the origin.
+    (
+        "gradient_radial",
+        "gradient_texture",
+        r#"{ "type": "radial", "centred": true }"#,
+        "fac",
+    ),
+    (
+        "gradient_quadratic_sphere",
+        "gradient_texture",
+        r#"{ "type": "quadratic_sphere", "centred": true }"#,
         "fac",
     ),
 ];
@@ -47,13 +81,18 @@ fn main() {
         .collect();
     let mut batch = SampleBatch::new(n);
     batch.set_values(Attribute::Position, &points).unwrap();
-    for (name, inputs, output) in SWATCHES {
+    for (name, node_type, inputs, output) in SWATCHES {
         let mut inputs: serde_json::Value = serde_json::from_str(inputs).unwrap();
-        inputs["vector"] = serde_json::json!({ "link": "geo.position" });
+        // "centred": positions over [−1, 1]² instead of [0, 1]² (Blender's Map Range, `remap`).
+        let centred = inputs.as_object_mut().unwrap().remove("centred").is_some();
+        inputs["vector"] =
+            serde_json::json!({ "link": if centred { "c.result" } else { "geo.position" } });
         let text = serde_json::json!({
             "version": 1, "name": name,
             "nodes": [ { "id": "geo", "type": "geometry" },
-                       { "id": "n", "type": "noise_texture", "inputs": inputs } ],
+                       { "id": "c", "type": "remap", "data_type": "vec3",
+                         "inputs": { "x": { "link": "geo.position" }, "to_min": [-1.0, -1.0, 0.0], "to_max": [1.0, 1.0, 1.0] } },
+                       { "id": "n", "type": node_type, "inputs": inputs } ],
             "outputs": [ { "name": "out", "from": format!("n.{output}") } ]
         });
         let graph = Graph::from_json(&text.to_string(), Registry::builtin()).unwrap();

@@ -17,7 +17,7 @@
 //!
 //! Every point is a vec4 with the node's dimension count: the unused components are carried
 //! but never read. The CPU and WGSL versions run the same float operations in the same
-//! order; tests/blender_noise.rs holds both to values Blender 4.2 itself computed.
+//! order; tests/blender_textures.rs holds both to values Blender 4.2 itself computed.
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::value::Value;
@@ -112,6 +112,93 @@ pub fn jenkins(k: &[u32]) -> u32 {
         _ => {}
     }
     jenkins_final(a, b, c)
+}
+
+/// A hash in [0, 1]: `h / (2³² − 1)` in f32 (Blender's `uint_to_float_01`).
+#[inline]
+fn unit(h: u32) -> f32 {
+    h as f32 / 4_294_967_295.0f32
+}
+
+/// Blender's `hash_floatN_to_float`: the lookup3 hash of the floats' bits, in [0, 1].
+pub fn hash_floats(k: &[f32]) -> f32 {
+    let bits: Vec<u32> = k.iter().map(|x| x.to_bits()).collect();
+    unit(jenkins(&bits))
+}
+
+/// Blender's `hash_floatN_to_float3`: three decorrelated hashes of `k` in [0, 1].
+pub fn hash_floats3(k: &[f32]) -> Vec3 {
+    let h = hash_floats;
+    match *k {
+        [x] => Vec3::new(h(&[x]), h(&[x, 1.0]), h(&[x, 2.0])),
+        [x, y] => Vec3::new(h(&[x, y]), h(&[x, y, 1.0]), h(&[x, y, 2.0])),
+        [x, y, z] => Vec3::new(h(&[x, y, z]), h(&[x, y, z, 1.0]), h(&[x, y, z, 2.0])),
+        [x, y, z, w] => Vec3::new(h(&[x, y, z, w]), h(&[z, x, w, y]), h(&[w, z, y, x])),
+        _ => Vec3::ZERO,
+    }
+}
+
+/// Blender's White Noise Texture: `(value, color)`, hashes of the coordinates' bits.
+///
+/// Source: Blender 4.x `svm_node_tex_white_noise` (`hash_floatN_to_float`,
+/// `hash_floatN_to_float3`); 1D reads w, 2D vector.xy, 3D vector, 4D vector and w.
+pub fn white_noise(vector: Vec3, w: f32, dimensions: i32) -> (f32, Vec3) {
+    let k: Vec<f32> = match dimensions.clamp(0, 3) {
+        0 => vec![w],
+        1 => vec![vector.x, vector.y],
+        2 => vec![vector.x, vector.y, vector.z],
+        _ => vec![vector.x, vector.y, vector.z, w],
+    };
+    (hash_floats(&k), hash_floats3(&k))
+}
+
+/// The choices of the gradient texture's `type` (Blender's order).
+pub const GRADIENTS: &[&str] = &[
+    "linear",
+    "quadratic",
+    "easing",
+    "diagonal",
+    "spherical",
+    "quadratic_sphere",
+    "radial",
+];
+
+/// Blender's Gradient Texture: `(color, fac)`, fac the gradient of `kind` at `p` clamped to
+/// [0, 1] and color its grey.
+///
+/// Source: Blender 4.x `svm_gradient` (linear x; quadratic max(x, 0)²; easing 3t² − 2t³ of
+/// x in [0, 1]; diagonal (x + y)/2; spherical max(0.999999 − |p|, 0), squared for quadratic
+/// sphere; radial atan2(y, x)/2π + ½, with `atan2(0, 0) = 0` as the `atan2` node), then
+/// clamped to [0, 1] as the shader node clamps it (`svm_node_tex_gradient`; Blender's
+/// geometry-nodes version leaves it unclamped).
+pub fn gradient_texture(p: Vec3, kind: i32) -> (Vec3, f32) {
+    let (x, y) = (p.x, p.y);
+    let f = match GRADIENTS
+        .get(kind.max(0) as usize)
+        .copied()
+        .unwrap_or("linear")
+    {
+        "quadratic" => {
+            let r = x.max(0.0);
+            r * r
+        }
+        "easing" => {
+            let r = x.clamp(0.0, 1.0);
+            let t = r * r;
+            3.0 * t - 2.0 * t * r
+        }
+        "diagonal" => (x + y) * 0.5,
+        "radial" => crate::nodes::math_scalar::atan2_total(y, x) / std::f32::consts::TAU + 0.5,
+        // Blender biases 1 to 0.999999 so that a unit vector gives exactly 0.
+        "spherical" => (0.999_999 - p.length()).max(0.0),
+        "quadratic_sphere" => {
+            let r = (0.999_999 - p.length()).max(0.0);
+            r * r
+        }
+        _ => x,
+    };
+    let f = f.clamp(0.0, 1.0);
+    (Vec3::splat(f), f)
 }
 
 /// The offset Blender adds to the coordinates for seed `seed`, component `k`:
@@ -692,6 +779,72 @@ fn mg_bn_offset(seed: f32, dims: i32) -> vec4<f32> {
 }
 "#;
 
+/// WGSL of Blender's float hashes (`hash_floatN_to_float`).
+const HASH_FLOATS_WGSL: &str = r#"
+fn mg_bn_unit(h: u32) -> f32 {
+    return f32(h) / 4294967295.0;
+}
+fn mg_bn_hf1(x: f32) -> f32 {
+    return mg_bn_unit(mg_bn_hash1(bitcast<u32>(x)));
+}
+fn mg_bn_hf2(x: f32, y: f32) -> f32 {
+    return mg_bn_unit(mg_bn_hash2(bitcast<u32>(x), bitcast<u32>(y)));
+}
+fn mg_bn_hf3(x: f32, y: f32, z: f32) -> f32 {
+    return mg_bn_unit(mg_bn_hash3(bitcast<u32>(x), bitcast<u32>(y), bitcast<u32>(z)));
+}
+fn mg_bn_hf4(x: f32, y: f32, z: f32, w: f32) -> f32 {
+    return mg_bn_unit(mg_bn_hash4(bitcast<u32>(x), bitcast<u32>(y), bitcast<u32>(z), bitcast<u32>(w)));
+}
+"#;
+
+/// WGSL of [`white_noise`].
+const WHITE_NOISE_WGSL: &str = r#"
+fn $fn(v: vec3<f32>, w: f32, dimensions: i32) -> $out {
+    let d = clamp(dimensions, 0, 3);
+    if (d == 0) {
+        let c = vec3<f32>(mg_bn_hf1(w), mg_bn_hf2(w, 1.0), mg_bn_hf2(w, 2.0));
+        return $out(c.x, c);
+    }
+    if (d == 1) {
+        let c = vec3<f32>(mg_bn_hf2(v.x, v.y), mg_bn_hf3(v.x, v.y, 1.0), mg_bn_hf3(v.x, v.y, 2.0));
+        return $out(c.x, c);
+    }
+    if (d == 2) {
+        let c = vec3<f32>(mg_bn_hf3(v.x, v.y, v.z), mg_bn_hf4(v.x, v.y, v.z, 1.0), mg_bn_hf4(v.x, v.y, v.z, 2.0));
+        return $out(c.x, c);
+    }
+    let c = vec3<f32>(mg_bn_hf4(v.x, v.y, v.z, w), mg_bn_hf4(v.z, v.x, w, v.y), mg_bn_hf4(w, v.z, v.y, v.x));
+    return $out(c.x, c);
+}
+"#;
+
+/// WGSL of [`gradient_texture`].
+const GRADIENT_TEXTURE_WGSL: &str = r#"
+fn $fn(p: vec3<f32>, kind: i32) -> $out {
+    let x = p.x;
+    let y = p.y;
+    var f = x;
+    if (kind == 1) {
+        let r = max(x, 0.0);
+        f = r * r;
+    } else if (kind == 2) {
+        let r = clamp(x, 0.0, 1.0);
+        let t = r * r;
+        f = 3.0 * t - 2.0 * t * r;
+    } else if (kind == 3) {
+        f = (x + y) * 0.5;
+    } else if (kind == 6) {
+        f = mg_math_atan2(y, x) / 6.2831855 + 0.5;
+    } else if (kind == 4 || kind == 5) {
+        let r = max(0.999999 - sqrt(x * x + y * y + p.z * p.z), 0.0);
+        f = select(r, r * r, kind == 5);
+    }
+    let c = clamp(f, 0.0, 1.0);
+    return $out(vec3<f32>(c), c);
+}
+"#;
+
 /// WGSL of [`noise_texture`].
 const NOISE_TEXTURE_WGSL: &str = r#"
 fn $fn(vector: vec3<f32>, w0: f32, scale: f32, detail0: f32, roughness0: f32, lacunarity: f32, offset: f32, gain: f32, distortion: f32, dimensions: i32, kind0: i32, normalize: bool) -> $out {
@@ -736,7 +889,7 @@ pub fn all() -> Vec<NodeType> {
              noise.h): Perlin noise (Perlin 2002, OSL's gradients and range factors) on a lookup3 \
              hash (Jenkins 2006) of the cell, coordinates wrapped every 100 000; Musgrave's \
              fractals (Texturing & Modeling, ch. 16); distortion and colour by seeded offsets. \
-             Matches Blender 4.2 within 1e-4 (tests/blender_noise.rs, values from Blender \
+             Matches Blender 4.2 within 1e-4 (tests/blender_textures.rs, values from Blender \
              itself). Deviations: none in the definition; `vector` defaults to the origin \
              (Blender: the object's generated coordinates), so link geometry.position or uv. \
              Limits: the hard ranges are narrower than Blender's fields (roughness ≤ 1, \
@@ -823,6 +976,51 @@ pub fn all() -> Vec<NodeType> {
         )
         .hard_case("4D, strong distortion", &[("dimensions", i(3)), ("w", f(-3.3)), ("distortion", f(1.0e4))])
         .compute(noise_texture),
+        NodeType::new(
+            "white_noise",
+            Category::Texture,
+            "Blender's White Noise Texture: a random value and colour per input value, no interpolation.",
+        )
+        .source(
+            "Blender 4.x White Noise Texture (svm_node_tex_white_noise): the lookup3 hash (Jenkins \
+             2006) of the coordinates' float bits, as hash_floatN_to_float and \
+             hash_floatN_to_float3. Equal inputs give equal outputs bit for bit on the CPU and \
+             the GPU; −0 and +0 differ (their bits do), as in Blender.",
+        )
+        .input(In::vec3("vector", [0.0, 0.0, 0.0]).range(-10.0, 10.0).doc("The coordinates hashed (2D: x, y)."))
+        .input(In::float("w", 0.0).range(-10.0, 10.0).doc("The fourth coordinate (1D: the only one)."))
+        .input(In::choice("dimensions", DIMENSIONS, 2).doc("1D (w), 2D (vector.xy), 3D (vector) or 4D (vector, w)."))
+        .output(Out::float("value").doc("A random value in [0, 1]."))
+        .output(Out::color("color").doc("Three random values in [0, 1] (the first is value)."))
+        .wgsl(WHITE_NOISE_WGSL)
+        .wgsl_uses(&[BLENDER_NOISE_WGSL, HASH_FLOATS_WGSL])
+        .hard_case("zero", &[("vector", v3([0.0, 0.0, 0.0]))])
+        .hard_case("negative zero", &[("vector", v3([-0.0, 0.0, -0.0]))])
+        .hard_case("4D, huge", &[("vector", v3([3.0e38, -3.0e38, 1.0e-38])), ("w", f(-1.0e30)), ("dimensions", i(3))])
+        .compute(white_noise),
+        NodeType::new(
+            "gradient_texture",
+            Category::Texture,
+            "Blender's Gradient Texture: linear, quadratic, easing, diagonal, spherical, quadratic sphere or radial ramps of the coordinates.",
+        )
+        .source(
+            "Blender 4.x Gradient Texture (svm_gradient): linear x; quadratic max(x, 0)²; easing \
+             3t² − 2t³ of x clamped to [0, 1]; diagonal (x + y)/2; spherical max(1 − |p|, 0) and \
+             its square (quadratic sphere; 0.999999 as Blender, so that a unit vector gives 0); \
+             radial atan2(y, x)/2π + ½ (atan2(0, 0) = 0, the atan2 node's rule); the result \
+             clamped to [0, 1] as Blender's shader node clamps it.",
+        )
+        .input(In::vec3("vector", [0.0, 0.0, 0.0]).range(-2.0, 2.0).doc("The coordinates (link geometry.position or uv)."))
+        .input(In::choice("type", GRADIENTS, 0).doc("The gradient's shape."))
+        .output(Out::color("color").doc("fac as a grey."))
+        .output(Out::float("fac").doc("The gradient in [0, 1]."))
+        .wgsl(GRADIENT_TEXTURE_WGSL)
+        .wgsl_uses(&[crate::nodes::math_scalar::ATAN2_HELPER_WGSL])
+        .hard_case("radial at the origin", &[("type", i(6))])
+        .hard_case("radial on the negative x axis", &[("vector", v3([-1.0, 0.0, 0.0])), ("type", i(6))])
+        .hard_case("spherical at the origin", &[("type", i(4))])
+        .hard_case("huge", &[("vector", v3([3.0e38, 3.0e38, 3.0e38])), ("type", i(5))])
+        .compute(gradient_texture),
     ]
 }
 

@@ -139,3 +139,114 @@ fn noise_texture_matches_blender_on_the_gpu() {
     }
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }
+
+/// The reference points of tests/blender/textures.json.
+fn texture_points(r: &J) -> Vec<[f32; 3]> {
+    r["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| [0, 1, 2].map(|k| p[k].as_f64().unwrap() as f32))
+        .collect()
+}
+
+/// Evaluates `node` (its inputs, `vector` linked to the position; 1D: `w` to its x) on the
+/// CPU, and on the GPU where there is one, at `points`: `[value, color]` per backend.
+fn eval_node(
+    node: serde_json::Value,
+    value: &str,
+    points: &[[f32; 3]],
+) -> Vec<matgraph::OutputBatch> {
+    let text = serde_json::json!({
+        "version": 1, "name": "t",
+        "nodes": [ { "id": "geo", "type": "geometry" },
+                   { "id": "p", "type": "split", "inputs": { "v": { "link": "geo.position" } } },
+                   node ],
+        "outputs": [ { "name": "value", "from": format!("n.{value}") }, { "name": "color", "from": "n.color" } ]
+    });
+    let graph = Graph::from_json(&text.to_string(), Registry::builtin())
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
+    let params = plan.default_parameters();
+    let mut outs = vec![plan.execute(&batch(points), &params).unwrap()];
+    if let Some(ctx) = common::gpu_context("blender_textures (GPU half)") {
+        let gpu = matgraph::gpu::GpuPlan::compile(ctx, &graph, &PlanOptions::default()).unwrap();
+        outs.push(gpu.execute(&batch(points), &params).unwrap());
+    }
+    outs
+}
+
+/// The worst |ours − Blender| over value and colour.
+fn worst_of(out: &matgraph::OutputBatch, value: &J, color: &J, n: usize) -> (f64, String) {
+    let mut w = (0.0f64, String::new());
+    for i in 0..n {
+        let mut check = |got: f32, want: f64, what: &str| {
+            let d = (got as f64 - want).abs();
+            if d > w.0 || d.is_nan() {
+                w = (d, format!("point {i} {what}: ours {got} Blender {want}"));
+            }
+        };
+        check(out.planar(0)[i], value[i].as_f64().unwrap(), "value");
+        for k in 0..3 {
+            check(
+                out.planar(1)[k * n + i],
+                color[i][k].as_f64().unwrap(),
+                &format!("color[{k}]"),
+            );
+        }
+    }
+    w
+}
+
+#[test]
+fn white_noise_and_gradient_texture_match_blender() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/blender/textures.json");
+    let r: J = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(r["blender"], "4.2.0");
+    let points = texture_points(&r);
+    let n = points.len();
+    let mut failed = Vec::new();
+    for c in r["white_noise"].as_array().unwrap() {
+        let dims = c["dimensions"].as_str().unwrap().to_ascii_lowercase();
+        let w = if dims == "1d" {
+            serde_json::json!({ "link": "p.x" })
+        } else {
+            c["w"].clone()
+        };
+        let node = serde_json::json!({ "id": "n", "type": "white_noise", "inputs": {
+            "vector": { "link": "geo.position" }, "w": w, "dimensions": dims } });
+        for (b, out) in eval_node(node, "value", &points).iter().enumerate() {
+            // A hash: bit-identical inputs give the same value; the only rounding is the
+            // u32 → f32 conversion of the hash.
+            let (d, at) = worst_of(out, &c["value"], &c["color"], n);
+            if !(d <= 1e-7) {
+                failed.push(format!("white noise {dims} (backend {b}): {d:.1e} ({at})"));
+            }
+        }
+    }
+    for c in r["gradient"].as_array().unwrap() {
+        let kind = c["type"].as_str().unwrap().to_ascii_lowercase();
+        let node = serde_json::json!({ "id": "n", "type": "gradient_texture", "inputs": {
+            "vector": { "link": "geo.position" }, "type": kind } });
+        // Blender's shader node clamps to [0, 1] (svm_node_tex_gradient); the geometry-nodes
+        // version that computed these values does not: clamp them here.
+        let fac = clamp_json(&c["fac"]);
+        let color = clamp_json(&c["color"]);
+        for (b, out) in eval_node(node, "fac", &points).iter().enumerate() {
+            let (d, at) = worst_of(out, &fac, &color, n);
+            if !(d <= BOUND) {
+                failed.push(format!("gradient {kind} (backend {b}): {d:.1e} ({at})"));
+            }
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// A JSON number (or array of numbers) clamped to [0, 1].
+fn clamp_json(v: &J) -> J {
+    match v {
+        J::Array(a) => J::Array(a.iter().map(clamp_json).collect()),
+        J::Number(x) => serde_json::json!(x.as_f64().unwrap().clamp(0.0, 1.0)),
+        other => other.clone(),
+    }
+}
