@@ -6,13 +6,17 @@
 //! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
 //! parameters), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
-//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
+//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors) and [`fields`] (their fixed-size number fields),
+//! [`selection`] and [`select_ui`] (the selection, by node id, and picking, box-selecting
+//! and moving nodes with the pointer), [`clipboard`] (copy and paste as graph JSON),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
+pub mod clipboard;
 pub mod code;
 pub mod cull;
+pub mod fields;
 pub mod files;
 pub mod handoff;
 pub mod headless;
@@ -26,6 +30,8 @@ pub mod preview;
 pub mod preview_ui;
 pub mod search;
 pub mod search_ui;
+pub mod select_ui;
+pub mod selection;
 pub mod stand_in;
 pub mod state;
 pub mod undo;

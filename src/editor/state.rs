@@ -74,6 +74,8 @@ pub struct EditorState {
     pub snarl: Snarl<NodeView>,
     /// The node shown in the side panel (the selection, or a problem clicked).
     pub focus: Option<String>,
+    /// The selected nodes, by id ([`super::selection`]).
+    pub selection: super::selection::Selection,
     /// The open question, if any.
     pub dialog: Option<Dialog>,
     /// The add-node search, when open.
@@ -117,6 +119,7 @@ impl EditorState {
             status: None,
             snarl,
             focus: None,
+            selection: Default::default(),
             dialog: None,
             search: None,
             code: Default::default(),
