@@ -561,8 +561,9 @@ fn width(h: &mut H, id: &str) -> f32 {
 }
 
 /// A value written on an input leaves its node's size as it was: number fields keep their
-/// size and print what fits. Before, `12345.678` in a vector field widened dot by 3
-/// points, and the node could reach its neighbour.
+/// size and print what fits, and a node's red outline (an error) takes its frame's margin.
+/// Before, these values widened dot by 58 points (`12345.678`, `-0.174`, `1e7`), the
+/// constant by 22, and the error fresnel_dielectric by 2.
 #[test]
 fn a_value_written_keeps_the_node_size() {
     let mut s = untitled();
@@ -596,32 +597,51 @@ fn a_value_written_keeps_the_node_size() {
     for v in ["1.2e4", "-0.17", "1.0e7", "1.235", "-9.9e4"] {
         assert!(values.iter().any(|x| x == v), "{v} in {values:?}");
     }
+    // Out of the hard range [0.001, 100]: an error, and a red outline, 2 points wide. (The
+    // graph no longer validates, so dot's T is not inferred: its editors change.)
+    let st = &mut h.state_mut().state;
+    st.set_input("fresnel_dielectric", "ior_outside", json!(1000.0), None);
+    assert!(!st.doc.node_errors("fresnel_dielectric").is_empty());
+    assert_eq!(width(&mut h, "fresnel_dielectric"), before[1]);
 }
 
 /// Typing a long number in a field leaves its node's size as it was (the text overflows
-/// the field while typed); the value is written on Enter. Before, the field, and its
-/// node, grew with the text typed.
+/// the field while typed, shown in full); the value is written on Enter. Before, the
+/// field, and its node, grew with the text typed (dot by 53 points).
 #[test]
 fn typing_in_a_field_keeps_the_node_size() {
     let mut s = untitled();
     s.add_node("dot", [0.0, 0.0]).unwrap();
+    s.add_node("fresnel_dielectric", [0.0, 200.0]).unwrap();
     let mut h = harness(s);
-    let before = width(&mut h, "dot");
-    let to_screen = h.state().to_screen();
-    let field = h
-        .query_all(by().role(egui::accesskit::Role::SpinButton))
-        .next()
-        .expect("a number field")
-        .rect();
-    // Accessibility rects of canvas widgets are in canvas points.
-    let at = to_screen * field.center();
-    click(&mut h, at, Modifiers::NONE);
-    h.event(Event::Text("123456789.125".into()));
-    h.run();
-    assert_eq!(width(&mut h, "dot"), before, "while typing");
-    h.key_press(Key::Enter);
-    h.run();
-    assert_eq!(width(&mut h, "dot"), before, "once written");
+    for id in ["dot", "fresnel_dielectric"] {
+        let before = width(&mut h, id);
+        let node = frame(&h, id);
+        let to_screen = h.state().to_screen();
+        // Accessibility rects of canvas widgets are in canvas points.
+        let field = h
+            .query_all(by().role(egui::accesskit::Role::SpinButton))
+            .map(|n| n.rect())
+            .find(|r| node.contains_rect(*r))
+            .expect("a number field");
+        click(&mut h, to_screen * field.center(), Modifiers::NONE);
+        h.event(Event::Text("123456789.125".into()));
+        h.run();
+        assert_eq!(width(&mut h, id), before, "{id} while typing");
+        let shown: Vec<String> = h
+            .query_all(by().role(egui::accesskit::Role::SpinButton))
+            .filter(|n| node.contains(n.rect().left_center()))
+            .filter_map(|n| n.value())
+            .collect();
+        // A slider writes the value as it is typed (its f32, 123456792, is shown).
+        assert!(
+            shown.iter().any(|t| t.starts_with("1234567")),
+            "{id}: the number typed in full: {shown:?}"
+        );
+        h.key_press(Key::Enter);
+        h.run();
+        assert_eq!(width(&mut h, id), before, "{id} once written");
+    }
     let a = h
         .state()
         .state

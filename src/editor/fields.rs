@@ -85,7 +85,8 @@ impl Fit {
         let editing = ctx
             .memory(|m| m.focused())
             .and_then(|id| ctx.read_response(id))
-            .is_some_and(|r| slot.contains(r.rect.center()));
+            // A field typed in grows to the right from where it starts, in the slot.
+            .is_some_and(|r| slot.contains(r.rect.left_center()));
         Fit {
             font: ui.style().drag_value_text_style.resolve(ui.style()),
             style: ui.style().clone(),

@@ -201,8 +201,13 @@ impl SelectTool {
             } else {
                 self.follow(state, at);
                 if primary_pressed {
+                    let n = self.grab.as_ref().map_or(0, |g| g.ids.len());
                     self.end_grab(state);
                     self.swallow = Some(PointerButton::Primary);
+                    state.status = Some(format!(
+                        "placed {n} cop{}",
+                        if n == 1 { "y" } else { "ies" }
+                    ));
                 }
             }
             return false;

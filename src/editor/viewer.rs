@@ -746,6 +746,20 @@ fn frame_stroke(errors: bool) -> Stroke {
     }
 }
 
+/// `frame` with the outline `stroke`, its inner margin narrowed by as much as the outline
+/// is wider than `frame`'s: egui counts a frame's outline in its size, and a node that
+/// turned red after an edit (an error) grew by 2 points.
+fn outlined(frame: egui::Frame, stroke: Stroke) -> egui::Frame {
+    let d = (stroke.width - frame.stroke.width).round() as i8;
+    let m = frame.inner_margin;
+    frame.stroke(stroke).inner_margin(egui::Margin {
+        left: m.left.saturating_sub(d),
+        right: m.right.saturating_sub(d),
+        top: m.top.saturating_sub(d),
+        bottom: m.bottom.saturating_sub(d),
+    })
+}
+
 /// `frame` as the overview draws it: without shadow, outline or rounding.
 fn plain(frame: egui::Frame) -> egui::Frame {
     frame
@@ -885,11 +899,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let default = self.frame_for_zoom(default);
         if snarl[node].id == OUTPUT_NODE {
             let notes = (0..self.doc.doc().outputs.len()).any(|k| note(self.doc, k).is_some());
-            return default.stroke(frame_stroke(notes));
+            return outlined(default.stroke(Stroke::NONE), frame_stroke(notes));
         }
         match self.errors_of(&snarl[node].id).is_empty() {
             true => default,
-            false => default.stroke(frame_stroke(true)),
+            false => outlined(default, frame_stroke(true)),
         }
     }
 
