@@ -53,6 +53,9 @@ fn material() -> EditorState {
     s.set_input("fresnel_schlick", "f0", json!([0.9, 0.6, 0.2]), None);
     s.history.clear();
     s.status = None;
+    // A node added is selected; these tests pick their own.
+    assert_eq!(s.selection.ids(), ["add"]);
+    s.selection.clear();
     s
 }
 
@@ -241,22 +244,28 @@ fn a_left_drag_on_empty_canvas_box_selects_without_panning() {
     );
 }
 
-/// Panning stays a drag away: the middle button (and the scroll wheel).
+/// Panning stays a drag away: the middle or the right button (and the scroll wheel).
 #[test]
-fn a_middle_drag_pans_the_view() {
-    let mut h = harness(material());
-    let view = h.state().to_screen();
-    let from = screen(&h, egui::pos2(300.0, 250.0));
-    drag(
-        &mut h,
-        from,
-        from + egui::vec2(80.0, 40.0),
-        PointerButton::Middle,
-        Modifiers::NONE,
-    );
-    let moved = h.state().to_screen().translation - view.translation;
-    assert!((moved - egui::vec2(80.0, 40.0)).length() < 0.5, "{moved:?}");
-    assert!(selected(&h).is_empty());
+fn a_middle_or_right_drag_pans_the_view() {
+    for button in [PointerButton::Middle, PointerButton::Secondary] {
+        let mut h = harness(material());
+        let view = h.state().to_screen();
+        let from = screen(&h, egui::pos2(300.0, 250.0));
+        drag(
+            &mut h,
+            from,
+            from + egui::vec2(80.0, 40.0),
+            button,
+            Modifiers::NONE,
+        );
+        let moved = h.state().to_screen().translation - view.translation;
+        assert!(
+            (moved - egui::vec2(80.0, 40.0)).length() < 0.5,
+            "{button:?}: {moved:?}"
+        );
+        assert!(selected(&h).is_empty());
+        assert!(h.state().state.search.is_none(), "{button:?}: no menu");
+    }
 }
 
 /// Dragging a selected node moves the whole selection, one undo step; dragging a node not

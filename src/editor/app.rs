@@ -322,7 +322,10 @@ impl EditorApp {
         // Clicks, a box selection, the selection dragged along, copies following the
         // pointer: before the moves below are written.
         let drawn = self.drawn_ids();
-        let rects = self.node_rects(&drawn);
+        let rects = match self.select.boxing() {
+            true => self.node_rects(&drawn),
+            false => Vec::new(),
+        };
         let view = View {
             drawn: &drawn,
             rects: &rects,

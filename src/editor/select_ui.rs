@@ -331,7 +331,8 @@ impl SelectTool {
 pub struct View<'a> {
     /// The nodes egui-snarl drew in full (id, frame in canvas points), the topmost last.
     pub drawn: &'a [(String, Rect)],
-    /// Every node on the canvas (id, rect in canvas points) for a box selection.
+    /// Every node on the canvas (id, rect in canvas points) while a box selection is drawn
+    /// (its end selects among them).
     pub rects: &'a [(String, Rect)],
     /// The canvas → screen transform of the frame.
     pub to_screen: TSTransform,

@@ -404,6 +404,8 @@ impl EditorState {
         let id = self.edit(None, true, |d| d.add_node(type_name, pos))?;
         self.status = Some(format!("added '{id}'"));
         self.focus = Some(id.clone());
+        // A node added is selected (only it), as in Blender.
+        self.selection.set([id.clone()]);
         Ok(id)
     }
 
