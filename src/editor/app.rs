@@ -7,6 +7,7 @@ use super::handoff;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD};
 use super::ports::Kind;
 use super::search_ui::{self, SearchState};
+use super::select_ui::{SelectTool, View};
 use super::stand_in::Looks;
 use super::state::{Dialog, EditorState, Pending};
 use super::viewer::{Action, Places, Swatch, Viewer};
@@ -41,9 +42,8 @@ pub struct EditorApp {
     nodes_measured: bool,
     /// How egui-snarl last drew each node in the overview ([`super::stand_in`]).
     looks: Looks,
-    /// Whether a box selection (a drag begun with Shift) is under way: egui-snarl selects
-    /// among the nodes it is handed, so it is handed all of them until the drag ends.
-    boxing: bool,
+    /// Picking, box-selecting and moving nodes with the pointer ([`super::select_ui`]).
+    select: SelectTool,
     /// Whether egui-snarl may be handed only some nodes ([`super::handoff`]).
     hand_off: bool,
     /// How many nodes the last frame handed egui-snarl (`None`: all).
@@ -65,7 +65,7 @@ impl EditorApp {
             revealed: 0,
             nodes_measured: false,
             looks: Looks::default(),
-            boxing: false,
+            select: SelectTool::default(),
             hand_off: true,
             handed: None,
             drawn: Vec::new(),
@@ -146,7 +146,8 @@ impl EditorApp {
         self.apply(actions, &ctx);
         self.search_window(&ctx);
         self.dialogs(&ctx);
-        if !ctx.input(|i| i.pointer.any_down()) {
+        // Copies following the pointer (Shift+D) stay one undo step until dropped.
+        if !ctx.input(|i| i.pointer.any_down()) && !self.select.grabbing() {
             self.state.history.seal();
         }
         let now = ctx.input(|i| i.time);
@@ -184,6 +185,8 @@ impl EditorApp {
     }
 
     fn canvas(&mut self, ui: &mut Ui) -> Vec<Action> {
+        self.prune_selection();
+        let held = self.select.held_view(ui.ctx(), self.to_screen);
         let n = self.state.doc.doc().nodes.len();
         if self.revealed < n {
             // egui-snarl's node frame is the window frame (its shadow).
@@ -197,6 +200,7 @@ impl EditorApp {
         }
         let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
         let shader_error = self.shader_problem();
+        let selected = self.selected_node_ids();
         let mut viewer = Viewer {
             doc: &self.state.doc,
             hard,
@@ -215,6 +219,8 @@ impl EditorApp {
             looks: &mut self.looks,
             wires: None,
             drawn: Vec::new(),
+            selection: &self.state.selection,
+            restore: None,
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = Self::fit(self.nodes_rect, self.canvas_rect);
@@ -226,33 +232,22 @@ impl EditorApp {
         } else {
             None
         };
-        viewer.set_transform = fit;
+        // While a box is drawn the view holds (egui-snarl's background drag pans).
+        viewer.set_transform = fit.or(held);
         let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
             ..SnarlStyle::new()
         };
         // egui-snarl is handed only the nodes it must lay out (super::handoff), except
-        // while the file's nodes are revealed, the view is fitted, a box selection or a
-        // menu is open (a node's menu belongs to its frame).
-        let (shift, pressed, released) = ui.input(|i| {
-            (
-                i.modifiers.shift,
-                i.pointer.primary_pressed(),
-                i.pointer.primary_released(),
-            )
-        });
-        self.boxing |= shift && pressed;
+        // while the file's nodes are revealed, the view is fitted or a menu is open (a
+        // node's menu belongs to its frame). The selection, the box selection included,
+        // is the editor's (super::select_ui): it needs no node of egui-snarl's.
         let whole = !self.hand_off
             || n > self.revealed
             || !self.nodes_measured
             || fit.is_some()
-            || shift
-            || self.boxing
             || egui::Popup::is_any_open(ui.ctx());
-        if released {
-            self.boxing = false;
-        }
         let mut part = None;
         if !whole {
             let (zoom, scroll, pointer) = ui.input(|i| {
@@ -263,7 +258,6 @@ impl EditorApp {
                 )
             });
             let next = handoff::predict(self.to_screen, zoom, scroll, pointer, canvas);
-            let selected = egui_snarl::ui::get_selected_nodes(canvas_id(), ui.ctx());
             let mut keep = viewer.hand_over(next, &selected, pointer);
             // The Material Output node is no document node: in the overview it is handed
             // over only while selected (egui-snarl drawing it beside the stand-ins made
@@ -283,10 +277,18 @@ impl EditorApp {
             .as_ref()
             .map(|keep| keep.iter().filter(|&&k| k).count());
         let shown = part.as_mut().unwrap_or(&mut self.state.snarl);
-        SnarlWidget::new()
-            .id(canvas_id())
-            .style(style)
-            .show(shown, &mut viewer, ui);
+        // egui-snarl must not see Shift (its own selection stays empty, super::select_ui);
+        // the viewer gives it back before any node is drawn.
+        let hidden = SelectTool::hide_shift(ui.ctx());
+        viewer.restore = hidden.map(|m| (ui.ctx().clone(), m));
+        let background =
+            SnarlWidget::new()
+                .id(canvas_id())
+                .style(style)
+                .show(shown, &mut viewer, ui);
+        if let Some((ctx, m)) = viewer.restore.take() {
+            SelectTool::restore(&ctx, Some(m));
+        }
         if let Some(wires) = viewer.wires {
             wires.sort(ui.ctx());
         }
@@ -317,6 +319,27 @@ impl EditorApp {
             self.to_screen = t;
         }
         let mut actions = viewer.actions;
+        // Clicks, a box selection, the selection dragged along, copies following the
+        // pointer: before the moves below are written.
+        let drawn = self.drawn_ids();
+        let rects = match self.select.boxing() {
+            true => self.node_rects(&drawn),
+            false => Vec::new(),
+        };
+        let view = View {
+            drawn: &drawn,
+            rects: &rects,
+            to_screen: self.to_screen,
+            canvas,
+        };
+        if self
+            .select
+            .after_canvas(ui.ctx(), &mut self.state, &background, view)
+        {
+            // A right-click cancelled copies following the pointer: not a menu.
+            actions.retain(|a| !matches!(a, Action::Search { .. }));
+            egui::Popup::close_all(ui.ctx());
+        }
         // Node moves (a drag is one undo step). While a file's nodes are being revealed the
         // laid-out places of nodes without a position wait for the last one: written one
         // per frame, each revalidated the document and regenerated its code (a 300-node
@@ -372,11 +395,64 @@ impl EditorApp {
                 actions.push(Action::PreviewOutput((!again).then_some(id)));
             }
         }
-        let selected = self.selected(ui.ctx());
-        if selected.len() == 1 && ui.input(|i| i.pointer.any_pressed()) {
-            actions.push(Action::Focus(selected[0].clone()));
-        }
         actions
+    }
+
+    /// Forgets selected nodes that are gone (deleted, undone away, another file opened).
+    fn prune_selection(&mut self) {
+        let s = &mut self.state;
+        let output = s.doc.shows_output_node();
+        let doc = &s.doc;
+        s.selection
+            .retain(|id| doc.index(id).is_some() || (id == OUTPUT_NODE && output));
+    }
+
+    /// The selected nodes' ids on the canvas.
+    fn selected_node_ids(&self) -> Vec<NodeId> {
+        let snarl = &self.state.snarl;
+        self.state
+            .selection
+            .ids()
+            .iter()
+            .filter_map(|id| match id == OUTPUT_NODE {
+                true => super::view::output_node_id(snarl),
+                false => self.state.doc.index(id).map(NodeId),
+            })
+            .collect()
+    }
+
+    /// The nodes egui-snarl drew in full in the last frame, by id, in drawing order.
+    fn drawn_ids(&self) -> Vec<(String, egui::Rect)> {
+        let nodes = &self.state.doc.doc().nodes;
+        self.drawn
+            .iter()
+            .filter_map(|&(k, r)| match k {
+                super::viewer::OUTPUT_DRAWN => Some((OUTPUT_NODE.to_owned(), r)),
+                k => Some((nodes.get(k)?.id.clone(), r)),
+            })
+            .collect()
+    }
+
+    /// Every node on the canvas with its rect (canvas points) for a box selection: as
+    /// drawn this frame, else its estimated size at its place (the Material Output node
+    /// only where drawn).
+    fn node_rects(&self, drawn: &[(String, egui::Rect)]) -> Vec<(String, egui::Rect)> {
+        let doc = &self.state.doc;
+        let sizes = doc.node_sizes();
+        self.state
+            .snarl
+            .nodes_pos_ids()
+            .filter_map(|(_, pos, v)| {
+                if let Some((_, r)) = drawn.iter().find(|(id, _)| *id == v.id) {
+                    return Some((v.id.clone(), *r));
+                }
+                let (w, h) = *sizes.get(doc.index(&v.id)?)?;
+                Some((
+                    v.id.clone(),
+                    egui::Rect::from_min_size(pos, egui::vec2(w, h)),
+                ))
+            })
+            .collect()
     }
 
     /// The swatches of the nodes whose preview is on.
@@ -405,12 +481,14 @@ impl EditorApp {
             .map(|e| (generated.error_node.clone(), e.clone()))
     }
 
-    /// The ids of the nodes selected on the canvas.
-    pub fn selected(&self, ctx: &egui::Context) -> Vec<String> {
-        egui_snarl::ui::get_selected_nodes(canvas_id(), ctx)
-            .into_iter()
-            .filter_map(|NodeId(k)| self.state.doc.doc().nodes.get(k).map(|n| n.id.clone()))
-            .collect()
+    /// The ids of the nodes selected on the canvas (the active one last).
+    pub fn selected(&self, _ctx: &egui::Context) -> Vec<String> {
+        self.state.selection.ids().to_vec()
+    }
+
+    /// Whether copies made by Shift+D follow the pointer (until a click drops them).
+    pub fn grabbing(&self) -> bool {
+        self.select.grabbing()
     }
 
     /// The canvas position under the pointer (or the canvas centre).
@@ -503,10 +581,7 @@ impl EditorApp {
                     let _ = s.list_parameter_node(&id);
                 }
                 Action::Duplicate(ids) => {
-                    let copies = s.duplicate(&ids);
-                    if let Some(c) = copies.first() {
-                        s.focus = Some(c.clone());
-                    }
+                    self.select.duplicate(s, &ids);
                 }
             }
         }
@@ -546,11 +621,19 @@ impl EditorApp {
         if typing || self.state.dialog.is_some() || self.state.search.is_some() {
             return;
         }
+        if undo || redo {
+            // Copies following the pointer are dropped first: their step ends.
+            self.select.end_grab(&mut self.state);
+        }
         if undo {
             self.state.undo();
         }
         if redo {
             self.state.redo();
+        }
+        if self.select.grabbing() {
+            // Escape and clicks end it (super::select_ui); nothing else meanwhile.
+            return;
         }
         let (search, delete, duplicate) = ctx.input_mut(|i| {
             (
@@ -568,10 +651,39 @@ impl EditorApp {
         }
         let selected = self.selected(ctx);
         if delete {
-            self.state.remove_nodes(&selected);
+            // The Material Output node is the graph's outputs: Delete leaves it.
+            let ids: Vec<String> = selected
+                .iter()
+                .filter(|i| *i != OUTPUT_NODE)
+                .cloned()
+                .collect();
+            self.state.remove_nodes(&ids);
+            self.prune_selection();
         }
         if duplicate {
-            self.state.duplicate(&selected);
+            self.select.duplicate(&mut self.state, &selected);
+        }
+        self.clipboard(ctx);
+    }
+
+    /// Ctrl+C copies the selected nodes as graph JSON to the system clipboard, Ctrl+V
+    /// pastes graph JSON from it at the pointer ([`super::clipboard`]); egui delivers them
+    /// as events, which a text field being typed in takes instead.
+    fn clipboard(&mut self, ctx: &egui::Context) {
+        let (copy, paste) = ctx.input(|i| {
+            let copy = i.events.iter().any(|e| matches!(e, egui::Event::Copy));
+            let paste = i.events.iter().find_map(|e| match e {
+                egui::Event::Paste(text) => Some(text.clone()),
+                _ => None,
+            });
+            (copy, paste)
+        });
+        if copy && let Some(text) = self.state.copy_selection() {
+            ctx.copy_text(text);
+        }
+        if let Some(text) = paste {
+            let at = self.pointer_canvas_pos(ctx);
+            let _ = self.state.paste_text(&text, at);
         }
     }
 
@@ -669,6 +781,22 @@ impl EditorApp {
                     {
                         self.state.redo();
                     }
+                    ui.separator();
+                    if ui.button("Copy  (Ctrl+C)").clicked()
+                        && let Some(text) = self.state.copy_selection()
+                    {
+                        ui.ctx().copy_text(text);
+                    }
+                    if ui.button("Paste  (Ctrl+V)").clicked() {
+                        // The clipboard's text comes back as a paste event.
+                        ui.ctx()
+                            .send_viewport_cmd(egui::ViewportCommand::RequestPaste);
+                    }
+                    if ui.button("Duplicate  (Shift+D)").clicked() {
+                        let ids = self.state.selection.ids().to_vec();
+                        self.select.duplicate(&mut self.state, &ids);
+                    }
+                    ui.separator();
                     if ui.button("Add node…  (Shift+A)").clicked() {
                         let ctx = ui.ctx().clone();
                         self.open_search(&ctx);

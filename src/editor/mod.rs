@@ -7,14 +7,18 @@
 //! parameters), [`variants`] and [`variants_ui`] (variant sets, their switches and the
 //! previewed choice), [`browser`] (the in-app file browser of File → Open), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
-//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
+//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors) and [`fields`] (their fixed-size number fields),
+//! [`selection`] and [`select_ui`] (the selection, by node id, and picking, box-selecting
+//! and moving nodes with the pointer), [`clipboard`] (copy and paste as graph JSON),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
 pub mod browser;
+pub mod clipboard;
 pub mod code;
 pub mod cull;
+pub mod fields;
 pub mod files;
 pub mod handoff;
 pub mod headless;
@@ -28,6 +32,8 @@ pub mod preview;
 pub mod preview_ui;
 pub mod search;
 pub mod search_ui;
+pub mod select_ui;
+pub mod selection;
 pub mod stand_in;
 pub mod state;
 pub mod undo;

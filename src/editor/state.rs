@@ -74,6 +74,8 @@ pub struct EditorState {
     pub snarl: Snarl<NodeView>,
     /// The node shown in the side panel (the selection, or a problem clicked).
     pub focus: Option<String>,
+    /// The selected nodes, by id ([`super::selection`]).
+    pub selection: super::selection::Selection,
     /// The open question, if any.
     pub dialog: Option<Dialog>,
     /// The add-node search, when open.
@@ -117,6 +119,7 @@ impl EditorState {
             status: None,
             snarl,
             focus: None,
+            selection: Default::default(),
             dialog: None,
             search: None,
             code: Default::default(),
@@ -401,6 +404,8 @@ impl EditorState {
         let id = self.edit(None, true, |d| d.add_node(type_name, pos))?;
         self.status = Some(format!("added '{id}'"));
         self.focus = Some(id.clone());
+        // A node added is selected (only it), as in Blender.
+        self.selection.set([id.clone()]);
         Ok(id)
     }
 

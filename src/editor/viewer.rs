@@ -151,9 +151,23 @@ pub struct Viewer<'a> {
     /// Where egui-snarl paints its wires this frame, to be sorted ([`super::wire_order`]).
     pub wires: Option<super::wire_order::Slot>,
     /// The frame of each node egui-snarl drew in full this frame (document index, canvas
-    /// rect).
+    /// rect; [`OUTPUT_DRAWN`] for the Material Output node), in drawing order.
     pub drawn: Vec<(usize, egui::Rect)>,
+    /// The selected nodes, outlined ([`super::selection`]).
+    pub selection: &'a super::selection::Selection,
+    /// The modifiers to give egui back once it has read them ([`super::select_ui`] hides
+    /// Shift from it), with the context they belong to.
+    pub restore: Option<(egui::Context, egui::Modifiers)>,
 }
+
+/// The index [`Viewer::drawn`] gives the Material Output node (no document node).
+pub const OUTPUT_DRAWN: usize = usize::MAX;
+
+/// The outline of a selected node (Blender's orange).
+pub const SELECTED_COLOR: Color32 = Color32::from_rgb(0xed, 0x57, 0x00);
+
+/// The outline of the active node (the last selected; Blender's white).
+pub const ACTIVE_COLOR: Color32 = Color32::from_rgb(0xff, 0xff, 0xff);
 
 /// The canvas' nodes (egui-snarl id, document index, position) and wires (document
 /// indices) at the start of a frame.
@@ -736,6 +750,20 @@ fn frame_stroke(errors: bool) -> Stroke {
     }
 }
 
+/// `frame` with the outline `stroke`, its inner margin narrowed by as much as the outline
+/// is wider than `frame`'s: egui counts a frame's outline in its size, and a node that
+/// turned red after an edit (an error) grew by 2 points.
+fn outlined(frame: egui::Frame, stroke: Stroke) -> egui::Frame {
+    let d = (stroke.width - frame.stroke.width).round() as i8;
+    let m = frame.inner_margin;
+    frame.stroke(stroke).inner_margin(egui::Margin {
+        left: m.left.saturating_sub(d),
+        right: m.right.saturating_sub(d),
+        top: m.top.saturating_sub(d),
+        bottom: m.bottom.saturating_sub(d),
+    })
+}
+
 /// `frame` as the overview draws it: without shadow, outline or rounding.
 fn plain(frame: egui::Frame) -> egui::Frame {
     frame
@@ -875,11 +903,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let default = self.frame_for_zoom(default);
         if snarl[node].id == OUTPUT_NODE {
             let notes = (0..self.doc.doc().outputs.len()).any(|k| note(self.doc, k).is_some());
-            return default.stroke(frame_stroke(notes));
+            return outlined(default.stroke(Stroke::NONE), frame_stroke(notes));
         }
         match self.errors_of(&snarl[node].id).is_empty() {
             true => default,
-            false => default.stroke(frame_stroke(true)),
+            false => outlined(default, frame_stroke(true)),
         }
     }
 
@@ -1030,6 +1058,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         to_global: &mut egui::emath::TSTransform,
         _: &mut Snarl<NodeView>,
     ) {
+        if let Some((ctx, modifiers)) = self.restore.take() {
+            super::select_ui::SelectTool::restore(&ctx, Some(modifiers));
+        }
         if let Some(t) = self.set_transform.take() {
             *to_global = t;
         }
@@ -1037,18 +1068,38 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         self.culling = self.cull(*to_global);
     }
 
-    /// Records how the overview drew the node (its stand-in's look, [`super::stand_in`]).
+    /// Outlines the node when it is selected, and records how the overview drew it (its
+    /// stand-in's look, [`super::stand_in`]).
     fn final_node_rect(
         &mut self,
         node: NodeId,
         rect: egui::Rect,
-        _: &mut Ui,
+        ui: &mut Ui,
         snarl: &mut Snarl<NodeView>,
     ) {
         let Some(info) = snarl.get_node_info(node) else {
             return;
         };
-        let Some(k) = self.doc.index(&info.value.id) else {
+        let id = &info.value.id;
+        if self.selection.contains(id) {
+            let color = match self.selection.active() == Some(id.as_str()) {
+                true => ACTIVE_COLOR,
+                false => SELECTED_COLOR,
+            };
+            let zoom = self.to_screen.map_or(1.0, |t| t.scaling);
+            let width = 2.0f32.max(1.0 / zoom);
+            ui.painter().rect_stroke(
+                rect.expand(width),
+                ui.visuals().window_corner_radius,
+                Stroke::new(width, color),
+                egui::StrokeKind::Inside,
+            );
+        }
+        if id == OUTPUT_NODE {
+            self.drawn.push((OUTPUT_DRAWN, rect));
+            return;
+        }
+        let Some(k) = self.doc.index(id) else {
             return;
         };
         if self.culling.is_culled(k) {

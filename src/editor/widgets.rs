@@ -1,6 +1,7 @@
 //! In-place editors of unlinked input values: sliders over the soft range (the hard range
 //! while Ctrl is held), linear colours shown in sRGB, vectors, enum combos and toggles.
 
+use super::fields;
 use super::ports::Port;
 use crate::node::Range;
 use crate::types::SocketType;
@@ -46,10 +47,12 @@ pub fn value_editor(
     lanes: &[f32],
     hard: bool,
 ) -> Option<serde_json::Value> {
-    value_editor_response(ui, decl, ty, lanes, hard).0
+    editor(ui, decl, ty, lanes, hard, false).0
 }
 
-/// [`value_editor`], with the editor's response (its widgets' union), for a context menu.
+/// [`value_editor`] on a node of the canvas, with the editor's response (its widgets'
+/// union), for a context menu: its number fields keep their size whatever they show or
+/// are typed ([`super::fields`]), so that the node keeps its size.
 pub fn value_editor_response(
     ui: &mut Ui,
     decl: &Port,
@@ -57,17 +60,35 @@ pub fn value_editor_response(
     lanes: &[f32],
     hard: bool,
 ) -> (Option<serde_json::Value>, egui::Response) {
+    editor(ui, decl, ty, lanes, hard, true)
+}
+
+/// The value editor; `fixed`: number fields of a fixed size ([`super::fields`]).
+fn editor(
+    ui: &mut Ui,
+    decl: &Port,
+    ty: SocketType,
+    lanes: &[f32],
+    hard: bool,
+    fixed: bool,
+) -> (Option<serde_json::Value>, egui::Response) {
     let lane = |k: usize| lanes.get(k).copied().unwrap_or(0.0);
     match ty {
         SocketType::Float => {
             let mut v = lane(0);
             let r = match slider_range(decl, hard) {
-                Some(r) => ui.add(
+                Some(r) => fields::slider(
+                    ui,
+                    fixed,
                     egui::Slider::new(&mut v, r.min..=r.max)
                         .clamping(SliderClamping::Never)
                         .max_decimals(4),
                 ),
-                _ => ui.add(egui::DragValue::new(&mut v).speed(0.01).max_decimals(4)),
+                _ => fields::drag_value(
+                    ui,
+                    fixed,
+                    egui::DragValue::new(&mut v).speed(0.01).max_decimals(4),
+                ),
             };
             ((r.changed() && v.is_finite()).then(|| json_f32(v)), r)
         }
@@ -78,7 +99,8 @@ pub fn value_editor_response(
                 .horizontal(|ui| {
                     let mut all: Option<egui::Response> = None;
                     for x in &mut v {
-                        let r = ui.add(egui::DragValue::new(x).speed(0.01).max_decimals(3));
+                        let dv = egui::DragValue::new(x).speed(0.01).max_decimals(3);
+                        let r = fields::drag_value(ui, fixed, dv);
                         changed |= r.changed();
                         all = Some(match all {
                             Some(a) => a | r,
@@ -122,7 +144,7 @@ pub fn value_editor_response(
         }
         SocketType::Int => {
             let mut v = lane(0) as i32;
-            let r = ui.add(egui::DragValue::new(&mut v));
+            let r = fields::drag_value(ui, fixed, egui::DragValue::new(&mut v));
             (r.changed().then(|| serde_json::Value::from(v)), r)
         }
         SocketType::Bool => {
