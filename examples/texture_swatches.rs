@@ -67,6 +67,30 @@ const SWATCHES: &[(&str, &str, &str, &str)] = &[
         r#"{ "type": "quadratic_sphere", "centred": true }"#,
         "fac",
     ),
+    (
+        "voronoi_f1_color",
+        "voronoi_texture",
+        r#"{ "scale": 6.0 }"#,
+        "color",
+    ),
+    (
+        "voronoi_f1_distance",
+        "voronoi_texture",
+        r#"{ "scale": 6.0 }"#,
+        "distance",
+    ),
+    (
+        "voronoi_edge",
+        "voronoi_texture",
+        r#"{ "scale": 6.0, "feature": "distance_to_edge" }"#,
+        "distance",
+    ),
+    (
+        "voronoi_smooth_octaves",
+        "voronoi_texture",
+        r#"{ "scale": 4.0, "feature": "smooth_f1", "detail": 3.0, "normalize": true }"#,
+        "distance",
+    ),
 ];
 
 fn main() {

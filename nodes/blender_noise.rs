@@ -780,7 +780,7 @@ fn mg_bn_offset(seed: f32, dims: i32) -> vec4<f32> {
 "#;
 
 /// WGSL of Blender's float hashes (`hash_floatN_to_float`).
-const HASH_FLOATS_WGSL: &str = r#"
+pub const HASH_FLOATS_WGSL: &str = r#"
 fn mg_bn_unit(h: u32) -> f32 {
     return f32(h) / 4294967295.0;
 }

@@ -2,6 +2,7 @@
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
 pub mod blender_noise;
+pub mod blender_voronoi;
 pub mod bubble;
 pub mod ibl;
 pub mod image;
@@ -42,5 +43,6 @@ pub fn all() -> Vec<NodeType> {
     // Last: the parity suites seed each type's random samples by its index in this list,
     // so types added at the end leave every earlier type's samples where they were.
     v.extend(blender_noise::all());
+    v.extend(blender_voronoi::all());
     v
 }

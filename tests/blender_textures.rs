@@ -250,3 +250,91 @@ fn clamp_json(v: &J) -> J {
         other => other.clone(),
     }
 }
+
+#[test]
+fn voronoi_texture_matches_blender() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/blender/voronoi_texture.json"
+    );
+    let r: J = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(r["blender"], "4.2.0");
+    let points = texture_points(&r);
+    let n = points.len();
+    let mut report = Vec::new();
+    let mut failed = Vec::new();
+    for c in r["cases"].as_array().unwrap() {
+        let dims = c["dimensions"].as_str().unwrap().to_ascii_lowercase();
+        let lower = |k: &str| c[k].as_str().unwrap().to_ascii_lowercase();
+        let w = if dims == "1d" {
+            serde_json::json!({ "link": "p.x" })
+        } else {
+            c["w"].clone()
+        };
+        let text = serde_json::json!({
+            "version": 1, "name": "v",
+            "nodes": [ { "id": "geo", "type": "geometry" },
+                       { "id": "p", "type": "split", "inputs": { "v": { "link": "geo.position" } } },
+                       { "id": "n", "type": "voronoi_texture", "inputs": {
+                           "vector": { "link": "geo.position" }, "w": w, "scale": c["scale"],
+                           "detail": c["detail"], "roughness": c["roughness"],
+                           "lacunarity": c["lacunarity"], "smoothness": c["smoothness"],
+                           "exponent": c["exponent"], "randomness": c["randomness"],
+                           "dimensions": dims, "feature": lower("feature"),
+                           "metric": lower("metric"), "normalize": c["normalize"] } } ],
+            "outputs": [ { "name": "distance", "from": "n.distance" }, { "name": "color", "from": "n.color" },
+                         { "name": "position", "from": "n.position" }, { "name": "w", "from": "n.w" },
+                         { "name": "radius", "from": "n.radius" } ]
+        });
+        let graph = Graph::from_json(&text.to_string(), Registry::builtin())
+            .unwrap_or_else(|e| panic!("{e:?}"));
+        let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
+        let params = plan.default_parameters();
+        let mut outs = vec![plan.execute(&batch(&points), &params).unwrap()];
+        if let Some(ctx) = common::gpu_context("voronoi_texture_matches_blender (GPU half)") {
+            let gpu =
+                matgraph::gpu::GpuPlan::compile(ctx, &graph, &PlanOptions::default()).unwrap();
+            outs.push(gpu.execute(&batch(&points), &params).unwrap());
+        }
+        for (b, out) in outs.iter().enumerate() {
+            let mut w = (0.0f64, String::new());
+            for i in 0..n {
+                let mut check = |got: f32, want: f64, what: &str| {
+                    let d = (got as f64 - want).abs();
+                    if d > w.0 || d.is_nan() {
+                        w = (d, format!("point {i} {what}: ours {got} Blender {want}"));
+                    }
+                };
+                check(
+                    out.planar(0)[i],
+                    c["distance"][i].as_f64().unwrap(),
+                    "distance",
+                );
+                check(out.planar(3)[i], c["w_out"][i].as_f64().unwrap(), "w");
+                check(out.planar(4)[i], c["radius"][i].as_f64().unwrap(), "radius");
+                for k in 0..3 {
+                    check(
+                        out.planar(1)[k * n + i],
+                        c["color"][i][k].as_f64().unwrap(),
+                        "color",
+                    );
+                    check(
+                        out.planar(2)[k * n + i],
+                        c["position"][i][k].as_f64().unwrap(),
+                        "position",
+                    );
+                }
+            }
+            let line = format!(
+                "{} {} {} detail {} (backend {b}): max |Δ| {:.1e} ({})",
+                c["dimensions"], c["feature"], c["metric"], c["detail"], w.0, w.1
+            );
+            if w.0 > BOUND || w.0.is_nan() {
+                failed.push(line.clone());
+            }
+            report.push(line);
+        }
+    }
+    println!("{}", report.join("\n"));
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
