@@ -511,7 +511,10 @@ fn a_graph_opens_at_1x_and_a_new_graph_resets_the_zoom() {
     h.key_press_modifiers(Modifiers::COMMAND, Key::N);
     settle(&mut h);
     assert!(h.state().state.doc.doc().nodes.is_empty());
-    assert_eq!(h.state().to_screen().scaling, 1.0);
+    let t = h.state().to_screen();
+    assert_eq!(t.scaling, 1.0);
+    // The canvas' origin (where the first node and the Material Output node go) in view.
+    assert!(canvas.contains(t * egui::Pos2::ZERO), "{t:?}");
 }
 
 /// A value typed into an input's editor that is not a number, or outside the input's hard

@@ -83,7 +83,7 @@ impl EditorApp {
             handed: None,
             drawn: Vec::new(),
             fit_whole: false,
-            zoom_to: Some(first_view::OPEN_ZOOM),
+            zoom_to: None,
             crisp: Default::default(),
             rejections: Default::default(),
         }
@@ -134,12 +134,14 @@ impl EditorApp {
         self.fit_whole = true;
     }
 
-    /// Frames the nodes as a graph opens ([`first_view::opening`]: 1×), on the next
-    /// frame; with no nodes, zooms to 1× about the canvas' centre.
+    /// Frames the nodes as a graph opens ([`first_view::opening`]: 1×; an empty graph at
+    /// 1× about the canvas' origin), once they are drawn and measured.
     fn frame_opening(&mut self) {
         self.frame_in = 1;
         self.fit_whole = false;
-        self.zoom_to = Some(first_view::OPEN_ZOOM);
+        // The last frame measured the graph before.
+        self.nodes_measured = false;
+        self.node_rects.clear();
     }
 
     /// Zooms the canvas to `scaling` about the centre of its rect (View → Zoom 1:1), on
@@ -247,7 +249,14 @@ impl EditorApp {
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = match self.fit_whole {
                 true => Self::fit(self.nodes_rect, self.canvas_rect),
-                false => first_view::opening(&self.node_rects, self.canvas_rect),
+                // An empty graph: 1×, the canvas' origin (where the Material Output node
+                // goes) in the middle.
+                false => first_view::opening(&self.node_rects, self.canvas_rect).or_else(|| {
+                    (self.canvas_rect.is_positive()).then(|| {
+                        let origin = egui::Pos2::ZERO;
+                        first_view::centred(origin, self.canvas_rect, first_view::OPEN_ZOOM)
+                    })
+                }),
             };
             if fit.is_none() {
                 // Nothing to frame.
@@ -257,8 +266,7 @@ impl EditorApp {
         } else {
             None
         };
-        // A zoom asked for (View → Zoom 1:1; File → New on an empty graph), once no fit
-        // is pending.
+        // A zoom asked for (View → Zoom 1:1), once no fit is pending.
         let zoom = match (fit, self.frame_in, self.canvas_rect.is_positive()) {
             (None, 0, true) => self
                 .zoom_to
