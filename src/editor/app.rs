@@ -15,7 +15,8 @@ use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
 
-/// The size a node is assumed to have when the view is fitted to the nodes.
+/// A typical node's size on the canvas (the view is fitted to the nodes' estimated sizes,
+/// [`super::layout::node_size`]).
 pub const NODE_EXTENT: egui::Vec2 = egui::vec2(200.0, 140.0);
 
 /// The canvas widget's id (its selection is read through it).
@@ -360,7 +361,13 @@ impl EditorApp {
         }
         self.canvas_rect = canvas;
         // Node positions are their top-left corners; a node's extent is its estimated
-        // size (the layout's), NODE_EXTENT for the Material Output node.
+        // size (the layout's); the Material Output node's, its title's width (egui-snarl
+        // draws it 125 points wide) and a row per output.
+        let outputs = self.state.doc.doc().outputs.len().max(1) as f32;
+        let output_extent = egui::vec2(
+            130.0,
+            super::layout::HEADER_HEIGHT + super::layout::OUTPUT_ROW * outputs,
+        );
         let sizes = self.state.doc.node_sizes();
         self.node_rects = self
             .state
@@ -369,7 +376,7 @@ impl EditorApp {
             .map(|(k, p, _)| {
                 let size = sizes
                     .get(k.0)
-                    .map_or(NODE_EXTENT, |&(w, h)| egui::vec2(w, h));
+                    .map_or(output_extent, |&(w, h)| egui::vec2(w, h));
                 egui::Rect::from_min_size(p, size)
             })
             .collect();
