@@ -3,6 +3,7 @@
 //! `Ui`, so the same code runs in the window (eframe), headless and under egui_kittest.
 
 use super::code::{TARGETS, extension, node_lines};
+use super::first_view;
 use super::handoff;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD};
 use super::ports::Kind;
@@ -15,7 +16,8 @@ use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
 
-/// The size a node is assumed to have when the view is fitted to the nodes.
+/// A typical node's size on the canvas (the view is fitted to the nodes' estimated sizes,
+/// [`super::layout::node_size`]).
 pub const NODE_EXTENT: egui::Vec2 = egui::vec2(200.0, 140.0);
 
 /// The canvas widget's id (its selection is read through it).
@@ -33,6 +35,8 @@ pub struct EditorApp {
     canvas_rect: egui::Rect,
     /// The nodes' bounding box of the last frame, in canvas coordinates.
     nodes_rect: egui::Rect,
+    /// Each node's rect (its estimated size) in the last frame, in canvas coordinates.
+    node_rects: Vec<egui::Rect>,
     /// Frames until the view is fitted to the nodes (0: no fit pending).
     frame_in: u8,
     /// How many of the document's nodes the canvas shows yet (see
@@ -50,6 +54,15 @@ pub struct EditorApp {
     handed: Option<usize>,
     /// The last frame's [`Viewer::drawn`].
     drawn: Vec<(usize, egui::Rect)>,
+    /// How the pending fit frames the nodes: as a graph opens ([`first_view::opening`],
+    /// 1×) or whole (Home, [`first_view::frame_all`]).
+    fit_whole: bool,
+    /// A zoom to set about the canvas' centre on the next frame ([`Self::zoom_to`]).
+    zoom_to: Option<f32>,
+    /// The canvas' text laid out at its zoom ([`super::crisp_text`]).
+    crisp: super::crisp_text::CrispText,
+    /// The values refused on the canvas, with why ([`super::entry`]).
+    pub rejections: super::entry::Rejections,
 }
 
 impl EditorApp {
@@ -60,6 +73,7 @@ impl EditorApp {
             to_screen: egui::emath::TSTransform::IDENTITY,
             canvas_rect: egui::Rect::NOTHING,
             nodes_rect: egui::Rect::NOTHING,
+            node_rects: Vec::new(),
             // Once every node is shown and measured, the view is fitted to them.
             frame_in: 1,
             revealed: 0,
@@ -69,6 +83,10 @@ impl EditorApp {
             hand_off: true,
             handed: None,
             drawn: Vec::new(),
+            fit_whole: false,
+            zoom_to: None,
+            crisp: Default::default(),
+            rejections: Default::default(),
         }
     }
 
@@ -114,18 +132,29 @@ impl EditorApp {
     /// Fits the view to every node (View → Frame all, Home), on the next frame.
     pub fn frame_all(&mut self) {
         self.frame_in = 1;
+        self.fit_whole = true;
+    }
+
+    /// Frames the nodes as a graph opens ([`first_view::opening`]: 1×; an empty graph at
+    /// 1× about the canvas' origin), once they are drawn and measured.
+    fn frame_opening(&mut self) {
+        self.frame_in = 1;
+        self.fit_whole = false;
+        // The last frame measured the graph before.
+        self.nodes_measured = false;
+        self.node_rects.clear();
+    }
+
+    /// Zooms the canvas to `scaling` about the centre of its rect (View → Zoom 1:1), on
+    /// the next frame.
+    pub fn zoom_to(&mut self, scaling: f32) {
+        self.zoom_to = Some(scaling);
     }
 
     /// The canvas → screen transform that shows `nodes` (canvas) whole in `canvas` (screen),
-    /// with a margin, at most at scale 1.
+    /// with a margin, at most at scale 1 ([`first_view::frame_all`]).
     pub fn fit(nodes: egui::Rect, canvas: egui::Rect) -> Option<egui::emath::TSTransform> {
-        if !nodes.is_positive() || !canvas.is_positive() {
-            return None;
-        }
-        let nodes = nodes.expand(30.0);
-        let scale = (canvas.size() / nodes.size()).min_elem().clamp(0.1, 1.0);
-        let translation = canvas.center().to_vec2() - nodes.center().to_vec2() * scale;
-        Some(egui::emath::TSTransform::new(translation, scale))
+        first_view::frame_all(nodes, canvas)
     }
 
     /// Draws one frame and applies what the user did in it.
@@ -221,9 +250,21 @@ impl EditorApp {
             drawn: Vec::new(),
             selection: &self.state.selection,
             restore: None,
+            pin_rows: Default::default(),
+            rejections: &self.rejections,
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
-            let fit = Self::fit(self.nodes_rect, self.canvas_rect);
+            let fit = match self.fit_whole {
+                true => Self::fit(self.nodes_rect, self.canvas_rect),
+                // An empty graph: 1×, the canvas' origin (where the Material Output node
+                // goes) in the middle.
+                false => first_view::opening(&self.node_rects, self.canvas_rect).or_else(|| {
+                    (self.canvas_rect.is_positive()).then(|| {
+                        let origin = egui::Pos2::ZERO;
+                        first_view::centred(origin, self.canvas_rect, first_view::OPEN_ZOOM)
+                    })
+                }),
+            };
             if fit.is_none() {
                 // Nothing to frame.
                 self.frame_in = 0;
@@ -232,11 +273,24 @@ impl EditorApp {
         } else {
             None
         };
+        // A zoom asked for (View → Zoom 1:1), once no fit is pending.
+        let zoom = match (fit, self.frame_in, self.canvas_rect.is_positive()) {
+            (None, 0, true) => self
+                .zoom_to
+                .take()
+                .map(|z| first_view::zoomed(self.to_screen, self.canvas_rect, z)),
+            _ => None,
+        };
+        let fit = fit.or(zoom);
+        if fit.is_some() {
+            self.zoom_to = None;
+        }
         // While a box is drawn the view holds (egui-snarl's background drag pans).
         viewer.set_transform = fit.or(held);
         let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
+            pin_placement: Some(super::pin_tips::PLACEMENT),
             ..SnarlStyle::new()
         };
         // egui-snarl is handed only the nodes it must lay out (super::handoff), except
@@ -296,20 +350,39 @@ impl EditorApp {
             handoff::write_back(&mut self.state.snarl, part);
         }
         viewer.paint_overview(&self.state.snarl, ui.style());
+        if let (Some(wires), Some(t)) = (viewer.wires, viewer.to_screen) {
+            // Everything egui-snarl and the overview painted, the background's frame labels included.
+            let (layer, _) = wires.place();
+            let from = egui::layers::ShapeIdx(0);
+            self.crisp.apply(ui.ctx(), layer, from, t.scaling);
+        }
         self.drawn = std::mem::take(&mut viewer.drawn);
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;
         }
         self.canvas_rect = canvas;
-        // Node positions are their top-left corners; NODE_EXTENT covers a typical node.
-        self.nodes_rect = self
+        // Node positions are their top-left corners; a node's extent is its estimated
+        // size (the layout's); the Material Output node's, its title's width (egui-snarl
+        // draws it 125 points wide) and a row per output.
+        let outputs = self.state.doc.doc().outputs.len().max(1) as f32;
+        let output_extent = egui::vec2(
+            130.0,
+            super::layout::HEADER_HEIGHT + super::layout::OUTPUT_ROW * outputs,
+        );
+        let sizes = self.state.doc.node_sizes();
+        self.node_rects = self
             .state
             .snarl
-            .nodes_pos()
-            .fold(egui::Rect::NOTHING, |r, (p, _)| {
-                r.union(egui::Rect::from_min_size(p, NODE_EXTENT))
-            });
+            .nodes_pos_ids()
+            .map(|(k, p, _)| {
+                let size = sizes
+                    .get(k.0)
+                    .map_or(output_extent, |&(w, h)| egui::vec2(w, h));
+                egui::Rect::from_min_size(p, size)
+            })
+            .collect();
+        self.nodes_rect = (self.node_rects.iter()).fold(egui::Rect::NOTHING, |a, r| a.union(*r));
         // The fit uses the rects of a frame that drew every node.
         self.nodes_measured = self.revealed >= n;
         if let Some(t) = viewer
@@ -551,6 +624,11 @@ impl EditorApp {
                 Action::SetInput { node, input, value } => {
                     let key = format!("value:{node}.{input}");
                     s.set_input(&node, &input, value, Some(&key));
+                    self.rejections.accept(&node, &input);
+                }
+                Action::Reject { node, input, why } => {
+                    s.status = Some(format!("{node}.{why} (refused; the graph is unchanged)"));
+                    self.rejections.reject(&node, &input, why);
                 }
                 Action::Search { pos, wire } => {
                     s.search = Some(SearchState {
@@ -809,6 +887,13 @@ impl EditorApp {
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
                         self.frame_all();
+                    }
+                    if ui
+                        .button("Zoom 1:1")
+                        .on_hover_text("text is sharpest at 1×, where a graph opens")
+                        .clicked()
+                    {
+                        self.zoom_to(first_view::OPEN_ZOOM);
                     }
                     if ui.button("Arrange").clicked() {
                         self.arrange();
@@ -1326,13 +1411,15 @@ impl EditorApp {
             }
             Pending::Open(path) => {
                 if self.state.load(&path).is_ok() {
-                    self.frame_in = 1;
+                    self.rejections.clear();
+                    self.frame_opening();
                     self.revealed = 0;
                 }
             }
             Pending::New => {
                 self.state.start_new();
-                self.frame_in = 1;
+                self.rejections.clear();
+                self.frame_opening();
                 self.revealed = 0;
             }
         }

@@ -3,17 +3,19 @@
 //! and queues [`Action`]s, which the app applies after the frame through the state's edits.
 
 use super::cull::{Culling, Wire};
+use super::entry::Rejections;
 use super::handoff::POINTER_REACH;
 use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD, note};
 use super::overview::{Body, Overview, pin_shape};
 use super::params;
+use super::pin_tips::{PinRows, tip};
 use super::ports::Kind;
 use super::search::WireFilter;
 use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
-use super::widgets::{current_lanes, port_hover, value_editor_response};
+use super::widgets::{current_lanes, value_editor_checked};
 use crate::node::PortType;
 use egui::{Color32, Shape, Stroke, Ui};
 use egui_snarl::ui::{AnyPins, BackgroundPattern, PinInfo, PinShape, SnarlStyle, SnarlViewer};
@@ -91,6 +93,16 @@ pub enum Action {
     Unexpose(String),
     /// List an unlisted `parameter` node in the graph's parameters.
     ListParameter(String),
+    /// A value typed into an input's editor was refused ([`super::entry::check`]): the
+    /// graph is unchanged.
+    Reject {
+        /// Node id.
+        node: String,
+        /// Input name.
+        input: String,
+        /// Why.
+        why: String,
+    },
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -158,6 +170,10 @@ pub struct Viewer<'a> {
     /// The modifiers to give egui back once it has read them ([`super::select_ui`] hides
     /// Shift from it), with the context they belong to.
     pub restore: Option<(egui::Context, egui::Modifiers)>,
+    /// The pin rows drawn this frame, for their tooltips ([`super::pin_tips`]).
+    pub pin_rows: PinRows,
+    /// The values refused on the canvas, shown under their inputs ([`super::entry`]).
+    pub rejections: &'a Rejections,
 }
 
 /// The index [`Viewer::drawn`] gives the Material Output node (no document node).
@@ -198,6 +214,26 @@ impl Places {
 }
 
 impl Viewer<'_> {
+    /// The tooltip of input (else output) pin `k` of node `id` ([`tip`]; a Material
+    /// Output pin's: the graph output it writes).
+    fn pin_tip(&self, id: &str, input: bool, k: usize) -> Option<String> {
+        if id == OUTPUT_NODE {
+            let o = self.doc.doc().outputs.get(k)?;
+            let ty = self.doc.graph().and_then(|g| {
+                let o = g.outputs().iter().find(|g| g.name == o.name)?;
+                Some(o.ty)
+            });
+            let ty = ty.map_or(String::new(), |t| format!(" ({t})"));
+            return Some(format!("graph output '{}'{ty}", o.name));
+        }
+        let ports = self.doc.ports(id)?;
+        let decl = match input {
+            true => ports.inputs.get(k)?,
+            false => ports.outputs.get(k)?,
+        };
+        Some(tip(decl, self.doc.port_type(id, decl.ty), input))
+    }
+
     /// The loader's errors at node `id`, and the shader generator's when it names `id`.
     fn errors_of(&self, id: &str) -> Vec<String> {
         let mut errors = self.doc.node_errors(id);
@@ -505,6 +541,9 @@ impl Viewer<'_> {
 /// The header colour of the Material Output node (Blender's output nodes' red).
 pub const OUTPUT_COLOR: Color32 = Color32::from_rgb(0x8a, 0x2e, 0x2e);
 
+/// The colour of the reason a typed value was refused, under its input.
+pub const REFUSED_COLOR: Color32 = Color32::from_rgb(255, 110, 100);
+
 /// The colour of a Material Output pin that reads nothing, and of its note.
 pub const UNCONNECTED_COLOR: Color32 = Color32::from_rgb(230, 60, 50);
 
@@ -539,7 +578,7 @@ impl Viewer<'_> {
 
     /// Pin `k` of the Material Output node: the output's name, its note when it reads
     /// nothing (red), and a menu to rename, disconnect or remove it.
-    fn show_output_pin(&mut self, k: usize, ui: &mut Ui) -> PinInfo {
+    fn show_output_pin(&mut self, node: NodeId, k: usize, ui: &mut Ui) -> PinInfo {
         let Some(o) = self.doc.doc().outputs.get(k) else {
             return PinInfo::default();
         };
@@ -562,6 +601,7 @@ impl Viewer<'_> {
         if self.low_detail() {
             return info;
         }
+        self.pin_rows.note(node, true, k, ui);
         ui.horizontal(|ui| {
             let text = egui::RichText::new(&name);
             let text = match note.is_some() {
@@ -932,47 +972,68 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
         let id = self.id(snarl, pin.id.node).to_owned();
         if id == OUTPUT_NODE {
-            return self.show_output_pin(pin.id.input, ui);
+            return self.show_output_pin(pin.id.node, pin.id.input, ui);
         }
         let doc = self.doc;
         let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
             return PinInfo::default();
         };
         let ty = self.doc.port_type(&id, decl.ty);
-        let ty_name = ty.map_or("T", |t| t.name());
         let info = self.pin(&id, decl.ty);
         if self.low_detail() || self.culled(&id) {
             return info;
         }
+        self.pin_rows.note(pin.id.node, true, pin.id.input, ui);
+        let rejected = self.rejections.get(&id, decl.name.as_ref());
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
-        ui.horizontal(|ui| {
-            // The label is drawn as a plain one (its colour unchanged); a click-sensing
-            // region over it opens the input's menu (expose as parameter, un-expose).
-            let label = ui.label(decl.name.as_ref());
-            let label = ui
-                .interact(label.rect, label.id.with("menu"), egui::Sense::click())
-                .on_hover_ui(|ui| {
-                    ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
-                });
-            label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
-            // A switch's choices take links only (the loader refuses a literal there).
-            if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
-                let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
-                let ty = ty.unwrap_or(crate::types::SocketType::Float);
-                let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
-                let default = decl.default_for(generic);
-                let lanes = current_lanes(decl, ty, written, &default);
-                let (value, r) = value_editor_response(ui, decl, ty, &lanes, self.hard);
-                if let Some(value) = value {
-                    self.actions.push(Action::SetInput {
-                        node: id.clone(),
-                        input: decl.name.clone().into_owned(),
-                        value,
+        // The row, and under it (in red) why the last value typed was refused.
+        ui.vertical(|ui| {
+            let row = ui.horizontal(|ui| {
+                // The label is drawn as a plain one (its colour unchanged); a click-sensing
+                // region over it opens the input's menu (expose as parameter, un-expose).
+                let label = ui.label(decl.name.as_ref());
+                let label = ui
+                    .interact(label.rect, label.id.with("menu"), egui::Sense::click())
+                    .on_hover_ui(|ui| {
+                        ui.label(tip(decl, ty, true));
                     });
+                label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                // A switch's choices take links only (the loader refuses a literal there).
+                if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
+                    let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
+                    let ty = ty.unwrap_or(crate::types::SocketType::Float);
+                    let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
+                    let default = decl.default_for(generic);
+                    let lanes = current_lanes(decl, ty, written, &default);
+                    let edited = value_editor_checked(ui, decl, ty, &lanes, self.hard, true);
+                    if let Some(value) = edited.value {
+                        self.actions.push(Action::SetInput {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            value,
+                        });
+                    }
+                    if let Some(why) = edited.rejected {
+                        self.actions.push(Action::Reject {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            why,
+                        });
+                    }
+                    let r = edited.response;
+                    r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
                 }
-                r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+            });
+            if let Some(why) = rejected {
+                // Wrapped to the row's width, so that the node keeps its size.
+                let width = row.response.rect.width();
+                ui.scope(|ui| {
+                    ui.set_max_width(width);
+                    let text = egui::RichText::new(why).small().color(REFUSED_COLOR);
+                    ui.add(egui::Label::new(text).wrap());
+                });
             }
         });
         info
@@ -988,10 +1049,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         if self.low_detail() || self.culled(&id) {
             return self.pin(&id, decl.ty);
         }
-        let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
+        let ty = self.doc.port_type(&id, decl.ty);
+        self.pin_rows.note(pin.id.node, false, pin.id.output, ui);
         // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
         ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
-            ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
+            ui.label(tip(decl, ty, false));
         });
         self.pin(&id, decl.ty)
     }
@@ -1068,8 +1130,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         self.culling = self.cull(*to_global);
     }
 
-    /// Outlines the node when it is selected, and records how the overview drew it (its
-    /// stand-in's look, [`super::stand_in`]).
+    /// Outlines the node when it is selected, puts the tooltips over its pins
+    /// ([`super::pin_tips`]) and records how the overview drew it (its stand-in's look,
+    /// [`super::stand_in`]).
     fn final_node_rect(
         &mut self,
         node: NodeId,
@@ -1080,8 +1143,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let Some(info) = snarl.get_node_info(node) else {
             return;
         };
-        let id = &info.value.id;
-        if self.selection.contains(id) {
+        let id = info.value.id.clone();
+        if self.selection.contains(&id) {
             let color = match self.selection.active() == Some(id.as_str()) {
                 true => ACTIVE_COLOR,
                 false => SELECTED_COLOR,
@@ -1095,11 +1158,15 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
                 egui::StrokeKind::Inside,
             );
         }
+        let pin = ui.spacing().interact_size.y * 0.6;
+        let mut rows = std::mem::take(&mut self.pin_rows);
+        rows.hover(node, rect, pin, ui, |input, k| self.pin_tip(&id, input, k));
+        self.pin_rows = rows;
         if id == OUTPUT_NODE {
             self.drawn.push((OUTPUT_DRAWN, rect));
             return;
         }
-        let Some(k) = self.doc.index(id) else {
+        let Some(k) = self.doc.index(&id) else {
             return;
         };
         if self.culling.is_culled(k) {
