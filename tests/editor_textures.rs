@@ -248,7 +248,9 @@ fn an_image_picked_by_keys_is_saved_relative_and_previewed() {
     h.run();
     match &h.state().state.dialog {
         Some(Dialog::PickTexture { browser, .. }) => {
-            assert_eq!(browser.dir(), dir.join("textures"), "where its image is")
+            assert_eq!(browser.dir(), dir.join("textures"), "where its image is");
+            let highlighted = &browser.entries()[browser.selected];
+            assert_eq!(highlighted.label, "orange.png", "its row highlighted");
         }
         other => panic!("the picker: {other:?}"),
     }
@@ -563,7 +565,7 @@ fn thumbnails_are_box_filtered_and_decoded_once_per_file_version() {
                     .sum::<f64>()
                     / 4.0;
                 let want = (255.0 * srgb_encode(mean)).round();
-                let got = rgba[((ty * 48 + tx) * 4) as usize + c as usize] as f64;
+                let got = rgba[((ty * 48 + tx) * 4) as usize + c] as f64;
                 assert!(
                     (got - want).abs() <= 1.0,
                     "({tx}, {ty}) channel {c}: {got} vs {want}"

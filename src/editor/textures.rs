@@ -191,7 +191,8 @@ pub fn problem(
 }
 
 /// Opens the image picker for node `id`: the browser of images ([`IMAGE_EXTENSIONS`]) in
-/// the folder of its current image (else the graph's), kept inside the graph's folder. An
+/// the folder of its current image (its row highlighted; else the graph's folder), kept
+/// inside the graph's folder. An
 /// untitled graph has no folder: the status line asks to save it first.
 pub fn open_picker(s: &mut EditorState, id: &str) {
     let Some(file) = s.path.clone() else {
@@ -202,15 +203,21 @@ pub fn open_picker(s: &mut EditorState, id: &str) {
         return;
     };
     let root = graph_folder(&file);
-    let current = s
+    let image = s
         .doc
         .node(id)
         .and_then(|n| n.texture.as_ref())
-        .and_then(|t| t.files().first().map(|f| root.join(f)))
+        .and_then(|t| t.files().first().map(|f| normalise(&root.join(f))));
+    let folder = image
+        .as_ref()
         .and_then(|p| p.parent().map(Path::to_owned))
         .filter(|d| d.is_dir())
         .unwrap_or_else(|| root.clone());
-    let browser = super::browser::Browser::images(&current, &root, id);
+    let mut browser = super::browser::Browser::images(&folder, &root, id);
+    // The current image's row is highlighted.
+    if let Some(k) = image.and_then(|p| browser.entries().iter().position(|e| e.path == p)) {
+        browser.selected = k;
+    }
     s.dialog = Some(Dialog::PickTexture {
         node: id.to_owned(),
         browser: Box::new(browser),
