@@ -231,6 +231,7 @@ impl EditorApp {
         let shader_error = self.shader_problem();
         let selected = self.selected_node_ids();
         let mut viewer = Viewer {
+            file: self.state.path.as_deref(),
             doc: &self.state.doc,
             hard,
             actions: Vec::new(),
@@ -658,6 +659,7 @@ impl EditorApp {
                 Action::ListParameter(id) => {
                     let _ = s.list_parameter_node(&id);
                 }
+                Action::Texture(a) => super::textures::apply(s, a),
                 Action::Duplicate(ids) => {
                     self.select.duplicate(s, &ids);
                 }
@@ -1046,6 +1048,10 @@ impl EditorApp {
         for e in doc.node_errors(&id) {
             ui.colored_label(Color32::from_rgb(255, 120, 110), e);
         }
+        let texture = match super::textures::is_texture_node(doc, &id) {
+            true => super::textures_ui::inspector_section(ui, &self.state, &id),
+            false => None,
+        };
         match (&t, &ports.kind) {
             (Some(t), _) => {
                 ui.label(t.summary());
@@ -1080,6 +1086,9 @@ impl EditorApp {
             if !o.doc.is_empty() {
                 ui.label(o.doc.as_ref());
             }
+        }
+        if let Some(a) = texture {
+            super::textures::apply(&mut self.state, a);
         }
     }
 
@@ -1367,6 +1376,9 @@ impl EditorApp {
                 Some(super::browser::Outcome::Cancel) => keep = false,
                 None => {}
             },
+            Dialog::PickTexture { node, browser } => {
+                keep = super::textures_ui::picker(ui, &mut self.state, node, browser);
+            }
             Dialog::SaveAs { path } => {
                 ui.label("File:");
                 ui.text_edit_singleline(path);

@@ -86,7 +86,8 @@ fn generic_lanes(node: &NodeDocument) -> usize {
 
 /// The estimated size (width, height) of `node` on the canvas, canvas points: the title
 /// (with the preview toggle), the widest input row (label and value widget) beside the
-/// widest output label, and [`node_height`]; at least [`MIN_WIDTH`]. `generic` is the
+/// widest output label, and [`node_height`] (a texture node's image rows under its pins
+/// added, [`super::textures_ui::rows_size`]); at least [`MIN_WIDTH`]. `generic` is the
 /// node's inferred `T` where known (its generic ports' widgets follow it). Estimated from
 /// the egui-snarl 0.12 nodes of the bundled graphs to within about 10 % (pbr_brdf ≈ 260
 /// wide, fresnel_schlick with a vec3 literal ≈ 290), so the layout leaves room to spare.
@@ -121,8 +122,16 @@ pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketTy
         .map(|n| n.chars().count() + 1)
         .sum();
     let title = 8.0 * (node.id.chars().count() + notes) as f32 + 60.0;
-    let width = (input + output + 20.0).max(title).max(MIN_WIDTH);
-    (width, node_height(ports.inputs.len(), ports.outputs.len()))
+    // A texture node's image rows under its pins (super::textures_ui).
+    let (rows_w, rows_h) = super::textures_ui::rows_size(node, ports).unwrap_or((0.0, 0.0));
+    let width = (input + output + 20.0)
+        .max(title)
+        .max(rows_w)
+        .max(MIN_WIDTH);
+    (
+        width,
+        node_height(ports.inputs.len(), ports.outputs.len()) + rows_h,
+    )
 }
 
 /// What a node's header shows after its id: the group a group instance uses, as written

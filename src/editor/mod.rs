@@ -5,7 +5,9 @@
 //! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
 //! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
 //! parameters), [`variants`] and [`variants_ui`] (variant sets, their switches and the
-//! previewed choice), [`browser`] (the in-app file browser of File → Open), [`ports`] (a node's pins: its
+//! previewed choice), [`browser`] (the in-app file browser of File → Open and the texture
+//! picker), [`textures`], [`textures_ui`] and [`thumbnails`] (texture nodes: their image,
+//! colour space and missing files; image thumbnails), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`pin_tips`] (pin placement and tooltips), [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors), [`fields`] (their fixed-size number fields) and [`entry`] (typed values checked),
 //! [`selection`] and [`select_ui`] (the selection, by node id, and picking, box-selecting
@@ -41,6 +43,9 @@ pub mod select_ui;
 pub mod selection;
 pub mod stand_in;
 pub mod state;
+pub mod textures;
+pub mod textures_ui;
+pub mod thumbnails;
 pub mod undo;
 pub mod variants;
 pub mod variants_ui;

@@ -39,6 +39,13 @@ pub enum Dialog {
         /// The browser.
         browser: Box<super::browser::Browser>,
     },
+    /// Pick a texture node's image ([`super::textures::open_picker`]).
+    PickTexture {
+        /// The texture node.
+        node: String,
+        /// The browser of images, kept inside the graph's folder.
+        browser: Box<super::browser::Browser>,
+    },
     /// The file changed on disk while the document has unsaved changes: reload it
     /// (dropping them) or keep the document.
     Changed {

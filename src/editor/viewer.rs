@@ -103,6 +103,8 @@ pub enum Action {
         /// Why.
         why: String,
     },
+    /// Pick a texture node's image, or set its colour space ([`super::textures`]).
+    Texture(super::textures::TextureAction),
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -133,6 +135,8 @@ const BODY_INSET: f32 = 16.0;
 
 /// The viewer of one frame.
 pub struct Viewer<'a> {
+    /// The graph file (texture paths are relative to it), once there is one.
+    pub file: Option<&'a std::path::Path>,
     /// The document (read only).
     pub doc: &'a EditorDoc,
     /// Whether sliders span the hard range (Ctrl held).
@@ -232,6 +236,34 @@ impl Viewer<'_> {
             false => ports.outputs.get(k)?,
         };
         Some(tip(decl, self.doc.port_type(id, decl.ty), input))
+    }
+
+    /// Node `id`'s preview swatch, when its preview is on.
+    fn show_swatch(&self, id: &str, ui: &mut Ui) {
+        let side = egui::vec2(NODE_SWATCH_POINTS, NODE_SWATCH_POINTS);
+        match self.swatches.get(id) {
+            Some(Swatch::Image(t)) => {
+                ui.image((*t, side));
+            }
+            Some(Swatch::Message(m)) => {
+                ui.add(
+                    egui::Label::new(
+                        egui::RichText::new(m).color(Color32::from_rgb(255, 120, 110)),
+                    )
+                    .wrap(),
+                );
+            }
+            Some(Swatch::Pending) => {
+                ui.allocate_ui(side, |ui| ui.weak("rendering…"));
+            }
+            None => {}
+        }
+    }
+
+    /// Whether node `id` shows its image rows under its pins ([`super::textures_ui`]):
+    /// a texture node of a file (or of none yet), zoomed in.
+    fn image_rows(&self, id: &str) -> bool {
+        !self.low_detail() && super::textures::shows_image_row(self.doc, id)
     }
 
     /// The loader's errors at node `id`, and the shader generator's when it names `id`.
@@ -886,7 +918,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn has_footer(&mut self, node: &NodeView) -> bool {
-        self.swatches.contains_key(&node.id) && !self.culled(&node.id)
+        (self.swatches.contains_key(&node.id) || self.image_rows(&node.id))
+            && !self.culled(&node.id)
     }
 
     fn show_footer(
@@ -898,22 +931,15 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
-        let side = egui::vec2(NODE_SWATCH_POINTS, NODE_SWATCH_POINTS);
-        match self.swatches.get(&id) {
-            Some(Swatch::Image(t)) => {
-                ui.image((*t, side));
-            }
-            Some(Swatch::Message(m)) => {
-                ui.add(
-                    egui::Label::new(
-                        egui::RichText::new(m).color(Color32::from_rgb(255, 120, 110)),
-                    )
-                    .wrap(),
-                );
-            }
-            Some(Swatch::Pending) | None => {
-                ui.allocate_ui(side, |ui| ui.weak("rendering…"));
-            }
+        if self.image_rows(&id) {
+            ui.vertical(|ui| {
+                if let Some(a) = super::textures_ui::node_rows(ui, self.doc, self.file, &id) {
+                    self.actions.push(Action::Texture(a));
+                }
+                self.show_swatch(&id, ui);
+            });
+        } else {
+            self.show_swatch(&id, ui);
         }
     }
 
@@ -1023,7 +1049,13 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
                         });
                     }
                     let r = edited.response;
-                    r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                    // Not on an enum's combo box: its popup and a context menu on its response
+                    // share one id (`response.id.with("popup")`), and the menu's close on a
+                    // primary click shut the list as it opened (wrap, filter could not be
+                    // chosen). An enum cannot be a parameter; the label keeps the menu.
+                    if decl.choices.is_empty() {
+                        r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                    }
                 }
             });
             if let Some(why) = rejected {
