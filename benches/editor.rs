@@ -80,7 +80,15 @@ fn harness(state: EditorState) -> Harness<'static, EditorApp> {
     Harness::builder()
         .with_size(egui::vec2(1400.0, 900.0))
         .with_max_steps(4)
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), framed(state))
+}
+
+/// The editor on `state`, framed whole (Home) as the figures were measured before a graph
+/// opened at 1× (src/editor/first_view.rs): every node on the canvas.
+fn framed(state: EditorState) -> EditorApp {
+    let mut app = EditorApp::new(state);
+    app.frame_all();
+    app
 }
 
 /// The editor as in a window: its egui pass on a plain `egui::Context` (no accessibility
@@ -102,7 +110,7 @@ struct Window {
 impl Window {
     fn new(state: EditorState) -> Window {
         Window {
-            app: EditorApp::new(state),
+            app: framed(state),
             ctx: egui::Context::default(),
             time: 0.0,
             epoch: Instant::now(),
