@@ -350,6 +350,7 @@ pub fn add_switch(d: &mut EditorDoc, set: &str, position: [f32; 2]) -> Result<St
         muted: false,
         inputs: BTreeMap::new(),
         texture: None,
+        color_space: None,
         position: Some(position),
     });
     d.replace(candidate);
