@@ -1,0 +1,336 @@
+//! Node groups in the editor (issue 35, item 7): Ctrl+G groups the selection into an inline
+//! group and one instance, Alt+G ungroups an instance, Tab enters a group (Group Input and
+//! Group Output nodes, a breadcrumb) and leaves it, and the side panel edits a group's
+//! interface. Grouping and ungrouping leave the graph's values bit for bit (the CPU plan's
+//! outputs over the shared sample grid and seeded random samples, before and after); every
+//! command is one undo step; refusals say why; the saved file loads.
+#![cfg(feature = "editor")]
+
+mod common;
+
+use common::parity::grid_batch;
+use common::rng::Rng;
+use egui::{Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use matgraph::editor::grouping;
+use matgraph::editor::interface;
+use matgraph::editor::model::EditorDoc;
+use matgraph::editor::outputs::OUTPUT_NODE;
+use matgraph::editor::scope::{GROUP_PANEL, INPUT_NODE};
+use matgraph::editor::{EditorApp, EditorState};
+use matgraph::plan::{Plan, PlanOptions};
+use matgraph::types::SocketType;
+use matgraph::{Attribute, SampleBatch};
+use matgraph::{Graph, GraphDocument, Registry};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// A harness without a renderer (logic and accessibility tree only), preview off.
+fn harness(mut state: EditorState) -> Harness<'static, EditorApp> {
+    state.preview.enabled = false;
+    state.dialog = None;
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_max_steps(64)
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+}
+
+/// A fresh folder under the target directory.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("editor_groups")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// 256 seeded random samples: unit normals, views and lights, uv and positions.
+fn random_batch() -> SampleBatch {
+    let mut rng = Rng(0x67_726f_7570);
+    let mut unit = |rng: &mut Rng| {
+        let mut v = [0.0f32; 3];
+        for x in &mut v {
+            *x = (rng.next() >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0;
+        }
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-3);
+        [v[0] / l, v[1] / l, v[2] / l]
+    };
+    let n = 256;
+    let (mut nor, mut view, mut light, mut uv, mut pos) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..n {
+        nor.push(unit(&mut rng));
+        view.push(unit(&mut rng));
+        light.push(unit(&mut rng));
+        let u = unit(&mut rng);
+        uv.push([u[0] * 0.5 + 0.5, u[1] * 0.5 + 0.5, 0.0]);
+        pos.push([u[0] * 4.0, u[1] * 4.0, u[2]]);
+    }
+    let mut batch = SampleBatch::new(n);
+    batch.set_values(Attribute::Normal, &nor).unwrap();
+    batch.set_values(Attribute::View, &view).unwrap();
+    batch.set_values(Attribute::Light, &light).unwrap();
+    batch.set_values(Attribute::Uv, &uv).unwrap();
+    batch.set_values(Attribute::Position, &pos).unwrap();
+    batch.set_time(0.75);
+    batch
+}
+
+/// Every output of `graph` (by name) over the sample grid and the random samples, as bits.
+fn bits(graph: &Graph) -> Vec<(String, Vec<u32>)> {
+    let plan = Plan::compile(graph, &PlanOptions::default()).unwrap();
+    let mut all = Vec::new();
+    for batch in [grid_batch(), random_batch()] {
+        let out = plan.execute(&batch, &plan.default_parameters()).unwrap();
+        for (k, name) in out.names().iter().enumerate() {
+            all.push((
+                name.clone(),
+                out.planar(k).iter().map(|x| x.to_bits()).collect(),
+            ));
+        }
+    }
+    all.sort_by(|a, b| a.0.cmp(&b.0));
+    all
+}
+
+/// The bits of the editor document `d` (validated).
+fn doc_bits(d: &EditorDoc) -> Vec<(String, Vec<u32>)> {
+    let g = d
+        .graph()
+        .unwrap_or_else(|| panic!("not valid: {:?}", d.errors()));
+    bits(g)
+}
+
+fn state_of(graph: serde_json::Value) -> EditorState {
+    let doc: GraphDocument = serde_json::from_value(graph).unwrap();
+    let mut s = EditorState::new(doc, None, Registry::builtin());
+    s.dialog = None;
+    s
+}
+
+/// A version-1 graph: geometry → n·v and n·l → Fresnel (Schlick, f0 from an exposed IOR)
+/// mixed with a Lambert term into a colour; a float into vec3 and colour ports (broadcast),
+/// a colour into a float port (luminance), a generic `mix` and `mul`, a source feeding two
+/// nodes, and two graph outputs.
+fn shading() -> serde_json::Value {
+    json!({
+        "version": 1, "name": "shading",
+        "nodes": [
+            { "id": "geo", "type": "geometry", "position": [0, 0] },
+            { "id": "ndv", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } }, "position": [250, 0] },
+            { "id": "ndl", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.light" } }, "position": [250, 160] },
+            { "id": "ior", "type": "parameter", "inputs": { "value": 1.45 }, "position": [250, 320] },
+            { "id": "f0", "type": "ior_to_f0", "inputs": { "ior_inside": { "link": "ior.value" } }, "position": [500, 320] },
+            { "id": "fr", "type": "fresnel_schlick", "inputs": { "cos_theta": { "link": "ndv.result" }, "f0": { "link": "f0.f0" } }, "position": [750, 0] },
+            { "id": "lam", "type": "saturate", "inputs": { "x": { "link": "ndl.result" } }, "position": [500, 160] },
+            { "id": "tint", "type": "mul", "data_type": "color",
+              "inputs": { "a": { "link": "lam.result" }, "b": [0.8, 0.5, 0.3] }, "position": [750, 160] },
+            { "id": "blend", "type": "mix", "inputs": { "a": { "link": "tint.result" }, "b": { "link": "fr.reflectance" }, "t": { "link": "tint.result" } }, "position": [1000, 80] },
+            { "id": "glow", "type": "mul", "inputs": { "a": { "link": "fr.reflectance" }, "b": { "link": "ndv.result" } }, "position": [1000, 260] }
+        ],
+        "outputs": [
+            { "name": "color", "from": "blend.result" },
+            { "name": "emission", "from": "glow.result" }
+        ],
+        "parameters": [ { "name": "ior", "node": "ior", "doc": "Index of refraction." } ]
+    })
+}
+
+fn ids(list: &[&str]) -> Vec<String> {
+    list.iter().map(|s| s.to_string()).collect()
+}
+
+/// Ctrl+G on the middle of the shading graph: one instance in place of the nodes, an
+/// interface input per outside source (by the type of the input it feeds), an output per
+/// value read outside; the file becomes version 2; the CPU plan's outputs are the same bits;
+/// undo and redo are one step each; the saved file loads and is the expected JSON.
+#[test]
+fn grouping_a_selection_keeps_every_bit_and_is_one_undo_step() {
+    let mut s = state_of(shading());
+    let before = doc_bits(&s.doc);
+    let original = s.doc.doc().clone();
+    let inst = s
+        .group_selection(&ids(&["fr", "lam", "tint", "f0"]))
+        .unwrap();
+    assert_eq!(inst, "group");
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(doc_bits(&s.doc), before, "the same bits after grouping");
+    let doc = s.doc.doc();
+    assert_eq!(doc.version, 2, "a version-1 file becomes version 2");
+    let g = &doc.groups["group"];
+    let names = |v: Vec<&str>| v.into_iter().map(str::to_owned).collect::<Vec<_>>();
+    // Inputs in node order: f0's ior_inside (the parameter), fr's cos_theta (n·v), lam's x
+    // (n·l); each typed by the input it feeds, with its default, ranges and doc.
+    assert_eq!(
+        g.inputs.iter().map(|i| i.name.clone()).collect::<Vec<_>>(),
+        names(vec!["ior_inside", "cos_theta", "x"])
+    );
+    let ior = &g.inputs[0];
+    assert_eq!(ior.ty, "float");
+    assert_eq!(ior.default, Some(json!(1.5)));
+    assert_eq!(ior.hard_range, Some([0.001, 100.0]));
+    assert_eq!(ior.soft_range, Some([1.0, 3.0]));
+    assert_eq!(ior.doc, "Index of refraction inside.");
+    // Outputs: what is read outside (fr.reflectance by blend and glow, tint.result by blend).
+    assert_eq!(
+        g.outputs
+            .iter()
+            .map(|o| (o.name.clone(), o.from.clone()))
+            .collect::<Vec<_>>(),
+        vec![
+            ("reflectance".to_owned(), "fr.reflectance".to_owned()),
+            ("result".to_owned(), "tint.result".to_owned())
+        ]
+    );
+    let node = s.doc.node("group").unwrap();
+    assert_eq!(node.group.as_deref(), Some("group"));
+    assert_eq!(node.inputs["cos_theta"], json!({ "link": "ndv.result" }));
+    assert_eq!(node.inputs["ior_inside"], json!({ "link": "ior.value" }));
+    assert_eq!(s.doc.link("glow", "a"), Some("group.reflectance"));
+    assert_eq!(s.doc.link("blend", "a"), Some("group.result"));
+    assert_eq!(s.doc.link("blend", "t"), Some("group.result"));
+    // Placed at the centre of the nodes it holds.
+    assert_eq!(node.position, Some([625.0, 160.0]));
+    // One undo step each way.
+    s.undo();
+    assert_eq!(s.doc.doc(), &original);
+    s.redo();
+    assert_eq!(s.doc.node("group").map(|n| n.id.as_str()), Some("group"));
+    assert_eq!(doc_bits(&s.doc), before);
+    // Saved, it loads with the library's loader and is what the editor holds.
+    let dir = scratch("group_save");
+    let file = dir.join("shading.json");
+    s.save_as(&file).unwrap();
+    let loaded = matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
+    assert_eq!(bits(&loaded), before);
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(
+        saved["groups"]["group"],
+        json!({
+            "inputs": [
+                { "name": "ior_inside", "type": "float", "default": 1.5, "soft_range": [1.0, 3.0],
+                  "hard_range": [0.001, 100.0], "doc": "Index of refraction inside." },
+                { "name": "cos_theta", "type": "float", "default": 1.0, "soft_range": [0.0, 1.0],
+                  "doc": "Cosine of the angle of incidence (use cosθt from the dense side)." },
+                { "name": "x", "type": "float", "soft_range": [-10.0, 10.0], "doc": "Value." }
+            ],
+            "nodes": [
+                { "id": "f0", "type": "ior_to_f0", "inputs": { "ior_inside": { "link": "@in.ior_inside" } }, "position": [500.0, 320.0] },
+                { "id": "fr", "type": "fresnel_schlick", "inputs": { "cos_theta": { "link": "@in.cos_theta" }, "f0": { "link": "f0.f0" } }, "position": [750.0, 0.0] },
+                { "id": "lam", "type": "saturate", "inputs": { "x": { "link": "@in.x" } }, "position": [500.0, 160.0] },
+                { "id": "tint", "type": "mul", "data_type": "color", "inputs": { "a": { "link": "lam.result" }, "b": [0.8, 0.5, 0.3] }, "position": [750.0, 160.0] }
+            ],
+            "outputs": [
+                { "name": "reflectance", "from": "fr.reflectance" },
+                { "name": "result", "from": "tint.result" }
+            ]
+        })
+    );
+    assert_eq!(
+        saved["nodes"][4],
+        json!({ "id": "group", "type": "group", "group": "group",
+                "inputs": { "cos_theta": { "link": "ndv.result" }, "ior_inside": { "link": "ior.value" }, "x": { "link": "ndl.result" } },
+                "position": [625.0, 160.0] })
+    );
+}
+
+/// Alt+G on the instance just made: the nodes come back (their ids free again, so the
+/// same), wired as before, the group removed (no other instance), the same bits; one undo
+/// step each way.
+#[test]
+fn ungrouping_brings_the_nodes_back_with_the_same_bits() {
+    let mut s = state_of(shading());
+    let before = doc_bits(&s.doc);
+    s.group_selection(&ids(&["fr", "lam", "tint", "f0", "glow"]))
+        .unwrap();
+    assert_eq!(doc_bits(&s.doc), before);
+    let grouped = s.doc.doc().clone();
+    let back = s.ungroup("group").unwrap();
+    assert_eq!(back, ids(&["f0", "fr", "lam", "tint", "glow"]));
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert!(s.doc.doc().groups.is_empty(), "the group is removed");
+    assert_eq!(doc_bits(&s.doc), before, "the same bits after ungrouping");
+    // Wired as before; no reroute was needed (every source's type is its input's).
+    assert_eq!(s.doc.link("fr", "cos_theta"), Some("ndv.result"));
+    assert_eq!(s.doc.link("f0", "ior_inside"), Some("ior.value"));
+    assert_eq!(s.doc.link("blend", "b"), Some("fr.reflectance"));
+    assert_eq!(s.doc.doc().outputs[1].from, "glow.result");
+    assert!(s.doc.doc().nodes.iter().all(|n| n.node_type != "reroute"));
+    // Placed around the instance: the bounding box's centre is where it was.
+    s.undo();
+    assert_eq!(s.doc.doc(), &grouped);
+    s.redo();
+    assert_eq!(doc_bits(&s.doc), before);
+}
+
+/// Two instances of one group: ungrouping one keeps the group (the other uses it), the ids
+/// of the copies are made unique; the instance passes a literal, a colour into a float input
+/// (luminance at the interface) and nothing (the default), so the copies read them through
+/// typed reroutes where a direct link would convert differently; bits unchanged.
+#[test]
+fn ungrouping_one_of_two_instances_keeps_the_group_and_every_conversion() {
+    let graph = json!({
+        "version": 2, "name": "two",
+        "nodes": [
+            { "id": "geo", "type": "geometry", "position": [0, 0] },
+            { "id": "c", "type": "combine", "inputs": { "x": 0.25, "y": 0.5, "z": 1.0 }, "position": [0, 200] },
+            { "id": "a", "type": "group", "group": "shade",
+              "inputs": { "k": { "link": "c.color" }, "v": { "link": "geo.view" } }, "position": [300, 0] },
+            { "id": "b", "type": "group", "group": "shade", "inputs": { "k": 2.0 }, "position": [300, 200] },
+            { "id": "sum", "type": "add", "inputs": { "a": { "link": "a.out" }, "b": { "link": "b.out" } }, "position": [600, 100] }
+        ],
+        "outputs": [ { "name": "color", "from": "sum.result" }, { "name": "k", "from": "a.k_out" } ],
+        "groups": { "shade": {
+            "inputs": [
+                { "name": "k", "type": "float", "default": 0.5 },
+                { "name": "v", "type": "vec3", "default": [0.0, 0.0, 1.0] }
+            ],
+            "nodes": [
+                { "id": "geo", "type": "geometry" },
+                { "id": "d", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "@in.v" } } },
+                { "id": "m", "type": "mul", "data_type": "vec3", "inputs": { "a": { "link": "@in.k" }, "b": { "link": "@in.v" } } },
+                { "id": "s", "type": "add", "inputs": { "a": { "link": "d.result" }, "b": { "link": "@in.k" } } },
+                { "id": "o", "type": "mix", "data_type": "vec3", "inputs": { "a": { "link": "m.result" }, "b": { "link": "s.result" }, "t": { "link": "@in.k" } } }
+            ],
+            "outputs": [ { "name": "out", "from": "o.result" }, { "name": "k_out", "from": "@in.k" } ]
+        } }
+    });
+    let mut s = state_of(graph);
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    let before = doc_bits(&s.doc);
+    let made = s.ungroup("a").unwrap();
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(doc_bits(&s.doc), before, "the same bits");
+    assert!(s.doc.doc().groups.contains_key("shade"), "b still uses it");
+    // geo is taken: its copy is geo_2; k (colour passed into a float) goes through a float
+    // reroute, v (vec3 into vec3) links directly.
+    assert!(made.contains(&"geo_2".to_owned()), "{made:?}");
+    let k = s
+        .doc
+        .doc()
+        .nodes
+        .iter()
+        .find(|n| n.node_type == "reroute")
+        .expect("a reroute for k")
+        .clone();
+    assert_eq!(k.data_type.as_deref(), Some("float"));
+    assert_eq!(k.inputs["input"], json!({ "link": "c.color" }));
+    assert_eq!(s.doc.link("d", "b"), Some("geo.view"));
+    assert_eq!(
+        s.doc.link("m", "a"),
+        Some(format!("{}.output", k.id).as_str())
+    );
+    assert_eq!(s.doc.doc().outputs[1].from, format!("{}.output", k.id));
+    // The other instance, passing a literal and leaving v at its default.
+    let made = s.ungroup("b").unwrap();
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(doc_bits(&s.doc), before, "the same bits");
+    assert!(
+        s.doc.doc().groups.is_empty(),
+        "the last instance removes the group"
+    );
+    assert_eq!(made.len(), 5 + 2, "{made:?}");
+}
