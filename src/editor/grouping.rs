@@ -236,14 +236,12 @@ pub fn group(d: &EditorDoc, ids: &[String]) -> Result<Grouped, String> {
         out_name.insert(format!("{src}.{out}"), oname);
     }
 
-    // The instance, at the centre of the selection, where its first node was.
+    // The instance, at the centre of the selection's box (ungrouping puts the nodes back
+    // where they were), in the document where its first node was.
     let places: Vec<[f32; 2]> = body.iter().filter_map(|n| n.position).collect();
     let position = (!places.is_empty()).then(|| {
-        let k = places.len() as f32;
-        let (x, y) = places
-            .iter()
-            .fold((0.0, 0.0), |(x, y), p| (x + p[0], y + p[1]));
-        [x / k, y / k]
+        let (lo, hi) = bounds(&places);
+        [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0]
     });
     let inst = NodeDocument {
         id: instance.clone(),
@@ -399,15 +397,7 @@ pub fn ungroup(d: &EditorDoc, id: &str, elsewhere: usize) -> Result<Ungrouped, S
             })
         })
         .collect();
-    let (lo, hi) = inner.iter().fold(
-        ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]),
-        |(lo, hi), p| {
-            (
-                [lo[0].min(p[0]), lo[1].min(p[1])],
-                [hi[0].max(p[0]), hi[1].max(p[1])],
-            )
-        },
-    );
+    let (lo, hi) = bounds(&inner);
     let at = node.position.unwrap_or([0.0, 0.0]);
     let offset = match lo[0].is_finite() {
         true => [at[0] - (lo[0] + hi[0]) / 2.0, at[1] - (lo[1] + hi[1]) / 2.0],
@@ -433,159 +423,205 @@ pub fn ungroup(d: &EditorDoc, id: &str, elsewhere: usize) -> Result<Ungrouped, S
                 (decl.name.clone(), ty, passed)
             })
             .collect();
-    let mut reroutes: BTreeMap<String, NodeDocument> = BTreeMap::new();
-    let mut reroute_ids: Vec<String> = Vec::new();
-    // The entry written where `@in.NAME` was read by a port of type `port` (`None`: a
-    // generic port, a switch's, a graph output, or not known).
-    let mut read_input = |name: &str, port: Option<SocketType>| -> Option<serde_json::Value> {
-        let (_, ty, passed) = iface.iter().find(|(n, ..)| n == name)?;
-        let ty = *ty;
-        let direct = match passed {
-            Passed::Link(l) => ty.is_some() && (source_type(d, l) == ty || port == ty),
-            Passed::Literal(_) => ty.is_some() && port == ty,
-        };
-        if direct {
-            return Some(match passed {
-                Passed::Link(l) => link_json_text(l),
-                Passed::Literal(v) => v.clone(),
-            });
-        }
-        let r = reroutes.entry(name.to_owned()).or_insert_with(|| {
-            let rid = fresh(name, &taken);
-            taken.insert(rid.clone());
-            reroute_ids.push(rid.clone());
-            NodeDocument {
-                id: rid,
-                node_type: REROUTE.into(),
-                data_type: ty.map(|t| t.name().to_owned()),
-                variant: None,
-                group: None,
-                muted: false,
-                inputs: BTreeMap::from([(
-                    "input".to_owned(),
-                    match passed {
-                        Passed::Link(l) => link_json_text(l),
-                        Passed::Literal(v) => v.clone(),
-                    },
-                )]),
-                texture: None,
-                color_space: None,
-                position: None,
-            }
-        });
-        Some(link_json(&r.id, "output"))
-    };
-
-    // The copies, links rewritten.
-    let mut copies: Vec<NodeDocument> = Vec::new();
-    for (k, n) in def.nodes.iter().enumerate() {
-        let mut copy = n.clone();
-        copy.id = renamed[&n.id].clone();
-        copy.position = Some([inner[k][0] + offset[0], inner[k][1] + offset[1]]);
-        let ports = super::ports::ports_of(ctx, n, registry, None, files);
-        let switch = n.node_type == crate::variant::SWITCH;
-        let mut entries = BTreeMap::new();
-        for (input, v) in &n.inputs {
-            let entry = match link_of(v).and_then(|l| l.split_once('.')) {
-                Some((src, out)) if src == INPUT_NODE => {
-                    let port = ports
-                        .inputs
-                        .iter()
-                        .find(|p| p.name == input.as_str())
-                        .and_then(|p| match p.ty {
-                            PortType::Fixed(t) if !switch => Some(t),
-                            _ => None,
-                        });
-                    match read_input(out, port) {
-                        Some(e) => e,
-                        None => continue,
-                    }
-                }
-                Some((src, out)) => match renamed.get(src) {
-                    Some(new) => link_json(new, out),
-                    None => v.clone(),
-                },
-                None => v.clone(),
-            };
-            entries.insert(input.clone(), entry);
-        }
-        copy.inputs = entries;
-        if let Some(file) = lib {
-            rebase_node(&mut copy, &file.label, &file.folder, &file.doc);
-        }
-        copies.push(copy);
-    }
-    // What each of the group's outputs becomes: the entry its readers get.
-    let mut outputs: HashMap<String, Option<serde_json::Value>> = HashMap::new();
-    for o in &def.outputs {
-        let entry = match o.from.split_once('.') {
-            Some((src, out)) if src == INPUT_NODE => read_input(out, None),
-            Some((src, out)) => Some(match renamed.get(src) {
-                Some(new) => link_json(new, out),
-                None => link_json_text(&o.from),
-            }),
-            None => None,
-        };
-        outputs.insert(o.name.clone(), entry);
-    }
-    // Reroutes go left of the copies, one under the other.
-    let left = copies
+    // The type the loader inferred for each generic node of the group in this instance.
+    let flat = d.graph();
+    let old_t: HashMap<String, SocketType> = def
+        .nodes
         .iter()
-        .filter_map(|c| c.position)
-        .fold(f32::INFINITY, |m, p| m.min(p[0]));
-    let left = if left.is_finite() { left } else { at[0] };
-    let reroutes: Vec<NodeDocument> = reroute_ids
-        .iter()
-        .enumerate()
-        .filter_map(|(k, rid)| {
-            let mut r = reroutes.values().find(|r| &r.id == rid)?.clone();
-            r.position = Some([left - 160.0, at[1] + 60.0 * k as f32]);
-            Some(r)
+        .filter(|n| registry.get(&n.node_type).is_some_and(|t| t.is_generic()))
+        .filter_map(|n| {
+            let g = flat?;
+            let k = g.node_index(&format!("{id}/{}", n.id))?;
+            Some((n.id.clone(), g.nodes()[k].generic))
         })
         .collect();
+    // Builds the document; the generic nodes in `careful` read `@in` through reroutes
+    // (else a generic port counts as one of the type the loader inferred for it).
+    let assemble = |careful: &HashSet<String>| -> (GraphDocument, Vec<String>, bool) {
+        let mut taken = taken.clone();
+        let mut reroutes: BTreeMap<String, NodeDocument> = BTreeMap::new();
+        let mut reroute_ids: Vec<String> = Vec::new();
+        // The entry written where `@in.NAME` was read by a port of type `port` (a generic
+        // port: the type inferred for it; `None`: a switch's, a graph output, or not known).
+        let mut read_input = |name: &str, port: Option<SocketType>| -> Option<serde_json::Value> {
+            let (_, ty, passed) = iface.iter().find(|(n, ..)| n == name)?;
+            let ty = *ty;
+            let direct = match passed {
+                Passed::Link(l) => ty.is_some() && (source_type(d, l) == ty || port == ty),
+                Passed::Literal(_) => ty.is_some() && port == ty,
+            };
+            if direct {
+                return Some(match passed {
+                    Passed::Link(l) => link_json_text(l),
+                    Passed::Literal(v) => v.clone(),
+                });
+            }
+            let r = reroutes.entry(name.to_owned()).or_insert_with(|| {
+                let rid = fresh(name, &taken);
+                taken.insert(rid.clone());
+                reroute_ids.push(rid.clone());
+                NodeDocument {
+                    id: rid,
+                    node_type: REROUTE.into(),
+                    data_type: ty.map(|t| t.name().to_owned()),
+                    variant: None,
+                    group: None,
+                    muted: false,
+                    inputs: BTreeMap::from([(
+                        "input".to_owned(),
+                        match passed {
+                            Passed::Link(l) => link_json_text(l),
+                            Passed::Literal(v) => v.clone(),
+                        },
+                    )]),
+                    texture: None,
+                    color_space: None,
+                    position: None,
+                }
+            });
+            Some(link_json(&r.id, "output"))
+        };
 
-    let mut new = doc.clone();
-    new.nodes.clear();
-    let read_of = |l: &str| -> Option<&Option<serde_json::Value>> {
-        let (src, out) = l.split_once('.')?;
-        (src == id).then(|| outputs.get(out))?
-    };
-    for n in &doc.nodes {
-        if n.id == id {
-            new.nodes.extend(reroutes.iter().cloned());
-            new.nodes.extend(copies.iter().cloned());
-            continue;
+        // The copies, links rewritten.
+        let mut copies: Vec<NodeDocument> = Vec::new();
+        for (k, n) in def.nodes.iter().enumerate() {
+            let mut copy = n.clone();
+            copy.id = renamed[&n.id].clone();
+            copy.position = Some([inner[k][0] + offset[0], inner[k][1] + offset[1]]);
+            let ports = super::ports::ports_of(ctx, n, registry, None, files);
+            let switch = n.node_type == crate::variant::SWITCH;
+            let mut entries = BTreeMap::new();
+            for (input, v) in &n.inputs {
+                let entry = match link_of(v).and_then(|l| l.split_once('.')) {
+                    Some((src, out)) if src == INPUT_NODE => {
+                        let port = ports
+                            .inputs
+                            .iter()
+                            .find(|p| p.name == input.as_str())
+                            .and_then(|p| match p.ty {
+                                PortType::Fixed(t) if !switch => Some(t),
+                                PortType::Generic if !careful.contains(&n.id) => {
+                                    old_t.get(&n.id).copied()
+                                }
+                                _ => None,
+                            });
+                        match read_input(out, port) {
+                            Some(e) => e,
+                            None => continue,
+                        }
+                    }
+                    Some((src, out)) => match renamed.get(src) {
+                        Some(new) => link_json(new, out),
+                        None => v.clone(),
+                    },
+                    None => v.clone(),
+                };
+                entries.insert(input.clone(), entry);
+            }
+            copy.inputs = entries;
+            if let Some(file) = lib {
+                rebase_node(&mut copy, &file.label, &file.folder, &file.doc);
+            }
+            copies.push(copy);
         }
-        let mut copy = n.clone();
-        let mut gone = Vec::new();
-        for (input, v) in copy.inputs.iter_mut() {
-            match link_of(v).and_then(read_of) {
-                Some(Some(e)) => *v = e.clone(),
-                Some(None) => gone.push(input.clone()),
+        // What each of the group's outputs becomes: the entry its readers get.
+        let mut outputs: HashMap<String, Option<serde_json::Value>> = HashMap::new();
+        for o in &def.outputs {
+            let entry = match o.from.split_once('.') {
+                Some((src, out)) if src == INPUT_NODE => read_input(out, None),
+                Some((src, out)) => Some(match renamed.get(src) {
+                    Some(new) => link_json(new, out),
+                    None => link_json_text(&o.from),
+                }),
+                None => None,
+            };
+            outputs.insert(o.name.clone(), entry);
+        }
+        // Reroutes go left of the copies, one under the other.
+        let left = copies
+            .iter()
+            .filter_map(|c| c.position)
+            .fold(f32::INFINITY, |m, p| m.min(p[0]));
+        let left = if left.is_finite() { left } else { at[0] };
+        let reroutes: Vec<NodeDocument> = reroute_ids
+            .iter()
+            .enumerate()
+            .filter_map(|(k, rid)| {
+                let mut r = reroutes.values().find(|r| &r.id == rid)?.clone();
+                r.position = Some([left - 160.0, at[1] + 60.0 * k as f32]);
+                Some(r)
+            })
+            .collect();
+
+        let mut new = doc.clone();
+        new.nodes.clear();
+        let read_of = |l: &str| -> Option<&Option<serde_json::Value>> {
+            let (src, out) = l.split_once('.')?;
+            (src == id).then(|| outputs.get(out))?
+        };
+        for n in &doc.nodes {
+            if n.id == id {
+                new.nodes.extend(reroutes.iter().cloned());
+                new.nodes.extend(copies.iter().cloned());
+                continue;
+            }
+            let mut copy = n.clone();
+            let mut gone = Vec::new();
+            for (input, v) in copy.inputs.iter_mut() {
+                match link_of(v).and_then(read_of) {
+                    Some(Some(e)) => *v = e.clone(),
+                    Some(None) => gone.push(input.clone()),
+                    None => {}
+                }
+            }
+            for g in gone {
+                copy.inputs.remove(&g);
+            }
+            new.nodes.push(copy);
+        }
+        for o in &mut new.outputs {
+            match read_of(&o.from) {
+                Some(Some(e)) => match link_of(e) {
+                    Some(l) => o.from = l.to_owned(),
+                    None => o.from.clear(),
+                },
+                Some(None) => o.from.clear(),
                 None => {}
             }
         }
-        for g in gone {
-            copy.inputs.remove(&g);
+        let mut ids: Vec<String> = copies.iter().map(|c| c.id.clone()).collect();
+        ids.extend(reroutes.iter().map(|r| r.id.clone()));
+        for f in &mut new.frames {
+            if let Some(k) = f.nodes.iter().position(|n| n == id) {
+                f.nodes.splice(k..=k, ids.iter().cloned());
+            }
         }
-        new.nodes.push(copy);
-    }
-    for o in &mut new.outputs {
-        match read_of(&o.from) {
-            Some(Some(e)) => match link_of(e) {
-                Some(l) => o.from = l.to_owned(),
-                None => o.from.clear(),
-            },
-            Some(None) => o.from.clear(),
-            None => {}
+        (new, ids, !reroutes.is_empty())
+    };
+    // Direct links where they keep each generic node's type; where one changes, that node
+    // reads through reroutes (as the inlined group did), until every type is the same.
+    let mut careful: HashSet<String> = HashSet::new();
+    let (mut new, mut ids, mut rerouted) = assemble(&careful);
+    for _ in 0..=def.nodes.len() {
+        let mut probe = d.clone();
+        probe.replace(new.clone());
+        let changed: Vec<String> = match probe.graph() {
+            Some(_) => old_t
+                .iter()
+                .filter(|(f, t)| !careful.contains(*f) && probe.generic(&renamed[*f]) != Some(**t))
+                .map(|(f, _)| f.clone())
+                .collect(),
+            None => old_t
+                .keys()
+                .filter(|f| !careful.contains(*f))
+                .cloned()
+                .collect(),
+        };
+        if changed.is_empty() {
+            break;
         }
-    }
-    let mut ids: Vec<String> = copies.iter().map(|c| c.id.clone()).collect();
-    ids.extend(reroutes.iter().map(|r| r.id.clone()));
-    for f in &mut new.frames {
-        if let Some(k) = f.nodes.iter().position(|n| n == id) {
-            f.nodes.splice(k..=k, ids.iter().cloned());
-        }
+        careful.extend(changed);
+        (new, ids, rerouted) = assemble(&careful);
     }
     if let Some(file) = lib {
         for (k, v) in &file.doc.variants {
@@ -603,7 +639,7 @@ pub fn ungroup(d: &EditorDoc, id: &str, elsewhere: usize) -> Result<Ungrouped, S
         }
         None => false,
     };
-    if !reroutes.is_empty() {
+    if rerouted {
         new.version = new.version.max(crate::document::GROUPS_VERSION);
     }
     Ok(Ungrouped {
@@ -611,6 +647,19 @@ pub fn ungroup(d: &EditorDoc, id: &str, elsewhere: usize) -> Result<Ungrouped, S
         nodes: ids,
         removed,
     })
+}
+
+/// The box around `places`: its lowest and highest corner (infinite when empty).
+fn bounds(places: &[[f32; 2]]) -> ([f32; 2], [f32; 2]) {
+    places.iter().fold(
+        ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    )
 }
 
 /// An empty document with `doc`'s header.
