@@ -486,3 +486,285 @@ fn every_bundled_graph_groups_and_ungroups_to_the_same_bits() {
     println!("{grouped} selections grouped ({exact} back exactly), {refused} refused");
     assert!(grouped >= 100, "{grouped} grouped");
 }
+
+/// What cannot be grouped is refused with the reason in the status line, the document
+/// unchanged and no undo step: nothing selected, the Material Output node, an exposed
+/// parameter, a bool input fed from outside (a group's inputs are float, vec2, vec3, vec4
+/// or color); Alt+G on a node that is not an instance.
+#[test]
+fn refusals_say_why_and_change_nothing() {
+    let graph = json!({
+        "version": 2, "name": "refusals",
+        "nodes": [
+            { "id": "geo", "type": "geometry", "position": [0, 0] },
+            { "id": "ndv", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } }, "position": [250, 0] },
+            { "id": "eq", "type": "compare", "inputs": { "a": { "link": "ndv.result" }, "b": 1.0 }, "position": [500, 0] },
+            { "id": "pick", "type": "select", "inputs": { "condition": { "link": "eq.equal" }, "if_true": 1.0, "if_false": { "link": "ndv.result" } }, "position": [750, 0] },
+            { "id": "ior", "type": "parameter", "inputs": { "value": 1.5 }, "position": [250, 200] },
+            { "id": "f0", "type": "ior_to_f0", "inputs": { "ior_inside": { "link": "ior.value" } }, "position": [500, 200] }
+        ],
+        "outputs": [ { "name": "color", "from": "pick.result" }, { "name": "alpha", "from": "f0.f0" } ],
+        "parameters": [ { "name": "ior", "node": "ior" } ]
+    });
+    let mut s = state_of(graph);
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    let original = s.doc.doc().clone();
+    let cases: [(Vec<String>, &str); 4] = [
+        (vec![], "nothing selected"),
+        (
+            ids(&["ndv", OUTPUT_NODE]),
+            "the Material Output node is the graph's outputs",
+        ),
+        (ids(&["ior", "f0"]), "'ior' is the graph's parameter 'ior'"),
+        (ids(&["pick"]), "input 'condition' of 'pick' is bool"),
+    ];
+    for (sel, why) in cases {
+        let e = s.group_selection(&sel).unwrap_err();
+        assert!(e.contains(why), "{sel:?}: {e}");
+        assert_eq!(s.status.as_deref(), Some(e.as_str()));
+        assert_eq!(s.doc.doc(), &original);
+        assert!(!s.history.can_undo(), "{sel:?}: no undo step");
+    }
+    // The comparison and the select together: the bool stays inside.
+    s.group_selection(&ids(&["eq", "pick"])).unwrap();
+    assert_eq!(
+        s.doc.doc().groups["group"].inputs.len(),
+        1,
+        "ndv.result, once"
+    );
+    let e = s.ungroup("geo").unwrap_err();
+    assert!(e.contains("not a group instance"), "{e}");
+}
+
+/// Format version 2 with a library: `graph.json` uses `lib/layers.json#scale` (x·k) and an
+/// inline group `fres`; written into a fresh folder.
+fn library_folder(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(dir.join("lib")).unwrap();
+    let lib = json!({
+        "version": 2, "name": "layers", "nodes": [],
+        "groups": {
+            "scale": {
+                "doc": "x times k.",
+                "inputs": [
+                    { "name": "x", "type": "float", "default": 1.0 },
+                    { "name": "k", "type": "float", "default": 2.0, "soft_range": [0.0, 4.0], "doc": "The factor." }
+                ],
+                "nodes": [ { "id": "m", "type": "mul", "inputs": { "a": { "link": "@in.x" }, "b": { "link": "@in.k" } }, "position": [0, 0] },
+                           { "id": "h", "type": "group", "group": "half", "inputs": { "v": { "link": "m.result" } }, "position": [200, 0] } ],
+                "outputs": [ { "name": "y", "from": "h.r" } ]
+            },
+            "half": {
+                "inputs": [ { "name": "v", "type": "float" } ],
+                "nodes": [ { "id": "q", "type": "mul", "inputs": { "a": { "link": "@in.v" }, "b": 0.5 } } ],
+                "outputs": [ { "name": "r", "from": "q.result" } ]
+            }
+        }
+    });
+    std::fs::write(dir.join("lib/layers.json"), lib.to_string()).unwrap();
+    let graph = json!({
+        "version": 2, "name": "graph",
+        "nodes": [
+            { "id": "geo", "type": "geometry", "position": [0, 0] },
+            { "id": "d", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": { "link": "geo.view" } }, "position": [250, 0] },
+            { "id": "inl", "type": "group", "group": "fres", "inputs": { "c": { "link": "d.result" } }, "position": [500, 0] },
+            { "id": "lib", "type": "group", "group": "lib/layers.json#scale", "inputs": { "x": { "link": "inl.r" } }, "position": [750, 0] }
+        ],
+        "outputs": [ { "name": "emission", "from": "lib.y" } ],
+        "groups": { "fres": {
+            "doc": "Schlick's Fresnel.",
+            "inputs": [
+                { "name": "c", "type": "float", "default": 1.0 },
+                { "name": "f0", "type": "float", "default": 0.04, "soft_range": [0.0, 1.0], "hard_range": [0.0, 1.0] }
+            ],
+            "nodes": [ { "id": "f", "type": "fresnel_schlick", "position": [0, 0],
+                "inputs": { "cos_theta": { "link": "@in.c" }, "f0": { "link": "@in.f0" } } } ],
+            "outputs": [ { "name": "r", "from": "f.reflectance" } ]
+        } }
+    });
+    std::fs::write(dir.join("graph.json"), graph.to_string()).unwrap();
+    dir
+}
+
+fn open(file: &Path) -> EditorState {
+    let mut s = EditorState::open(file, Registry::builtin()).unwrap();
+    s.dialog = None;
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    s
+}
+
+/// Alt+G on an instance of a group of another file copies its nodes in (its own nested
+/// group reference rebased to `lib/layers.json#half`), the same bits; the saved file loads.
+#[test]
+fn a_library_group_ungroups_with_its_references_rebased() {
+    let dir = library_folder("lib_ungroup");
+    let file = dir.join("graph.json");
+    let mut s = open(&file);
+    let before = doc_bits(&s.doc);
+    let made = s.ungroup("lib").unwrap();
+    assert_eq!(made, ids(&["m", "h"]));
+    assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    assert_eq!(doc_bits(&s.doc), before);
+    assert_eq!(
+        s.doc.node("h").unwrap().group.as_deref(),
+        Some("lib/layers.json#half")
+    );
+    assert_eq!(s.doc.link("m", "a"), Some("inl.r"));
+    assert_eq!(
+        s.doc.node("m").unwrap().inputs["b"],
+        json!(2.0),
+        "k's default"
+    );
+    assert_eq!(s.doc.doc().outputs[0].from, "h.r");
+    s.save().unwrap();
+    let loaded = matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
+    assert_eq!(bits(&loaded), before);
+}
+
+/// Tab on a selected instance enters its group: the canvas shows the group's nodes, a Group
+/// Input node (an output pin per interface input) and a Group Output node, and a breadcrumb
+/// "graph › fres"; Tab leaves. Inside, adding a node and wiring it from the Group Input node
+/// and into the Group Output node changes the group's definition (the whole document the
+/// preview renders), one undo step each, undone from inside; the saved file loads.
+#[test]
+fn tab_enters_a_group_and_edits_inside_change_its_definition() {
+    let dir = library_folder("enter");
+    let file = dir.join("graph.json");
+    let mut s = open(&file);
+    s.focus = Some("inl".into());
+    let top_key = s.root().structure_key();
+    let mut h = harness(s);
+    h.run();
+    // Nothing selected, the instance focused (its title clicked): Tab enters.
+    h.key_press(Key::Tab);
+    h.run();
+    {
+        let s = &h.state().state;
+        assert_eq!(s.breadcrumb(), ["graph", "fres"]);
+        assert_eq!(s.focus.as_deref(), Some(GROUP_PANEL));
+        let ids: Vec<&str> = s.snarl.nodes().map(|n| n.id.as_str()).collect();
+        assert_eq!(ids, ["f", OUTPUT_NODE, INPUT_NODE]);
+        // Wires: @in.c → f.cos_theta, @in.f0 → f.f0, f.reflectance → Group Output.
+        assert_eq!(s.snarl.wires().count(), 3);
+        assert!(s.doc.errors().is_empty(), "{:?}", s.doc.errors());
+    }
+    h.run_steps(4);
+    h.get_by_label("Group Input");
+    h.get_by_label("Group Output");
+    h.get_by_label("graph");
+    // The interface panel (the side panel inside a group).
+    h.get_by_label("Group 'fres'");
+    h.get_by_label("Inputs (2)");
+    // Edits inside: a node, wired from the Group Input node and into a new group output.
+    let s = &mut h.state_mut().state;
+    let steps = |s: &EditorState| s.history.can_undo();
+    assert!(!steps(s));
+    let add = s.add_node("add", [200.0, 100.0]).unwrap();
+    s.connect(INPUT_NODE, "f0", &add, "a").unwrap();
+    s.connect("f", "reflectance", &add, "b").unwrap();
+    s.edit_interface(|d| interface::add_output(d, "fres", Some("sum")))
+        .unwrap();
+    s.connect(&add, "result", OUTPUT_NODE, "sum").unwrap();
+    let g = &s.root().doc().groups["fres"];
+    assert_eq!(g.nodes.len(), 2);
+    assert_eq!(g.nodes[1].inputs["a"], json!({ "link": "@in.f0" }));
+    assert_eq!(g.outputs[1].from, format!("{add}.result"));
+    assert!(s.root().errors().is_empty(), "{:?}", s.root().errors());
+    assert_ne!(
+        s.root().structure_key(),
+        top_key,
+        "the preview's document changed"
+    );
+    assert_eq!(s.doc.doc().nodes.len(), 2, "the body shows it");
+    // A value edited inside.
+    s.set_input("f", "cos_theta", json!(0.5), None);
+    assert_eq!(s.doc.link("f", "cos_theta"), None);
+    assert_eq!(
+        s.root().doc().groups["fres"].nodes[0].inputs["cos_theta"],
+        json!(0.5)
+    );
+    // Undone from inside: one step per edit (the value, the output's wire, the output, the
+    // two wires, the node).
+    for _ in 0..6 {
+        s.undo();
+    }
+    assert_eq!(s.root().doc().groups["fres"].nodes.len(), 1);
+    assert_eq!(
+        s.doc.doc().nodes.len(),
+        1,
+        "still inside, the body made again"
+    );
+    assert!(s.in_group());
+    for _ in 0..6 {
+        s.redo();
+    }
+    assert_eq!(s.root().doc().groups["fres"].outputs.len(), 2);
+    // Tab leaves (nothing selected inside); the instance has the new output.
+    h.run();
+    assert!(
+        !h.ctx.egui_wants_keyboard_input(),
+        "Tab moved no focus to a field"
+    );
+    h.key_press(Key::Tab);
+    h.run();
+    let s = &h.state().state;
+    assert!(!s.in_group());
+    assert_eq!(s.focus.as_deref(), Some("inl"));
+    let outs: Vec<String> = s
+        .doc
+        .ports("inl")
+        .unwrap()
+        .outputs
+        .iter()
+        .map(|p| p.name.to_string())
+        .collect();
+    assert_eq!(outs, ["r", "sum"]);
+    h.state_mut().state.save().unwrap();
+    matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
+}
+
+/// Ctrl+G and Alt+G through the keyboard on the canvas, and the Group menu; undo after each.
+#[test]
+fn ctrl_g_and_alt_g_from_the_keyboard() {
+    let mut s = state_of(shading());
+    s.focus = Some("lam".into());
+    let original = s.doc.doc().clone();
+    let mut h = harness(s);
+    h.run();
+    // Nothing selected: Ctrl+G says so.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::G);
+    h.run();
+    assert!(
+        h.state()
+            .state
+            .status
+            .as_deref()
+            .is_some_and(|m| m.contains("nothing selected")),
+        "{:?}",
+        h.state().state.status
+    );
+    // The node menu's "Group selected" groups the focused node when none is selected.
+    h.state_mut().state.group_selection(&ids(&["lam"])).unwrap();
+    h.run();
+    assert!(h.state().state.doc.node("group").is_some());
+    // Alt+G on the focused instance.
+    h.state_mut().state.focus = Some("group".into());
+    h.key_press_modifiers(Modifiers::ALT, Key::G);
+    h.run();
+    assert!(h.state().state.doc.node("group").is_none());
+    assert_eq!(h.state().state.doc.doc().nodes.len(), original.nodes.len());
+    // The Group menu: Enter is offered for the focused instance.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run();
+    h.state_mut().state.focus = Some("group".into());
+    h.run();
+    h.get_by_label("Group").click();
+    h.run();
+    h.get_by_label("Enter group  (Tab)").click();
+    h.run();
+    assert_eq!(h.state().state.breadcrumb(), ["shading", "group"]);
+    // The breadcrumb's first crumb leaves.
+    h.get_by_label("shading").click();
+    h.run();
+    assert!(!h.state().state.in_group());
+}

@@ -688,8 +688,9 @@ impl EditorApp {
             )
         });
         // Groups (Blender's keys): Ctrl+G groups the selection, Alt+G ungroups, Tab enters
-        // the selected instance or leaves the group (at the top without an instance
-        // selected, Tab opens the add-node search as before).
+        // the selected instance (nothing selected: the focused one, the active node) or
+        // leaves the group (at the top without one, Tab opens the add-node search as
+        // before).
         let (make, ungroup) = ctx.input_mut(|i| {
             (
                 i.consume_shortcut(&cmd(Key::G)),
@@ -703,15 +704,11 @@ impl EditorApp {
             self.group_command(super::group_ui::GroupCommand::Ungroup, ctx);
         }
         if tab {
-            let selected = self.selected(ctx);
-            let one_instance = selected.len() == 1
-                && self
-                    .state
-                    .doc
-                    .node(&selected[0])
-                    .is_some_and(|n| n.node_type == crate::group::GROUP);
-            if one_instance {
-                let _ = self.state.enter_group(&selected[0]);
+            // The Tab is the canvas' (egui would also move the keyboard focus to the next
+            // widget, a text field of the panel the group shows).
+            ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            if let Some(id) = self.selected_instance(ctx) {
+                let _ = self.state.enter_group(&id);
             } else if self.state.in_group() {
                 self.state.leave_group();
             } else {
