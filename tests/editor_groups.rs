@@ -723,7 +723,7 @@ fn tab_enters_a_group_and_edits_inside_change_its_definition() {
     matgraph::io::load_graph(&file, Registry::builtin()).unwrap();
 }
 
-/// Ctrl+G and Alt+G through the keyboard on the canvas, and the Group menu; undo after each.
+/// Ctrl+G and Alt+G through the keyboard, and Edit → Enter group; the breadcrumb leaves.
 #[test]
 fn ctrl_g_and_alt_g_from_the_keyboard() {
     let mut s = state_of(shading());
@@ -753,12 +753,12 @@ fn ctrl_g_and_alt_g_from_the_keyboard() {
     h.run();
     assert!(h.state().state.doc.node("group").is_none());
     assert_eq!(h.state().state.doc.doc().nodes.len(), original.nodes.len());
-    // The Group menu: Enter is offered for the focused instance.
+    // Edit → Enter group, for the focused instance.
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.run();
     h.state_mut().state.focus = Some("group".into());
     h.run();
-    h.get_by_label("Group").click();
+    h.get_by_label("Edit").click();
     h.run();
     h.get_by_label("Enter group  (Tab)").click();
     h.run();

@@ -805,6 +805,8 @@ impl EditorApp {
                         self.ask_save_as();
                     }
                 });
+                let instance = self.selected_instance(ui.ctx());
+                let mut asked = None;
                 ui.menu_button("Edit", |ui| {
                     if ui
                         .add_enabled(
@@ -832,10 +834,7 @@ impl EditorApp {
                         self.state.focus = Some(super::variants::VARIANTS_PANEL.to_owned());
                         ui.close();
                     }
-                });
-                let instance = self.selected_instance(ui.ctx());
-                let mut asked = None;
-                ui.menu_button("Group", |ui| {
+                    ui.separator();
                     asked = super::group_ui::menu(ui, &self.state, instance.as_deref());
                 });
                 if let Some(c) = asked {

@@ -1,4 +1,4 @@
-//! The group commands' UI: the Group menu, the breadcrumb over the canvas inside a group
+//! The group commands' UI: their entries in the Edit menu, the breadcrumb over the canvas inside a group
 //! ("graph › fresnel_stack", a click leaves to that level), and the interface panel (a
 //! group's inputs and outputs, edited through [`super::interface`]).
 
@@ -17,7 +17,7 @@ pub const INPUT_TYPES: [SocketType; 5] = [
     SocketType::Color,
 ];
 
-/// What the Group menu asked for.
+/// What the group entries of the Edit menu asked for.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GroupCommand {
     /// Group the selection (Ctrl+G).
@@ -30,8 +30,8 @@ pub enum GroupCommand {
     Leave,
 }
 
-/// The Group menu's entries (the menu bar's "Group"); `instance`: the one group instance
-/// selected, if so.
+/// The group entries of the Edit menu; `instance`: the one group instance selected (else
+/// focused), if so.
 pub fn menu(ui: &mut Ui, state: &EditorState, instance: Option<&str>) -> Option<GroupCommand> {
     let mut asked = None;
     if ui.button("Group selected  (Ctrl+G)").clicked() {
