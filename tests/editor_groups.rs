@@ -636,6 +636,8 @@ fn tab_enters_a_group_and_edits_inside_change_its_definition() {
     let top_key = s.root().structure_key();
     let mut h = harness(s);
     h.run();
+    // The instance's side panel shows its group's interface.
+    h.get_by_label("Group 'fres'");
     // Nothing selected, the instance focused (its title clicked): Tab enters.
     h.key_press(Key::Tab);
     h.run();
@@ -1091,4 +1093,58 @@ fn click_at(h: &mut Harness<'static, EditorApp>, pos: egui::Pos2) {
         });
     }
     h.run();
+}
+
+/// Steps `h` until the canvas and every preview swatch are settled (at most two minutes).
+fn settle(h: &mut Harness<'static, EditorApp>) {
+    let start = std::time::Instant::now();
+    h.step();
+    while !(h.state().state.preview.settled() && h.state().settled())
+        && start.elapsed().as_secs() < 120
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    assert!(
+        h.state().state.preview.settled(),
+        "the preview did not finish"
+    );
+}
+
+/// Inside a group the preview shows the whole graph: entering compiles nothing new, an edit
+/// inside re-renders it with the group's new definition (a new program), and leaving
+/// compiles nothing either.
+#[test]
+fn the_preview_shows_the_whole_graph_with_the_edits_inside() {
+    let dir = library_folder("preview");
+    let mut s = open(&dir.join("graph.json"));
+    s.preview.enabled = true;
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_max_steps(64)
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(s));
+    settle(&mut h);
+    let compiles = h.state().state.preview.compiles();
+    let pixels = h.state().state.preview.pixels().map(<[u8]>::to_vec);
+    assert!(pixels.is_some());
+    h.state_mut().state.enter_group("inl").unwrap();
+    settle(&mut h);
+    assert_eq!(
+        h.state().state.preview.compiles(),
+        compiles,
+        "entering changes nothing"
+    );
+    // f0 = 1: a mirror; the emission changes.
+    h.state_mut().state.set_input("f", "f0", json!(1.0), None);
+    settle(&mut h);
+    assert_eq!(h.state().state.preview.compiles(), compiles + 1);
+    let after = h.state().state.preview.pixels().map(<[u8]>::to_vec);
+    assert_ne!(after, pixels, "the preview shows the edit inside");
+    h.state_mut().state.leave_group();
+    settle(&mut h);
+    assert_eq!(
+        h.state().state.preview.compiles(),
+        compiles + 1,
+        "leaving changes nothing"
+    );
 }
