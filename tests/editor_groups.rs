@@ -14,7 +14,6 @@ use egui::accesskit::Role;
 use egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::{By, Queryable};
-use matgraph::editor::grouping;
 use matgraph::editor::interface;
 use matgraph::editor::model::EditorDoc;
 use matgraph::editor::outputs::OUTPUT_NODE;
@@ -50,7 +49,7 @@ fn scratch(name: &str) -> PathBuf {
 /// 256 seeded random samples: unit normals, views and lights, uv and positions.
 fn random_batch() -> SampleBatch {
     let mut rng = Rng(0x67_726f_7570);
-    let mut unit = |rng: &mut Rng| {
+    let unit = |rng: &mut Rng| {
         let mut v = [0.0f32; 3];
         for x in &mut v {
             *x = (rng.next() >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0;

@@ -206,9 +206,7 @@ pub fn interface_panel(ui: &mut Ui, state: &mut EditorState, group: &str) {
         ui.add_enabled_ui(editable, |ui| {
             ui.horizontal(|ui| {
                 if let Some(new) = committed_text(ui, key.with("name"), &i.name, 90.0, "name") {
-                    if interface_rename_input(state, group, &i.name, &new) {
-                        ui.data_mut(|d| d.remove::<String>(key.with("name")));
-                    }
+                    rename_input(state, group, &i.name, &new);
                 }
                 let mut picked = ty;
                 egui::ComboBox::from_id_salt(key.with("type"))
@@ -380,16 +378,14 @@ pub fn interface_panel(ui: &mut Ui, state: &mut EditorState, group: &str) {
     });
 }
 
-/// Renames input `old` of `group` to `new`; whether it was renamed (else the status line
-/// says why).
-fn interface_rename_input(state: &mut EditorState, group: &str, old: &str, new: &str) -> bool {
-    let ok = state
+/// Renames input `old` of `group` to `new` (a refusal's reason in the status line).
+fn rename_input(state: &mut EditorState, group: &str, old: &str, new: &str) {
+    if state
         .edit_interface(|d| interface::rename_input(d, group, old, new))
-        .is_ok();
-    if ok {
+        .is_ok()
+    {
         state.status = Some(format!(
             "renamed input '{old}' to '{new}' of group '{group}'"
         ));
     }
-    ok
 }
