@@ -773,6 +773,17 @@ fn ctrl_g_and_alt_g_from_the_keyboard() {
     h.run();
     let s = &h.state().state;
     assert_eq!(s.doc.doc().groups["group"].nodes.len(), 1, "{:?}", s.status);
+    // The selection (canvas indices, now other nodes) is dropped; the new instance is the
+    // focused node, so Tab enters it and Tab leaves.
+    assert!(h.state().selected(&h.ctx).is_empty());
+    assert_eq!(s.focus.as_deref(), Some("group"));
+    h.key_press(Key::Tab);
+    h.run();
+    assert_eq!(h.state().state.breadcrumb(), ["shading", "group"]);
+    h.key_press(Key::Tab);
+    h.run();
+    assert!(!h.state().state.in_group());
+    let s = &h.state().state;
     assert!(s.doc.node("group").is_some());
     // Alt+G on the focused instance.
     h.state_mut().state.focus = Some("group".into());

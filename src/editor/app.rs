@@ -53,6 +53,12 @@ pub struct EditorApp {
     /// The instances entered when the last frame was drawn: a change shows the new
     /// level's nodes afresh.
     level: Vec<String>,
+    /// Bumped when a group is made or undone: egui-snarl keeps its selection by canvas
+    /// index (and offers no way to clear it), so the canvas gets a fresh id, the selection
+    /// starts empty and the commands fall back on the focused node (the new instance).
+    selection_generation: u64,
+    /// A view to impose on the next frame (the view before the canvas got a fresh id).
+    impose: Option<egui::emath::TSTransform>,
 }
 
 impl EditorApp {
@@ -73,19 +79,32 @@ impl EditorApp {
             handed: None,
             drawn: Vec::new(),
             level: Vec::new(),
+            selection_generation: 0,
+            impose: None,
         }
     }
 
     /// The canvas widget's id at the current level: each group entered has its own (its
     /// view and selection), the graph's top [`canvas_id`].
     pub fn canvas_key(&self) -> egui::Id {
-        match &self.state.scope {
+        let id = match &self.state.scope {
             None => canvas_id(),
             Some(s) => s
                 .levels
                 .iter()
                 .fold(canvas_id(), |id, l| id.with(&l.instance)),
+        };
+        match self.selection_generation {
+            0 => id,
+            k => id.with(("selection", k)),
         }
+    }
+
+    /// After a group was made or undone: the canvas' selection (by canvas index, now
+    /// naming other nodes) is dropped, the view kept.
+    fn forget_selection(&mut self) {
+        self.selection_generation += 1;
+        self.impose = Some(self.to_screen);
     }
 
     /// The ids of the canvas nodes selected, the Material Output and Group Input nodes
@@ -119,11 +138,15 @@ impl EditorApp {
         match c {
             GroupCommand::Group => {
                 let selected = self.selected_all(ctx);
-                let _ = self.state.group_selection(&selected);
+                if self.state.group_selection(&selected).is_ok() {
+                    self.forget_selection();
+                }
             }
             GroupCommand::Ungroup => match self.selected_instance(ctx) {
                 Some(id) => {
-                    let _ = self.state.ungroup(&id);
+                    if self.state.ungroup(&id).is_ok() {
+                        self.forget_selection();
+                    }
                 }
                 None => {
                     self.state.status = Some("select one group instance to ungroup (Alt+G)".into());
@@ -321,7 +344,7 @@ impl EditorApp {
         } else {
             None
         };
-        viewer.set_transform = fit;
+        viewer.set_transform = fit.or(self.impose.take());
         let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
@@ -565,6 +588,7 @@ impl EditorApp {
 
     fn apply(&mut self, actions: Vec<Action>, ctx: &egui::Context) {
         let mut grouping = false;
+        let mut regrouped = false;
         let s = &mut self.state;
         for a in actions {
             match a {
@@ -621,7 +645,7 @@ impl EditorApp {
                     let _ = s.enter_group(&id);
                 }
                 Action::Ungroup(id) => {
-                    let _ = s.ungroup(&id);
+                    regrouped |= s.ungroup(&id).is_ok();
                 }
                 Action::GroupSelected => {
                     grouping = true;
@@ -635,7 +659,10 @@ impl EditorApp {
             {
                 selected.push(f);
             }
-            let _ = self.state.group_selection(&selected);
+            regrouped |= self.state.group_selection(&selected).is_ok();
+        }
+        if regrouped {
+            self.forget_selection();
         }
     }
 
