@@ -1158,3 +1158,26 @@ fn the_preview_shows_the_whole_graph_with_the_edits_inside() {
         "leaving changes nothing"
     );
 }
+
+/// The Group Input node's pin names are readable: each ends the same gap left of its pin
+/// (egui-snarl 0.12 placed the first one apart from the rest, and drew a pin over the end of
+/// each name after the first: a one-letter name vanished).
+#[test]
+fn the_group_input_names_its_pins_in_line() {
+    let dir = library_folder("input_labels");
+    let mut s = open(&dir.join("graph.json"));
+    s.enter_group("inl").unwrap();
+    for name in ["gain", "k"] {
+        s.edit_interface(|d| interface::add_input(d, "fres", Some(name), SocketType::Float))
+            .unwrap();
+    }
+    let mut h = harness(s);
+    h.run_steps(8);
+    let rights: Vec<f32> = ["c", "gain", "k"]
+        .iter()
+        .map(|l| h.get_by_label(l).rect().right())
+        .collect();
+    for r in &rights {
+        assert!((r - rights[0]).abs() < 0.5, "{rights:?}");
+    }
+}

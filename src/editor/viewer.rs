@@ -501,6 +501,9 @@ impl Viewer<'_> {
     }
 }
 
+/// Canvas points between a Group Input pin and its name.
+const INPUT_LABEL_GAP: f32 = 8.0;
+
 /// The header colour of the Material Output node (Blender's output nodes' red).
 pub const OUTPUT_COLOR: Color32 = Color32::from_rgb(0x8a, 0x2e, 0x2e);
 
@@ -1021,6 +1024,18 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             return self.pin(&id, decl.ty);
         }
         let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
+        if id == INPUT_NODE {
+            // egui-snarl 0.12 draws an output pin over the end of its label (a one-letter
+            // name vanishes under it); the Group Input node's names are what it is for.
+            // Rows after the first start right of the clip rect, by the pin space the first
+            // reserved past it.
+            let overflow = (ui.max_rect().right() - ui.clip_rect().right()).max(0.0);
+            ui.add_space(overflow + INPUT_LABEL_GAP);
+            ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
+                ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
+            });
+            return self.pin(&id, decl.ty);
+        }
         // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
         ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
             ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
@@ -1335,7 +1350,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             self.actions.push(Action::PreviewOutput(Some(id.clone())));
             ui.close();
         }
-        if params::is_parameter_node(self.doc, &id) {
+        // A graph's parameters are nodes of its top level (not inside a group).
+        if params::is_parameter_node(self.doc, &id) && self.doc.body().is_none() {
             ui.separator();
             match params::of_node(self.doc.doc(), &id).map(|p| p.name.clone()) {
                 Some(name) => {
