@@ -1,6 +1,8 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod blender_noise;
+pub mod blender_voronoi;
 pub mod bubble;
 pub mod ibl;
 pub mod image;
@@ -38,5 +40,9 @@ pub fn all() -> Vec<NodeType> {
     v.extend(image::all());
     v.extend(sunshine::all());
     v.extend(toon_water::all());
+    // Last: the parity suites seed each type's random samples by its index in this list,
+    // so types added at the end leave every earlier type's samples where they were.
+    v.extend(blender_noise::all());
+    v.extend(blender_voronoi::all());
     v
 }

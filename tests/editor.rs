@@ -12,6 +12,15 @@ use matgraph::Registry;
 use matgraph::editor::{EditorApp, EditorState, files, model::EditorDoc, preview, state::Dialog};
 use std::path::{Path, PathBuf};
 
+/// The editor on `state`, its nodes framed whole (Home) rather than at 1× on the outputs'
+/// end as a graph opens (`editor::first_view`, tests/editor_readable.rs): these tests see
+/// (and cull, hand over, snapshot) the whole graph.
+fn framed_whole(state: EditorState) -> EditorApp {
+    let mut app = EditorApp::new(state);
+    app.frame_all();
+    app
+}
+
 /// A harness without a renderer (logic and accessibility tree only), preview off.
 fn harness(mut state: EditorState) -> Harness<'static, EditorApp> {
     state.preview.enabled = false;
@@ -19,7 +28,7 @@ fn harness(mut state: EditorState) -> Harness<'static, EditorApp> {
         .with_size(egui::vec2(1400.0, 900.0))
         // Overlapping nodes appear one per frame (deterministic stacking).
         .with_max_steps(64)
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), framed_whole(state))
 }
 
 fn untitled() -> EditorState {
@@ -422,7 +431,7 @@ fn snapshot_of_the_editor_on_pbr_gold() {
         EditorState::open(Path::new("graphs/pbr_gold.json"), Registry::builtin()).unwrap();
     state.dialog = None;
     state.focus = Some("brdf".into());
-    let app = EditorApp::new(state);
+    let app = framed_whole(state);
     let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
     h.run_steps(4);
     let start = std::time::Instant::now();
@@ -458,7 +467,7 @@ fn snapshot_of_the_editor_on_toon_ball_with_node_previews() {
     state.arrange();
     // No autosave of that edit beside the bundled file.
     state.unsaved_since = None;
-    let app = EditorApp::new(state);
+    let app = framed_whole(state);
     let mut h = matgraph::editor::headless::harness(app, [1400, 900]);
     h.run_steps(4);
     let start = std::time::Instant::now();
@@ -571,7 +580,7 @@ fn preview_harness(mut state: EditorState) -> Harness<'static, EditorApp> {
     Harness::builder()
         .with_size(egui::vec2(1400.0, 900.0))
         .with_max_steps(64)
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state))
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), framed_whole(state))
 }
 
 /// A primary click at screen position `pos`.
@@ -1509,7 +1518,7 @@ fn bundled_graphs_draw_each_node_within_its_estimated_rect() {
         let mut h = Harness::builder()
             .with_size(egui::vec2(1700.0, 900.0))
             .with_max_steps(64)
-            .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), EditorApp::new(state));
+            .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), framed_whole(state));
         let start = std::time::Instant::now();
         h.step();
         while !h.state().settled() && start.elapsed().as_secs() < 60 {
@@ -1553,7 +1562,7 @@ fn two_editors_on_one_graph_render_the_same_pixels() {
         let mut state = state();
         state.dialog = None;
         state.preview.enabled = false;
-        let mut h = matgraph::editor::headless::harness(EditorApp::new(state), [1400, 900]);
+        let mut h = matgraph::editor::headless::harness(framed_whole(state), [1400, 900]);
         h.run_steps(4);
         while !h.state().settled() {
             h.step();
@@ -1574,8 +1583,22 @@ fn two_editors_on_one_graph_render_the_same_pixels() {
             assert!(scale < low, "the grid framed at {scale}×: not the overview");
         }
         assert_eq!(a.dimensions(), b.dimensions());
+        // Text rasterised at the canvas' zoom (src/editor/crisp_text.rs) shares egui's font
+        // atlas, whose packing order leaves a rare glyph edge one or two levels apart (3–6
+        // bytes of pbr_gold in half the runs, measured); the wires, which the test is about,
+        // differed by 94–203 bytes and up to 66 levels.
         let differ = differing_bytes(a.as_raw(), b.as_raw());
-        assert_eq!(differ, 0, "{name}: {differ} bytes differ");
+        let most = a
+            .as_raw()
+            .iter()
+            .zip(b.as_raw())
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap_or(0);
+        assert!(
+            differ <= 24 && most <= 2,
+            "{name}: {differ} bytes differ, by up to {most} levels"
+        );
     }
 }
 

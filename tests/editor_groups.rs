@@ -773,24 +773,41 @@ fn ctrl_g_and_alt_g_from_the_keyboard() {
     h.run();
     let s = &h.state().state;
     assert_eq!(s.doc.doc().groups["group"].nodes.len(), 1, "{:?}", s.status);
-    // The selection (canvas indices, now other nodes) is dropped; the new instance is the
-    // focused node, so Tab enters it and Tab leaves.
-    assert!(h.state().selected(&h.ctx).is_empty());
+    // The new instance is the selection (only it) and the focused node: Tab enters it (the
+    // selection inside starts empty), Tab leaves, and the instance is selected again.
+    assert_eq!(h.state().selected(&h.ctx), ["group"]);
     assert_eq!(s.focus.as_deref(), Some("group"));
+    let view = h.state().to_screen();
     h.key_press(Key::Tab);
     h.run();
     assert_eq!(h.state().state.breadcrumb(), ["shading", "group"]);
+    assert!(h.state().selected(&h.ctx).is_empty());
+    // Inside, the view is the group's own (framed as a graph opens).
+    h.run_steps(8);
+    assert_ne!(h.state().to_screen(), view);
     h.key_press(Key::Tab);
-    h.run();
+    h.run_steps(4);
+    // The top's view back as it was.
+    assert_eq!(h.state().to_screen(), view);
     assert!(!h.state().state.in_group());
     let s = &h.state().state;
     assert!(s.doc.node("group").is_some());
-    // Alt+G on the focused instance.
-    h.state_mut().state.focus = Some("group".into());
+    assert_eq!(h.state().selected(&h.ctx), ["group"]);
+    // Alt+G on the selected instance: its node back, selected.
     h.key_press_modifiers(Modifiers::ALT, Key::G);
     h.run();
     assert!(h.state().state.doc.node("group").is_none());
     assert_eq!(h.state().state.doc.doc().nodes.len(), original.nodes.len());
+    assert_eq!(h.state().selected(&h.ctx), ["lam"]);
+    // Alt+G with nothing selected acts on the focused instance.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run();
+    h.state_mut().state.selection.clear();
+    h.state_mut().state.focus = Some("group".into());
+    h.key_press_modifiers(Modifiers::ALT, Key::G);
+    h.run();
+    assert!(h.state().state.doc.node("group").is_none());
+    assert_eq!(h.state().selected(&h.ctx), ["lam"]);
     // Edit → Enter group, for the focused instance.
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.run();

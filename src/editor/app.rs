@@ -3,10 +3,12 @@
 //! `Ui`, so the same code runs in the window (eframe), headless and under egui_kittest.
 
 use super::code::{TARGETS, extension, node_lines};
+use super::first_view;
 use super::handoff;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD};
 use super::ports::Kind;
 use super::search_ui::{self, SearchState};
+use super::select_ui::{SelectTool, View};
 use super::stand_in::Looks;
 use super::state::{Dialog, EditorState, Pending};
 use super::viewer::{Action, Places, Swatch, Viewer};
@@ -14,7 +16,8 @@ use egui::{Color32, Key, KeyboardShortcut, Modifiers, Ui};
 use egui_snarl::NodeId;
 use egui_snarl::ui::{SnarlStyle, SnarlWidget};
 
-/// The size a node is assumed to have when the view is fitted to the nodes.
+/// A typical node's size on the canvas (the view is fitted to the nodes' estimated sizes,
+/// [`super::layout::node_size`]).
 pub const NODE_EXTENT: egui::Vec2 = egui::vec2(200.0, 140.0);
 
 /// The canvas widget's id (its selection is read through it).
@@ -32,6 +35,8 @@ pub struct EditorApp {
     canvas_rect: egui::Rect,
     /// The nodes' bounding box of the last frame, in canvas coordinates.
     nodes_rect: egui::Rect,
+    /// Each node's rect (its estimated size) in the last frame, in canvas coordinates.
+    node_rects: Vec<egui::Rect>,
     /// Frames until the view is fitted to the nodes (0: no fit pending).
     frame_in: u8,
     /// How many of the document's nodes the canvas shows yet (see
@@ -41,24 +46,26 @@ pub struct EditorApp {
     nodes_measured: bool,
     /// How egui-snarl last drew each node in the overview ([`super::stand_in`]).
     looks: Looks,
-    /// Whether a box selection (a drag begun with Shift) is under way: egui-snarl selects
-    /// among the nodes it is handed, so it is handed all of them until the drag ends.
-    boxing: bool,
+    /// Picking, box-selecting and moving nodes with the pointer ([`super::select_ui`]).
+    select: SelectTool,
     /// Whether egui-snarl may be handed only some nodes ([`super::handoff`]).
     hand_off: bool,
     /// How many nodes the last frame handed egui-snarl (`None`: all).
     handed: Option<usize>,
     /// The last frame's [`Viewer::drawn`].
     drawn: Vec<(usize, egui::Rect)>,
+    /// How the pending fit frames the nodes: as a graph opens ([`first_view::opening`],
+    /// 1×) or whole (Home, [`first_view::frame_all`]).
+    fit_whole: bool,
+    /// A zoom to set about the canvas' centre on the next frame ([`Self::zoom_to`]).
+    zoom_to: Option<f32>,
+    /// The canvas' text laid out at its zoom ([`super::crisp_text`]).
+    crisp: super::crisp_text::CrispText,
+    /// The values refused on the canvas, with why ([`super::entry`]).
+    pub rejections: super::entry::Rejections,
     /// The instances entered when the last frame was drawn: a change shows the new
     /// level's nodes afresh.
     level: Vec<String>,
-    /// Bumped when a group is made or undone: egui-snarl keeps its selection by canvas
-    /// index (and offers no way to clear it), so the canvas gets a fresh id, the selection
-    /// starts empty and the commands fall back on the focused node (the new instance).
-    selection_generation: u64,
-    /// A view to impose on the next frame (the view before the canvas got a fresh id).
-    impose: Option<egui::emath::TSTransform>,
 }
 
 impl EditorApp {
@@ -69,54 +76,37 @@ impl EditorApp {
             to_screen: egui::emath::TSTransform::IDENTITY,
             canvas_rect: egui::Rect::NOTHING,
             nodes_rect: egui::Rect::NOTHING,
+            node_rects: Vec::new(),
             // Once every node is shown and measured, the view is fitted to them.
             frame_in: 1,
             revealed: 0,
             nodes_measured: false,
             looks: Looks::default(),
-            boxing: false,
+            select: SelectTool::default(),
             hand_off: true,
             handed: None,
             drawn: Vec::new(),
+            fit_whole: false,
+            zoom_to: None,
+            crisp: Default::default(),
+            rejections: Default::default(),
             level: Vec::new(),
-            selection_generation: 0,
-            impose: None,
         }
     }
 
-    /// The canvas widget's id at the current level: each group entered has its own (its
-    /// view and selection), the graph's top [`canvas_id`].
+    /// The canvas widget's id at the current level: each group entered has its own (egui-snarl
+    /// keeps its view by it), the graph's top [`canvas_id`].
     pub fn canvas_key(&self) -> egui::Id {
-        let id = match &self.state.scope {
+        match &self.state.scope {
             None => canvas_id(),
             Some(s) => s
                 .levels
                 .iter()
                 .fold(canvas_id(), |id, l| id.with(&l.instance)),
-        };
-        match self.selection_generation {
-            0 => id,
-            k => id.with(("selection", k)),
         }
     }
 
-    /// After a group was made or undone: the canvas' selection (by canvas index, now
-    /// naming other nodes) is dropped, the view kept.
-    fn forget_selection(&mut self) {
-        self.selection_generation += 1;
-        self.impose = Some(self.to_screen);
-    }
-
-    /// The ids of the canvas nodes selected, the Material Output and Group Input nodes
-    /// included (their canvas ids).
-    pub fn selected_all(&self, ctx: &egui::Context) -> Vec<String> {
-        egui_snarl::ui::get_selected_nodes(self.canvas_key(), ctx)
-            .into_iter()
-            .filter_map(|n| self.state.snarl.get_node(n).map(|v| v.id.clone()))
-            .collect()
-    }
-
-    /// The one group instance selected (else the focused one), if so.
+    /// The one group instance selected (nothing selected: the focused one), if so.
     fn selected_instance(&self, ctx: &egui::Context) -> Option<String> {
         let selected = self.selected(ctx);
         let is_instance = |id: &str| {
@@ -132,21 +122,30 @@ impl EditorApp {
         }
     }
 
+    /// Groups the selected nodes (nothing selected: the focused one, as a node's menu
+    /// offers it); the new instance is then the selection.
+    fn group_selected(&mut self, ctx: &egui::Context) {
+        self.select.end_grab(&mut self.state);
+        let mut selected = self.selected(ctx);
+        if selected.is_empty()
+            && let Some(f) = self.state.focus.clone()
+        {
+            selected.push(f);
+        }
+        let _ = self.state.group_selection(&selected);
+    }
+
     /// Runs a group command ([`super::group_ui::GroupCommand`]) on the selection.
     fn group_command(&mut self, c: super::group_ui::GroupCommand, ctx: &egui::Context) {
         use super::group_ui::GroupCommand;
         match c {
             GroupCommand::Group => {
-                let selected = self.selected_all(ctx);
-                if self.state.group_selection(&selected).is_ok() {
-                    self.forget_selection();
-                }
+                let selected = self.selected(ctx);
+                let _ = self.state.group_selection(&selected);
             }
             GroupCommand::Ungroup => match self.selected_instance(ctx) {
                 Some(id) => {
-                    if self.state.ungroup(&id).is_ok() {
-                        self.forget_selection();
-                    }
+                    let _ = self.state.ungroup(&id);
                 }
                 None => {
                     self.state.status = Some("select one group instance to ungroup (Alt+G)".into());
@@ -208,18 +207,29 @@ impl EditorApp {
     /// Fits the view to every node (View → Frame all, Home), on the next frame.
     pub fn frame_all(&mut self) {
         self.frame_in = 1;
+        self.fit_whole = true;
+    }
+
+    /// Frames the nodes as a graph opens ([`first_view::opening`]: 1×; an empty graph at
+    /// 1× about the canvas' origin), once they are drawn and measured.
+    fn frame_opening(&mut self) {
+        self.frame_in = 1;
+        self.fit_whole = false;
+        // The last frame measured the graph before.
+        self.nodes_measured = false;
+        self.node_rects.clear();
+    }
+
+    /// Zooms the canvas to `scaling` about the centre of its rect (View → Zoom 1:1), on
+    /// the next frame.
+    pub fn zoom_to(&mut self, scaling: f32) {
+        self.zoom_to = Some(scaling);
     }
 
     /// The canvas → screen transform that shows `nodes` (canvas) whole in `canvas` (screen),
-    /// with a margin, at most at scale 1.
+    /// with a margin, at most at scale 1 ([`first_view::frame_all`]).
     pub fn fit(nodes: egui::Rect, canvas: egui::Rect) -> Option<egui::emath::TSTransform> {
-        if !nodes.is_positive() || !canvas.is_positive() {
-            return None;
-        }
-        let nodes = nodes.expand(30.0);
-        let scale = (canvas.size() / nodes.size()).min_elem().clamp(0.1, 1.0);
-        let translation = canvas.center().to_vec2() - nodes.center().to_vec2() * scale;
-        Some(egui::emath::TSTransform::new(translation, scale))
+        first_view::frame_all(nodes, canvas)
     }
 
     /// Draws one frame and applies what the user did in it.
@@ -240,7 +250,8 @@ impl EditorApp {
         self.apply(actions, &ctx);
         self.search_window(&ctx);
         self.dialogs(&ctx);
-        if !ctx.input(|i| i.pointer.any_down()) {
+        // Copies following the pointer (Shift+D) stay one undo step until dropped.
+        if !ctx.input(|i| i.pointer.any_down()) && !self.select.grabbing() {
             self.state.history.seal();
         }
         let now = ctx.input(|i| i.time);
@@ -292,15 +303,20 @@ impl EditorApp {
             .unwrap_or_default();
         if level != self.level {
             // Another level (a group entered or left): its nodes appear afresh; a group
-            // entered is framed, the level left keeps its view.
+            // entered is framed as a graph opens (1×), the level left keeps its view
+            // (egui-snarl's, by [`Self::canvas_key`]).
             let entered = level.len() > self.level.len();
             self.revealed = 0;
             self.looks = Looks::default();
             self.drawn.clear();
             self.nodes_measured = false;
             self.frame_in = u8::from(entered);
+            self.fit_whole = false;
+            self.select.end_grab(&mut self.state);
         }
         self.level = level;
+        self.prune_selection();
+        let held = self.select.held_view(ui.ctx(), self.to_screen);
         let n = self.state.doc.doc().nodes.len();
         if self.revealed < n {
             // egui-snarl's node frame is the window frame (its shadow).
@@ -315,7 +331,9 @@ impl EditorApp {
         let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
         let key = self.canvas_key();
         let shader_error = self.shader_problem();
+        let selected = self.selected_node_ids();
         let mut viewer = Viewer {
+            file: self.state.path.as_deref(),
             doc: &self.state.doc,
             hard,
             actions: Vec::new(),
@@ -333,9 +351,23 @@ impl EditorApp {
             looks: &mut self.looks,
             wires: None,
             drawn: Vec::new(),
+            selection: &self.state.selection,
+            restore: None,
+            pin_rows: Default::default(),
+            rejections: &self.rejections,
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
-            let fit = Self::fit(self.nodes_rect, self.canvas_rect);
+            let fit = match self.fit_whole {
+                true => Self::fit(self.nodes_rect, self.canvas_rect),
+                // An empty graph: 1×, the canvas' origin (where the Material Output node
+                // goes) in the middle.
+                false => first_view::opening(&self.node_rects, self.canvas_rect).or_else(|| {
+                    (self.canvas_rect.is_positive()).then(|| {
+                        let origin = egui::Pos2::ZERO;
+                        first_view::centred(origin, self.canvas_rect, first_view::OPEN_ZOOM)
+                    })
+                }),
+            };
             if fit.is_none() {
                 // Nothing to frame.
                 self.frame_in = 0;
@@ -344,33 +376,35 @@ impl EditorApp {
         } else {
             None
         };
-        viewer.set_transform = fit.or(self.impose.take());
+        // A zoom asked for (View → Zoom 1:1), once no fit is pending.
+        let zoom = match (fit, self.frame_in, self.canvas_rect.is_positive()) {
+            (None, 0, true) => self
+                .zoom_to
+                .take()
+                .map(|z| first_view::zoomed(self.to_screen, self.canvas_rect, z)),
+            _ => None,
+        };
+        let fit = fit.or(zoom);
+        if fit.is_some() {
+            self.zoom_to = None;
+        }
+        // While a box is drawn the view holds (egui-snarl's background drag pans).
+        viewer.set_transform = fit.or(held);
         let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
+            pin_placement: Some(super::pin_tips::PLACEMENT),
             ..SnarlStyle::new()
         };
         // egui-snarl is handed only the nodes it must lay out (super::handoff), except
-        // while the file's nodes are revealed, the view is fitted, a box selection or a
-        // menu is open (a node's menu belongs to its frame).
-        let (shift, pressed, released) = ui.input(|i| {
-            (
-                i.modifiers.shift,
-                i.pointer.primary_pressed(),
-                i.pointer.primary_released(),
-            )
-        });
-        self.boxing |= shift && pressed;
+        // while the file's nodes are revealed, the view is fitted or a menu is open (a
+        // node's menu belongs to its frame). The selection, the box selection included,
+        // is the editor's (super::select_ui): it needs no node of egui-snarl's.
         let whole = !self.hand_off
             || n > self.revealed
             || !self.nodes_measured
             || fit.is_some()
-            || shift
-            || self.boxing
             || egui::Popup::is_any_open(ui.ctx());
-        if released {
-            self.boxing = false;
-        }
         let mut part = None;
         if !whole {
             let (zoom, scroll, pointer) = ui.input(|i| {
@@ -381,7 +415,6 @@ impl EditorApp {
                 )
             });
             let next = handoff::predict(self.to_screen, zoom, scroll, pointer, canvas);
-            let selected = egui_snarl::ui::get_selected_nodes(key, ui.ctx());
             let mut keep = viewer.hand_over(next, &selected, pointer);
             // The Material Output node is no document node: in the overview it is handed
             // over only while selected (egui-snarl drawing it beside the stand-ins made
@@ -401,10 +434,17 @@ impl EditorApp {
             .as_ref()
             .map(|keep| keep.iter().filter(|&&k| k).count());
         let shown = part.as_mut().unwrap_or(&mut self.state.snarl);
-        SnarlWidget::new()
+        // egui-snarl must not see Shift (its own selection stays empty, super::select_ui);
+        // the viewer gives it back before any node is drawn.
+        let hidden = SelectTool::hide_shift(ui.ctx());
+        viewer.restore = hidden.map(|m| (ui.ctx().clone(), m));
+        let background = SnarlWidget::new()
             .id(key)
             .style(style)
             .show(shown, &mut viewer, ui);
+        if let Some((ctx, m)) = viewer.restore.take() {
+            SelectTool::restore(&ctx, Some(m));
+        }
         if let Some(wires) = viewer.wires {
             wires.sort(ui.ctx());
         }
@@ -412,20 +452,39 @@ impl EditorApp {
             handoff::write_back(&mut self.state.snarl, part);
         }
         viewer.paint_overview(&self.state.snarl, ui.style());
+        if let (Some(wires), Some(t)) = (viewer.wires, viewer.to_screen) {
+            // Everything egui-snarl and the overview painted, the background's frame labels included.
+            let (layer, _) = wires.place();
+            let from = egui::layers::ShapeIdx(0);
+            self.crisp.apply(ui.ctx(), layer, from, t.scaling);
+        }
         self.drawn = std::mem::take(&mut viewer.drawn);
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;
         }
         self.canvas_rect = canvas;
-        // Node positions are their top-left corners; NODE_EXTENT covers a typical node.
-        self.nodes_rect = self
+        // Node positions are their top-left corners; a node's extent is its estimated
+        // size (the layout's); the Material Output node's, its title's width (egui-snarl
+        // draws it 125 points wide) and a row per output.
+        let outputs = self.state.doc.doc().outputs.len().max(1) as f32;
+        let output_extent = egui::vec2(
+            130.0,
+            super::layout::HEADER_HEIGHT + super::layout::OUTPUT_ROW * outputs,
+        );
+        let sizes = self.state.doc.node_sizes();
+        self.node_rects = self
             .state
             .snarl
-            .nodes_pos()
-            .fold(egui::Rect::NOTHING, |r, (p, _)| {
-                r.union(egui::Rect::from_min_size(p, NODE_EXTENT))
-            });
+            .nodes_pos_ids()
+            .map(|(k, p, _)| {
+                let size = sizes
+                    .get(k.0)
+                    .map_or(output_extent, |&(w, h)| egui::vec2(w, h));
+                egui::Rect::from_min_size(p, size)
+            })
+            .collect();
+        self.nodes_rect = (self.node_rects.iter()).fold(egui::Rect::NOTHING, |a, r| a.union(*r));
         // The fit uses the rects of a frame that drew every node.
         self.nodes_measured = self.revealed >= n;
         if let Some(t) = viewer
@@ -435,6 +494,27 @@ impl EditorApp {
             self.to_screen = t;
         }
         let mut actions = viewer.actions;
+        // Clicks, a box selection, the selection dragged along, copies following the
+        // pointer: before the moves below are written.
+        let drawn = self.drawn_ids();
+        let rects = match self.select.boxing() {
+            true => self.node_rects(&drawn),
+            false => Vec::new(),
+        };
+        let view = View {
+            drawn: &drawn,
+            rects: &rects,
+            to_screen: self.to_screen,
+            canvas,
+        };
+        if self
+            .select
+            .after_canvas(ui.ctx(), &mut self.state, &background, view)
+        {
+            // A right-click cancelled copies following the pointer: not a menu.
+            actions.retain(|a| !matches!(a, Action::Search { .. }));
+            egui::Popup::close_all(ui.ctx());
+        }
         // Node moves (a drag is one undo step). While a file's nodes are being revealed the
         // laid-out places of nodes without a position wait for the last one: written one
         // per frame, each revalidated the document and regenerated its code (a 300-node
@@ -499,11 +579,64 @@ impl EditorApp {
                 actions.push(Action::PreviewOutput((!again).then_some(id)));
             }
         }
-        let selected = self.selected(ui.ctx());
-        if selected.len() == 1 && ui.input(|i| i.pointer.any_pressed()) {
-            actions.push(Action::Focus(selected[0].clone()));
-        }
         actions
+    }
+
+    /// Forgets selected nodes that are gone (deleted, undone away, another file opened).
+    fn prune_selection(&mut self) {
+        let s = &mut self.state;
+        let output = s.doc.shows_output_node();
+        let doc = &s.doc;
+        s.selection
+            .retain(|id| doc.index(id).is_some() || (id == OUTPUT_NODE && output));
+    }
+
+    /// The selected nodes' ids on the canvas.
+    fn selected_node_ids(&self) -> Vec<NodeId> {
+        let snarl = &self.state.snarl;
+        self.state
+            .selection
+            .ids()
+            .iter()
+            .filter_map(|id| match id == OUTPUT_NODE {
+                true => super::view::output_node_id(snarl),
+                false => self.state.doc.index(id).map(NodeId),
+            })
+            .collect()
+    }
+
+    /// The nodes egui-snarl drew in full in the last frame, by id, in drawing order.
+    fn drawn_ids(&self) -> Vec<(String, egui::Rect)> {
+        let nodes = &self.state.doc.doc().nodes;
+        self.drawn
+            .iter()
+            .filter_map(|&(k, r)| match k {
+                super::viewer::OUTPUT_DRAWN => Some((OUTPUT_NODE.to_owned(), r)),
+                k => Some((nodes.get(k)?.id.clone(), r)),
+            })
+            .collect()
+    }
+
+    /// Every node on the canvas with its rect (canvas points) for a box selection: as
+    /// drawn this frame, else its estimated size at its place (the Material Output node
+    /// only where drawn).
+    fn node_rects(&self, drawn: &[(String, egui::Rect)]) -> Vec<(String, egui::Rect)> {
+        let doc = &self.state.doc;
+        let sizes = doc.node_sizes();
+        self.state
+            .snarl
+            .nodes_pos_ids()
+            .filter_map(|(_, pos, v)| {
+                if let Some((_, r)) = drawn.iter().find(|(id, _)| *id == v.id) {
+                    return Some((v.id.clone(), *r));
+                }
+                let (w, h) = *sizes.get(doc.index(&v.id)?)?;
+                Some((
+                    v.id.clone(),
+                    egui::Rect::from_min_size(pos, egui::vec2(w, h)),
+                ))
+            })
+            .collect()
     }
 
     /// The swatches of the nodes whose preview is on.
@@ -536,12 +669,14 @@ impl EditorApp {
             .map(|e| (generated.error_node.clone(), e.clone()))
     }
 
-    /// The ids of the nodes selected on the canvas.
-    pub fn selected(&self, ctx: &egui::Context) -> Vec<String> {
-        egui_snarl::ui::get_selected_nodes(self.canvas_key(), ctx)
-            .into_iter()
-            .filter_map(|NodeId(k)| self.state.doc.doc().nodes.get(k).map(|n| n.id.clone()))
-            .collect()
+    /// The ids of the nodes selected on the canvas (the active one last).
+    pub fn selected(&self, _ctx: &egui::Context) -> Vec<String> {
+        self.state.selection.ids().to_vec()
+    }
+
+    /// Whether copies made by Shift+D follow the pointer (until a click drops them).
+    pub fn grabbing(&self) -> bool {
+        self.select.grabbing()
     }
 
     /// The canvas position under the pointer (or the canvas centre).
@@ -588,7 +723,6 @@ impl EditorApp {
 
     fn apply(&mut self, actions: Vec<Action>, ctx: &egui::Context) {
         let mut grouping = false;
-        let mut regrouped = false;
         let s = &mut self.state;
         for a in actions {
             match a {
@@ -606,6 +740,11 @@ impl EditorApp {
                 Action::SetInput { node, input, value } => {
                     let key = format!("value:{node}.{input}");
                     s.set_input(&node, &input, value, Some(&key));
+                    self.rejections.accept(&node, &input);
+                }
+                Action::Reject { node, input, why } => {
+                    s.status = Some(format!("{node}.{why} (refused; the graph is unchanged)"));
+                    self.rejections.reject(&node, &input, why);
                 }
                 Action::Search { pos, wire } => {
                     s.search = Some(SearchState {
@@ -635,17 +774,15 @@ impl EditorApp {
                 Action::ListParameter(id) => {
                     let _ = s.list_parameter_node(&id);
                 }
+                Action::Texture(a) => super::textures::apply(s, a),
                 Action::Duplicate(ids) => {
-                    let copies = s.duplicate(&ids);
-                    if let Some(c) = copies.first() {
-                        s.focus = Some(c.clone());
-                    }
+                    self.select.duplicate(s, &ids);
                 }
                 Action::EnterGroup(id) => {
                     let _ = s.enter_group(&id);
                 }
                 Action::Ungroup(id) => {
-                    regrouped |= s.ungroup(&id).is_ok();
+                    let _ = s.ungroup(&id);
                 }
                 Action::GroupSelected => {
                     grouping = true;
@@ -653,16 +790,7 @@ impl EditorApp {
             }
         }
         if grouping {
-            let mut selected = self.selected_all(ctx);
-            if selected.is_empty()
-                && let Some(f) = self.state.focus.clone()
-            {
-                selected.push(f);
-            }
-            regrouped |= self.state.group_selection(&selected).is_ok();
-        }
-        if regrouped {
-            self.forget_selection();
+            self.group_selected(ctx);
         }
     }
 
@@ -699,11 +827,19 @@ impl EditorApp {
         if typing || self.state.dialog.is_some() || self.state.search.is_some() {
             return;
         }
+        if undo || redo {
+            // Copies following the pointer are dropped first: their step ends.
+            self.select.end_grab(&mut self.state);
+        }
         if undo {
             self.state.undo();
         }
         if redo {
             self.state.redo();
+        }
+        if self.select.grabbing() {
+            // Escape and clicks end it (super::select_ui); nothing else meanwhile.
+            return;
         }
         let (search, tab, delete, duplicate) = ctx.input_mut(|i| {
             (
@@ -750,10 +886,39 @@ impl EditorApp {
         }
         let selected = self.selected(ctx);
         if delete {
-            self.state.remove_nodes(&selected);
+            // The Material Output node is the graph's outputs: Delete leaves it.
+            let ids: Vec<String> = selected
+                .iter()
+                .filter(|i| *i != OUTPUT_NODE)
+                .cloned()
+                .collect();
+            self.state.remove_nodes(&ids);
+            self.prune_selection();
         }
         if duplicate {
-            self.state.duplicate(&selected);
+            self.select.duplicate(&mut self.state, &selected);
+        }
+        self.clipboard(ctx);
+    }
+
+    /// Ctrl+C copies the selected nodes as graph JSON to the system clipboard, Ctrl+V
+    /// pastes graph JSON from it at the pointer ([`super::clipboard`]); egui delivers them
+    /// as events, which a text field being typed in takes instead.
+    fn clipboard(&mut self, ctx: &egui::Context) {
+        let (copy, paste) = ctx.input(|i| {
+            let copy = i.events.iter().any(|e| matches!(e, egui::Event::Copy));
+            let paste = i.events.iter().find_map(|e| match e {
+                egui::Event::Paste(text) => Some(text.clone()),
+                _ => None,
+            });
+            (copy, paste)
+        });
+        if copy && let Some(text) = self.state.copy_selection() {
+            ctx.copy_text(text);
+        }
+        if let Some(text) = paste {
+            let at = self.pointer_canvas_pos(ctx);
+            let _ = self.state.paste_text(&text, at);
         }
     }
 
@@ -853,6 +1018,22 @@ impl EditorApp {
                     {
                         self.state.redo();
                     }
+                    ui.separator();
+                    if ui.button("Copy  (Ctrl+C)").clicked()
+                        && let Some(text) = self.state.copy_selection()
+                    {
+                        ui.ctx().copy_text(text);
+                    }
+                    if ui.button("Paste  (Ctrl+V)").clicked() {
+                        // The clipboard's text comes back as a paste event.
+                        ui.ctx()
+                            .send_viewport_cmd(egui::ViewportCommand::RequestPaste);
+                    }
+                    if ui.button("Duplicate  (Shift+D)").clicked() {
+                        let ids = self.state.selection.ids().to_vec();
+                        self.select.duplicate(&mut self.state, &ids);
+                    }
+                    ui.separator();
                     if ui.button("Add node…  (Shift+A)").clicked() {
                         let ctx = ui.ctx().clone();
                         self.open_search(&ctx);
@@ -871,6 +1052,13 @@ impl EditorApp {
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
                         self.frame_all();
+                    }
+                    if ui
+                        .button("Zoom 1:1")
+                        .on_hover_text("text is sharpest at 1×, where a graph opens")
+                        .clicked()
+                    {
+                        self.zoom_to(first_view::OPEN_ZOOM);
                     }
                     if ui.button("Arrange").clicked() {
                         self.arrange();
@@ -1044,6 +1232,10 @@ impl EditorApp {
         for e in doc.node_errors(&id) {
             ui.colored_label(Color32::from_rgb(255, 120, 110), e);
         }
+        let texture = match super::textures::is_texture_node(doc, &id) {
+            true => super::textures_ui::inspector_section(ui, &self.state, &id),
+            false => None,
+        };
         match (&t, &ports.kind) {
             (Some(t), _) => {
                 ui.label(t.summary());
@@ -1078,6 +1270,9 @@ impl EditorApp {
             if !o.doc.is_empty() {
                 ui.label(o.doc.as_ref());
             }
+        }
+        if let Some(a) = texture {
+            super::textures::apply(&mut self.state, a);
         }
         // An instance of a group of this file: its interface, editable (Tab enters it).
         if let Some(group) = self.state.interface_group(Some(&id)) {
@@ -1370,6 +1565,9 @@ impl EditorApp {
                 Some(super::browser::Outcome::Cancel) => keep = false,
                 None => {}
             },
+            Dialog::PickTexture { node, browser } => {
+                keep = super::textures_ui::picker(ui, &mut self.state, node, browser);
+            }
             Dialog::SaveAs { path } => {
                 ui.label("File:");
                 ui.text_edit_singleline(path);
@@ -1414,13 +1612,15 @@ impl EditorApp {
             }
             Pending::Open(path) => {
                 if self.state.load(&path).is_ok() {
-                    self.frame_in = 1;
+                    self.rejections.clear();
+                    self.frame_opening();
                     self.revealed = 0;
                 }
             }
             Pending::New => {
                 self.state.start_new();
-                self.frame_in = 1;
+                self.rejections.clear();
+                self.frame_opening();
                 self.revealed = 0;
             }
         }

@@ -5,12 +5,17 @@
 //! Escape cancels; a click selects, a double-click or Open opens. It is drawn by egui, so it
 //! works the same on every platform, under Xvfb and in tests, without a desktop portal or
 //! GTK; [`Browser::within`] keeps it inside a folder (the texture picker's folder rules).
+//! [`Browser::images`] is the texture picker's: image files with a thumbnail each
+//! ([`super::thumbnails`], decoded for the rows on screen only) and the image's size.
 
 use egui::{Key, Ui};
 use std::path::{Path, PathBuf};
 
 /// Largest file whose description is read (a bigger one is listed without it).
 const DESCRIBE_MAX_BYTES: u64 = 1 << 20;
+
+/// The side of the box a row's thumbnail is drawn in, points.
+pub const THUMB_POINTS: f32 = 40.0;
 
 /// What a row of the browser is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,6 +73,13 @@ pub struct Browser {
     pub error: Option<String>,
     /// Whether the selection moved by a key this frame (its row is scrolled to).
     moved: bool,
+    /// The heading.
+    title: String,
+    /// The button that takes the highlighted file.
+    verb: String,
+    /// Whether the files are images: a thumbnail and the image's size beside each, no
+    /// graph description.
+    images: bool,
 }
 
 impl Browser {
@@ -76,10 +88,20 @@ impl Browser {
         Browser::new(dir, &["json"], recent)
     }
 
-    /// A browser of the files with `extensions` (lower case, no dot) in `dir`, with
-    /// `recent` files on top (those that exist and have one of the extensions).
-    pub fn new(dir: &Path, extensions: &[&str], recent: &[PathBuf]) -> Browser {
-        let mut b = Browser {
+    /// The texture picker of node `node`: the images
+    /// ([`super::textures::IMAGE_EXTENSIONS`]) in `dir`, each with its thumbnail and size,
+    /// kept inside `root` (the graph's folder, [`Browser::within`]).
+    pub fn images(dir: &Path, root: &Path, node: &str) -> Browser {
+        let mut b = Browser::build(&super::textures::IMAGE_EXTENSIONS, true);
+        b.title = format!("Pick an image for '{node}'");
+        b.verb = "Pick".into();
+        b.dir = normalise(&std::path::absolute(dir).unwrap_or_else(|_| dir.to_owned()));
+        b.within(root)
+    }
+
+    /// An empty browser of files with `extensions`, not yet in a folder.
+    fn build(extensions: &[&str], images: bool) -> Browser {
+        Browser {
             dir: PathBuf::new(),
             query: String::new(),
             selected: 0,
@@ -89,7 +111,16 @@ impl Browser {
             listing: Vec::new(),
             error: None,
             moved: false,
-        };
+            title: "Open a graph".into(),
+            verb: "Open".into(),
+            images,
+        }
+    }
+
+    /// A browser of the files with `extensions` (lower case, no dot) in `dir`, with
+    /// `recent` files on top (those that exist and have one of the extensions).
+    pub fn new(dir: &Path, extensions: &[&str], recent: &[PathBuf]) -> Browser {
+        let mut b = Browser::build(extensions, false);
         b.recent = recent
             .iter()
             .filter(|p| b.wanted(p) && p.is_file())
@@ -106,12 +137,15 @@ impl Browser {
 
     /// Keeps navigation inside `root` (and starts there unless the folder is inside it).
     pub fn within(mut self, root: &Path) -> Browser {
-        let root = std::path::absolute(root).unwrap_or_else(|_| root.to_owned());
+        let root = normalise(&std::path::absolute(root).unwrap_or_else(|_| root.to_owned()));
         self.recent.retain(|e| e.path.starts_with(&root));
         self.root = Some(root.clone());
-        if !self.dir.starts_with(&root) {
-            self.enter(&root);
-        }
+        // Listed again with the root known: no `..` row at the root.
+        let dir = match self.dir.starts_with(&root) {
+            true => self.dir.clone(),
+            false => root,
+        };
+        self.enter(&dir);
         self
     }
 
@@ -179,10 +213,14 @@ impl Browser {
                 path,
                 note: String::new(),
             }));
+        let images = self.images;
         self.listing
             .extend(files.into_iter().map(|(name, path)| Entry {
                 kind: EntryKind::File,
-                note: describe(&path),
+                note: match images {
+                    true => String::new(),
+                    false => describe(&path),
+                },
                 label: name,
                 path,
             }));
@@ -277,7 +315,7 @@ impl Browser {
     pub fn show(&mut self, ui: &mut Ui) -> Option<Outcome> {
         ui.set_width(560.0);
         ui.set_max_width(760.0);
-        ui.heading("Open a graph");
+        ui.heading(&self.title);
         ui.horizontal(|ui| {
             ui.label("in");
             ui.monospace(self.dir.display().to_string());
@@ -318,6 +356,10 @@ impl Browser {
         self.selected = self.selected.min(entries.len().saturating_sub(1));
         let mut clicked = None;
         let moved = std::mem::take(&mut self.moved);
+        let thumbs = self.images.then(|| super::thumbnails::shared(ui.ctx()));
+        let mut thumbs = thumbs
+            .as_ref()
+            .map(|t| t.lock().unwrap_or_else(|e| e.into_inner()));
         egui::ScrollArea::vertical()
             .max_height(320.0)
             .auto_shrink([false, true])
@@ -333,6 +375,10 @@ impl Browser {
                         shown_recent = false;
                     }
                     ui.horizontal(|ui| {
+                        let mut note = None;
+                        if let Some(thumbs) = thumbs.as_deref_mut() {
+                            note = thumb_cell(ui, thumbs, e);
+                        }
                         let r = ui.selectable_label(k == self.selected, &e.label);
                         if k == self.selected && moved {
                             r.scroll_to_me(None);
@@ -347,17 +393,28 @@ impl Browser {
                             let note = egui::RichText::new(&e.note).weak();
                             ui.add(egui::Label::new(note).truncate());
                         }
+                        match note {
+                            Some(Ok(size)) => {
+                                ui.weak(size);
+                            }
+                            Some(Err(why)) => {
+                                let why = egui::RichText::new(why).color(ERROR_COLOR);
+                                ui.add(egui::Label::new(why).truncate());
+                            }
+                            None => {}
+                        }
                     });
                 }
                 if entries.is_empty() {
-                    ui.weak(match self.query.trim().is_empty() {
-                        true => "no folders or graph files here",
-                        false => "nothing matches: Enter opens the path typed",
+                    ui.weak(match (self.query.trim().is_empty(), self.images) {
+                        (true, false) => "no folders or graph files here",
+                        (true, true) => "no folders or images here",
+                        (false, _) => "nothing matches: Enter opens the path typed",
                     });
                 }
             });
         ui.horizontal(|ui| {
-            if ui.button("Open").clicked() {
+            if ui.button(&self.verb).clicked() {
                 clicked = entries.get(self.selected).cloned();
                 if clicked.is_none() && !self.query.trim().is_empty() {
                     outcome = outcome.clone().or_else(|| self.open_typed());
@@ -370,7 +427,46 @@ impl Browser {
         if let Some(e) = clicked {
             outcome = outcome.or_else(|| self.activate(&e));
         }
+        if thumbs.as_ref().is_some_and(|t| t.pending()) {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(30));
+        }
         outcome
+    }
+}
+
+/// The colour of a row's error (a file that cannot be decoded).
+const ERROR_COLOR: egui::Color32 = egui::Color32::from_rgb(255, 120, 110);
+
+/// A row's thumbnail cell ([`THUMB_POINTS`] square; empty for a folder): the image's
+/// thumbnail, decoded only once the row is on screen. Returns the note beside the name:
+/// the image's size, or why it cannot be read; `None` while it is decoded.
+fn thumb_cell(
+    ui: &mut Ui,
+    thumbs: &mut super::thumbnails::Thumbnails,
+    e: &Entry,
+) -> Option<Result<String, String>> {
+    let side = egui::vec2(THUMB_POINTS, THUMB_POINTS);
+    let (rect, _) = ui.allocate_exact_size(side, egui::Sense::hover());
+    if !matches!(e.kind, EntryKind::File | EntryKind::Recent) || !ui.is_rect_visible(rect) {
+        return None;
+    }
+    match thumbs.get(&e.path) {
+        super::thumbnails::Status::Pending => {
+            ui.painter()
+                .rect_filled(rect.shrink(4.0), 2.0, ui.visuals().faint_bg_color);
+            None
+        }
+        super::thumbnails::Status::Failed(why) => Some(Err(why.to_owned())),
+        super::thumbnails::Status::Ready(_) => {
+            let (id, size, [w, h]) = thumbs.texture(ui.ctx(), &e.path)?;
+            let at = egui::Rect::from_center_size(
+                rect.center(),
+                size * (THUMB_POINTS / size.max_elem()),
+            );
+            egui::Image::new((id, at.size())).paint_at(ui, at);
+            Some(Ok(format!("{w}×{h}")))
+        }
     }
 }
 

@@ -91,6 +91,8 @@ impl EditorState {
                     kept.push(level);
                 }
                 None => {
+                    // The level above the first one gone is shown again, its selection with it.
+                    self.selection = level.selection;
                     left = true;
                     break;
                 }
@@ -137,6 +139,7 @@ impl EditorState {
             reference,
             places: (above.input_node(), above.output_node()),
             above: above.read_only().map(|_| Box::new(above.clone())),
+            selection: std::mem::take(&mut self.selection),
         };
         match &mut self.scope {
             Some(s) => s.levels.push(level),
@@ -198,6 +201,7 @@ impl EditorState {
         doc.set_input_node(level.places.0);
         doc.set_output_node(level.places.1);
         let outer = level.instance.clone();
+        self.selection = level.selection.clone();
         match s.levels.is_empty() {
             true => {
                 self.doc = doc;
@@ -229,6 +233,7 @@ impl EditorState {
             Ok(made)
         })?;
         self.focus = Some(made.instance.clone());
+        self.selection.set([made.instance.clone()]);
         self.status = Some(format!(
             "grouped {} node{} into '{}' (group '{}'); Tab enters it, Alt+G ungroups",
             ids.len(),
@@ -258,7 +263,8 @@ impl EditorState {
             apply(d, done.doc.clone())?;
             Ok(done)
         })?;
-        self.focus = done.nodes.first().cloned();
+        self.focus = done.nodes.last().cloned();
+        self.selection.set(done.nodes.iter().cloned());
         self.status = Some(format!(
             "ungrouped '{id}' into {} node{}{}",
             done.nodes.len(),

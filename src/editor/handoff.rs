@@ -4,8 +4,9 @@
 //! (benches/editor.rs). So each frame it gets a partial graph with the same node ids: the
 //! nodes it must lay out (in view and zoomed in, selected, near the pointer, or holding a
 //! wire to one in view), while the overview paints the others from how egui-snarl last drew
-//! them ([`super::stand_in`]). Its selection, kept by node id, survives because selected
-//! nodes are always handed over.
+//! them ([`super::stand_in`]). The selected nodes (the editor's selection, by node id,
+//! [`super::selection`]) are always handed over, so that they are drawn outlined and drag
+//! together.
 
 use super::view::NodeView;
 use egui::Pos2;

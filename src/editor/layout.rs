@@ -7,7 +7,7 @@
 
 use super::model::link_of;
 use super::ports::{Port, Ports};
-use super::widgets::{current_lanes, slider_range};
+use super::widgets::slider_range;
 use crate::document::{GraphDocument, NodeDocument};
 use crate::node::PortType;
 use crate::registry::Registry;
@@ -46,8 +46,7 @@ pub fn node_height(inputs: usize, outputs: usize) -> f32 {
 /// The width of the value widget input `k` of type `t` shows on `node` (0 when linked),
 /// canvas points, chosen as [`super::widgets::value_editor`] chooses it, by the port's type
 /// (a generic port's `generic`, the node's inferred `T`, where known): sliders (a float with
-/// a finite soft or hard range) 130, vector fields [`lane_width`] per lane of the value
-/// shown, enum combos 110, colour buttons 45, toggles 20, other numbers 50. A generic port
+/// a finite soft or hard range) 130, vector fields [`LANE_WIDTH`] per lane, enum combos 110, colour buttons 45, toggles 20, other numbers 50. A generic port
 /// whose `T` is not known counts 50 per lane of its node's widest literal.
 fn widget_width(decl: &Port, node: &NodeDocument, generic: Option<SocketType>) -> f32 {
     let written = node.inputs.get(decl.name.as_ref());
@@ -63,32 +62,18 @@ fn widget_width(decl: &Port, node: &NodeDocument, generic: Option<SocketType>) -
         SocketType::Int if !decl.choices.is_empty() => 110.0,
         SocketType::Color => 45.0,
         SocketType::Bool => 20.0,
-        SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => {
-            let default = decl.default_for(generic.unwrap_or(SocketType::Float));
-            current_lanes(decl, ty, written, &default)
-                .into_iter()
-                .map(lane_width)
-                .sum()
-        }
+        SocketType::Vec2 | SocketType::Vec3 | SocketType::Vec4 => LANE_WIDTH * ty.width() as f32,
         other => 50.0 * other.width() as f32,
     }
 }
 
-/// The width of one field of a vector editor showing `x`, canvas points, with the spacing
-/// after it: egui's `DragValue` at speed 0.01 prints 2 decimals, or 3 where 2 do not hold
-/// the value (`-0.1736482` → `-0.174`, 6 characters); a field is its text and 8 points of
-/// padding, at least the canvas' interact width of 44, and 8 apart. The gerstner_waves
-/// node's vec4 rows of such values were drawn 24 points wider than 50 a field allowed.
-pub fn lane_width(x: f32) -> f32 {
-    let hundredths = f64::from(x) * 100.0;
-    let decimals = if (hundredths - hundredths.round()).abs() < 1e-3 {
-        2
-    } else {
-        3
-    };
-    let chars = format!("{x:.decimals$}").chars().count() as f32;
-    (CHAR * chars + 8.0).max(44.0) + 8.0
-}
+/// The width of one field of a vector editor, canvas points, with the spacing after it:
+/// the canvas' interact width of 44 (a number field keeps its size whatever it shows,
+/// [`super::fields`]) and 8 to the next field. Before the fields were fixed, a field was as
+/// wide as its text: the gerstner_waves node's vec4 rows of values like `-0.174` were drawn
+/// 24 points wider than 50 a field allowed, and a value written could widen a node into its
+/// neighbour.
+pub const LANE_WIDTH: f32 = 44.0 + 8.0;
 
 /// The lanes of a generic node's literals: the widest array literal among its inputs.
 fn generic_lanes(node: &NodeDocument) -> usize {
@@ -101,7 +86,8 @@ fn generic_lanes(node: &NodeDocument) -> usize {
 
 /// The estimated size (width, height) of `node` on the canvas, canvas points: the title
 /// (with the preview toggle), the widest input row (label and value widget) beside the
-/// widest output label, and [`node_height`]; at least [`MIN_WIDTH`]. `generic` is the
+/// widest output label, and [`node_height`] (a texture node's image rows under its pins
+/// added, [`super::textures_ui::rows_size`]); at least [`MIN_WIDTH`]. `generic` is the
 /// node's inferred `T` where known (its generic ports' widgets follow it). Estimated from
 /// the egui-snarl 0.12 nodes of the bundled graphs to within about 10 % (pbr_brdf ≈ 260
 /// wide, fresnel_schlick with a vec3 literal ≈ 290), so the layout leaves room to spare.
@@ -136,8 +122,16 @@ pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketTy
         .map(|n| n.chars().count() + 1)
         .sum();
     let title = 8.0 * (node.id.chars().count() + notes) as f32 + 60.0;
-    let width = (input + output + 20.0).max(title).max(MIN_WIDTH);
-    (width, node_height(ports.inputs.len(), ports.outputs.len()))
+    // A texture node's image rows under its pins (super::textures_ui).
+    let (rows_w, rows_h) = super::textures_ui::rows_size(node, ports).unwrap_or((0.0, 0.0));
+    let width = (input + output + 20.0)
+        .max(title)
+        .max(rows_w)
+        .max(MIN_WIDTH);
+    (
+        width,
+        node_height(ports.inputs.len(), ports.outputs.len()) + rows_h,
+    )
 }
 
 /// What a node's header shows after its id: the group a group instance uses, as written
@@ -274,19 +268,25 @@ pub fn arranged(doc: &GraphDocument, size: &[(f32, f32)]) -> GraphDocument {
 mod tests {
     use super::*;
 
-    /// A vector field is as wide as the text egui's `DragValue` prints in it: hand cases.
+    /// A vector field is as wide whatever value it shows (`super::fields`): a node's
+    /// estimate does not change with its values.
     #[test]
-    fn a_vector_field_is_as_wide_as_its_text() {
-        // "1.00" and "14.00": 7·4 + 8 = 36 and 7·5 + 8 = 43 points, under the interact
-        // width of 44; then 8 to the next field.
-        assert_eq!(lane_width(1.0), 52.0);
-        assert_eq!(lane_width(14.0), 52.0);
-        assert_eq!(lane_width(0.25), 52.0);
-        // Two decimals do not hold −0.1736482 or −0.125: "-0.174", "-0.125", 7·6 + 8 + 8.
-        assert_eq!(lane_width(-0.173_648_2), 58.0);
-        assert_eq!(lane_width(-0.125), 58.0);
-        // "-1000.00": 7·8 + 8 + 8.
-        assert_eq!(lane_width(-1000.0), 72.0);
+    fn a_vector_field_is_as_wide_whatever_its_value() {
+        let registry = Registry::builtin();
+        let size = |a: serde_json::Value| {
+            let node: NodeDocument = serde_json::from_value(serde_json::json!({
+                "id": "d", "type": "dot", "inputs": { "a": a }
+            }))
+            .unwrap();
+            node_size(&node, registry, Some(SocketType::Vec3))
+        };
+        let small = size(serde_json::json!([1.0, 0.25, 14.0]));
+        assert_eq!(
+            size(serde_json::json!([-0.173_648_2, -1000.0, 12345.678])),
+            small
+        );
+        // "a" and "b" rows: 16 + 7 + 3 fields of 44 + 8; "result" 16 + 7·6; 20 between.
+        assert_eq!(small.0, (16.0 + 7.0 + 3.0 * 52.0) + (16.0 + 42.0) + 20.0);
     }
 
     /// A generic node is estimated by its inferred type: `mul` with `b` a literal −1 shows

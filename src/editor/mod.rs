@@ -4,18 +4,29 @@
 //!
 //! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
 //! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
-//! parameters), [`variants`] and [`variants_ui`] (variant sets, their switches and the
-//! previewed choice), [`browser`] (the in-app file browser of File → Open), [`ports`] (a node's pins: its
+//! parameters), [`grouping`], [`scope`], [`interface`], [`group_state`] and [`group_ui`]
+//! (node groups made, undone, entered, and their interface), [`variants`] and [`variants_ui`] (variant sets, their switches and the
+//! previewed choice), [`browser`] (the in-app file browser of File → Open and the texture
+//! picker), [`textures`], [`textures_ui`] and [`thumbnails`] (texture nodes: their image,
+//! colour space and missing files; image thumbnails), [`ports`] (a node's pins: its
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
-//! files, autosave), [`view`], [`viewer`], [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors),
-//! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`preview`]
-//! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`app`] (the frame) and [`headless`] (screenshots).
+//! files, autosave), [`view`], [`viewer`], [`pin_tips`] (pin placement and tooltips), [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors), [`fields`] (their fixed-size number fields) and [`entry`] (typed values checked),
+//! [`selection`] and [`select_ui`] (the selection, by node id, and picking, box-selecting
+//! and moving nodes with the pointer), [`clipboard`] (copy and paste as graph JSON),
+//! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`crisp_text`] (the canvas' text rasterised at its zoom), [`preview`]
+//! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`first_view`] (where the canvas looks as a graph opens), [`glyphs`] (characters the fonts lack), [`app`] (the frame) and [`headless`] (screenshots).
 
 pub mod app;
 pub mod browser;
+pub mod clipboard;
 pub mod code;
+pub mod crisp_text;
 pub mod cull;
+pub mod entry;
+pub mod fields;
 pub mod files;
+pub mod first_view;
+pub mod glyphs;
 pub mod group_state;
 pub mod group_ui;
 pub mod grouping;
@@ -27,14 +38,20 @@ pub mod model;
 pub mod outputs;
 pub mod overview;
 pub mod params;
+pub mod pin_tips;
 pub mod ports;
 pub mod preview;
 pub mod preview_ui;
 pub mod scope;
 pub mod search;
 pub mod search_ui;
+pub mod select_ui;
+pub mod selection;
 pub mod stand_in;
 pub mod state;
+pub mod textures;
+pub mod textures_ui;
+pub mod thumbnails;
 pub mod undo;
 pub mod variants;
 pub mod variants_ui;
@@ -104,15 +121,37 @@ impl eframe::App for WindowApp {
     }
 }
 
-/// egui's fonts with Hack (its monospace font) as the last fallback of the proportional
-/// family: Ubuntu Light has no arrows, and messages inside groups read
-/// `node 'g' (group G) → node 'f': …`.
+/// The name of the bundled fallback font ([`fonts`]).
+pub const FALLBACK_FONT: &str = "DejaVuSans-subset";
+
+/// egui's fonts with two fallbacks, last in the proportional and monospace families (a
+/// character is drawn from the first font of its family that has it): Hack (egui's
+/// monospace font; Ubuntu Light has no arrows, and messages inside groups read
+/// `node 'g' (group G) → node 'f': …`), then a 103 KB subset of DejaVu Sans (Latin-1 and
+/// Latin Extended-A, Greek, phonetic and modifier letters, punctuation, super- and
+/// subscripts, letterlike symbols, arrows, mathematical operators, technical symbols,
+/// geometric shapes; src/editor/fonts/DejaVuSans-LICENSE.txt says how it was made, and
+/// its licence) for the registry's docs' `Σ aᵢbᵢ`, `Bₖ` and `gainᵏ`, which no egui font
+/// has. `tests/editor_readable.rs` checks every character the editor prints.
 pub fn fonts() -> egui::FontDefinitions {
     let mut fonts = egui::FontDefinitions::default();
-    if let Some(family) = fonts.families.get_mut(&egui::FontFamily::Proportional)
-        && !family.iter().any(|f| f == "Hack")
-    {
-        family.push("Hack".to_owned());
+    fonts.font_data.insert(
+        FALLBACK_FONT.to_owned(),
+        std::sync::Arc::new(egui::FontData::from_static(include_bytes!(
+            "fonts/DejaVuSans-subset.ttf"
+        ))),
+    );
+    let last = [
+        (egui::FontFamily::Proportional, "Hack"),
+        (egui::FontFamily::Proportional, FALLBACK_FONT),
+        (egui::FontFamily::Monospace, FALLBACK_FONT),
+    ];
+    for (family, font) in last {
+        if let Some(f) = fonts.families.get_mut(&family)
+            && !f.iter().any(|x| x == font)
+        {
+            f.push(font.to_owned());
+        }
     }
     fonts
 }

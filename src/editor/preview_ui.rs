@@ -5,7 +5,7 @@ use super::params;
 use super::ports::Port;
 use super::preview::{Orbit, TIME_SPAN};
 use super::state::EditorState;
-use super::widgets::value_editor;
+use super::widgets::value_editor_checked;
 use egui::{Color32, Ui};
 
 /// Side of the main swatch on screen, points.
@@ -169,6 +169,7 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
     }
     let mut group: Option<&str> = None;
     let mut changes = Vec::new();
+    let mut refused = None;
     egui::Grid::new("matgraph-parameters")
         .num_columns(2)
         .show(ui, |ui| {
@@ -189,8 +190,12 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
                     label.on_hover_text(hover.trim_start());
                 }
                 ui.push_id(&r.name, |ui| {
-                    if let Some(v) = value_editor(ui, &r.decl, r.ty, &r.lanes, hard) {
+                    let edited = value_editor_checked(ui, &r.decl, r.ty, &r.lanes, hard, false);
+                    if let Some(v) = edited.value {
                         changes.push((r.name.clone(), r.node.clone(), v));
+                    }
+                    if let Some(why) = edited.rejected {
+                        refused = Some(format!("parameter '{}': {why} (refused)", r.name));
                     }
                 });
                 ui.end_row();
@@ -198,6 +203,9 @@ pub fn parameters_panel(ui: &mut Ui, state: &mut EditorState, hard: bool) {
         });
     for (name, node, value) in changes {
         set_parameter(state, &name, &node, value);
+    }
+    if refused.is_some() {
+        state.status = refused;
     }
 }
 

@@ -47,6 +47,8 @@ pub struct Level {
     /// Where the level above drew its Group Input and Group Output (or Material Output)
     /// nodes, restored on the way back.
     pub places: (Option<[f32; 2]>, Option<[f32; 2]>),
+    /// The level above's selection, given back on the way back (each level keeps its own).
+    pub selection: super::selection::Selection,
     /// The level above, when it is read-only (its body is not in the root).
     pub above: Option<Box<EditorDoc>>,
 }

@@ -39,6 +39,13 @@ pub enum Dialog {
         /// The browser.
         browser: Box<super::browser::Browser>,
     },
+    /// Pick a texture node's image ([`super::textures::open_picker`]).
+    PickTexture {
+        /// The texture node.
+        node: String,
+        /// The browser of images, kept inside the graph's folder.
+        browser: Box<super::browser::Browser>,
+    },
     /// The file changed on disk while the document has unsaved changes: reload it
     /// (dropping them) or keep the document.
     Changed {
@@ -74,6 +81,8 @@ pub struct EditorState {
     pub snarl: Snarl<NodeView>,
     /// The node shown in the side panel (the selection, or a problem clicked).
     pub focus: Option<String>,
+    /// The selected nodes, by id ([`super::selection`]).
+    pub selection: super::selection::Selection,
     /// The open question, if any.
     pub dialog: Option<Dialog>,
     /// The add-node search, when open.
@@ -120,6 +129,7 @@ impl EditorState {
             status: None,
             snarl,
             focus: None,
+            selection: Default::default(),
             dialog: None,
             search: None,
             code: Default::default(),
@@ -414,6 +424,8 @@ impl EditorState {
         let id = self.edit(None, true, |d| d.add_node(type_name, pos))?;
         self.status = Some(format!("added '{id}'"));
         self.focus = Some(id.clone());
+        // A node added is selected (only it), as in Blender.
+        self.selection.set([id.clone()]);
         Ok(id)
     }
 

@@ -3,18 +3,20 @@
 //! and queues [`Action`]s, which the app applies after the frame through the state's edits.
 
 use super::cull::{Culling, Wire};
+use super::entry::Rejections;
 use super::handoff::POINTER_REACH;
 use super::layout::HEADER_HEIGHT;
 use super::model::EditorDoc;
 use super::outputs::{OUTPUT_NODE, OUTPUT_TITLE, STANDARD, note};
 use super::overview::{Body, Overview, pin_shape};
 use super::params;
+use super::pin_tips::{PinRows, tip};
 use super::ports::Kind;
 use super::scope::{GROUP_OUTPUT_TITLE, GROUP_PANEL, INPUT_NODE, INPUT_TITLE};
 use super::search::WireFilter;
 use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
-use super::widgets::{current_lanes, port_hover, value_editor_response};
+use super::widgets::{current_lanes, value_editor_checked};
 use crate::node::PortType;
 use egui::{Color32, Shape, Stroke, Ui};
 use egui_snarl::ui::{AnyPins, BackgroundPattern, PinInfo, PinShape, SnarlStyle, SnarlViewer};
@@ -98,6 +100,18 @@ pub enum Action {
     Ungroup(String),
     /// Group the selected nodes (Ctrl+G).
     GroupSelected,
+    /// A value typed into an input's editor was refused ([`super::entry::check`]): the
+    /// graph is unchanged.
+    Reject {
+        /// Node id.
+        node: String,
+        /// Input name.
+        input: String,
+        /// Why.
+        why: String,
+    },
+    /// Pick a texture node's image, or set its colour space ([`super::textures`]).
+    Texture(super::textures::TextureAction),
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -128,6 +142,8 @@ const BODY_INSET: f32 = 16.0;
 
 /// The viewer of one frame.
 pub struct Viewer<'a> {
+    /// The graph file (texture paths are relative to it), once there is one.
+    pub file: Option<&'a std::path::Path>,
     /// The document (read only).
     pub doc: &'a EditorDoc,
     /// Whether sliders span the hard range (Ctrl held).
@@ -158,9 +174,27 @@ pub struct Viewer<'a> {
     /// Where egui-snarl paints its wires this frame, to be sorted ([`super::wire_order`]).
     pub wires: Option<super::wire_order::Slot>,
     /// The frame of each node egui-snarl drew in full this frame (document index, canvas
-    /// rect).
+    /// rect; [`OUTPUT_DRAWN`] for the Material Output node), in drawing order.
     pub drawn: Vec<(usize, egui::Rect)>,
+    /// The selected nodes, outlined ([`super::selection`]).
+    pub selection: &'a super::selection::Selection,
+    /// The modifiers to give egui back once it has read them ([`super::select_ui`] hides
+    /// Shift from it), with the context they belong to.
+    pub restore: Option<(egui::Context, egui::Modifiers)>,
+    /// The pin rows drawn this frame, for their tooltips ([`super::pin_tips`]).
+    pub pin_rows: PinRows,
+    /// The values refused on the canvas, shown under their inputs ([`super::entry`]).
+    pub rejections: &'a Rejections,
 }
+
+/// The index [`Viewer::drawn`] gives the Material Output node (no document node).
+pub const OUTPUT_DRAWN: usize = usize::MAX;
+
+/// The outline of a selected node (Blender's orange).
+pub const SELECTED_COLOR: Color32 = Color32::from_rgb(0xed, 0x57, 0x00);
+
+/// The outline of the active node (the last selected; Blender's white).
+pub const ACTIVE_COLOR: Color32 = Color32::from_rgb(0xff, 0xff, 0xff);
 
 /// The canvas' nodes (egui-snarl id, document index, position) and wires (document
 /// indices) at the start of a frame.
@@ -191,6 +225,54 @@ impl Places {
 }
 
 impl Viewer<'_> {
+    /// The tooltip of input (else output) pin `k` of node `id` ([`tip`]; a Material
+    /// Output pin's: the graph output it writes).
+    fn pin_tip(&self, id: &str, input: bool, k: usize) -> Option<String> {
+        if id == OUTPUT_NODE {
+            let o = self.doc.doc().outputs.get(k)?;
+            let ty = self.doc.graph().and_then(|g| {
+                let o = g.outputs().iter().find(|g| g.name == o.name)?;
+                Some(o.ty)
+            });
+            let ty = ty.map_or(String::new(), |t| format!(" ({t})"));
+            return Some(format!("graph output '{}'{ty}", o.name));
+        }
+        let ports = self.doc.ports(id)?;
+        let decl = match input {
+            true => ports.inputs.get(k)?,
+            false => ports.outputs.get(k)?,
+        };
+        Some(tip(decl, self.doc.port_type(id, decl.ty), input))
+    }
+
+    /// Node `id`'s preview swatch, when its preview is on.
+    fn show_swatch(&self, id: &str, ui: &mut Ui) {
+        let side = egui::vec2(NODE_SWATCH_POINTS, NODE_SWATCH_POINTS);
+        match self.swatches.get(id) {
+            Some(Swatch::Image(t)) => {
+                ui.image((*t, side));
+            }
+            Some(Swatch::Message(m)) => {
+                ui.add(
+                    egui::Label::new(
+                        egui::RichText::new(m).color(Color32::from_rgb(255, 120, 110)),
+                    )
+                    .wrap(),
+                );
+            }
+            Some(Swatch::Pending) => {
+                ui.allocate_ui(side, |ui| ui.weak("rendering…"));
+            }
+            None => {}
+        }
+    }
+
+    /// Whether node `id` shows its image rows under its pins ([`super::textures_ui`]):
+    /// a texture node of a file (or of none yet), zoomed in.
+    fn image_rows(&self, id: &str) -> bool {
+        !self.low_detail() && super::textures::shows_image_row(self.doc, id)
+    }
+
     /// The loader's errors at node `id`, and the shader generator's when it names `id`.
     fn errors_of(&self, id: &str) -> Vec<String> {
         let mut errors = self.doc.node_errors(id);
@@ -501,11 +583,11 @@ impl Viewer<'_> {
     }
 }
 
-/// Canvas points between a Group Input pin and its name.
-const INPUT_LABEL_GAP: f32 = 8.0;
-
 /// The header colour of the Material Output node (Blender's output nodes' red).
 pub const OUTPUT_COLOR: Color32 = Color32::from_rgb(0x8a, 0x2e, 0x2e);
+
+/// The colour of the reason a typed value was refused, under its input.
+pub const REFUSED_COLOR: Color32 = Color32::from_rgb(255, 110, 100);
 
 /// The colour of a Material Output pin that reads nothing, and of its note.
 pub const UNCONNECTED_COLOR: Color32 = Color32::from_rgb(230, 60, 50);
@@ -564,7 +646,7 @@ impl Viewer<'_> {
 
     /// Pin `k` of the Material Output node: the output's name, its note when it reads
     /// nothing (red), and a menu to rename, disconnect or remove it.
-    fn show_output_pin(&mut self, k: usize, ui: &mut Ui) -> PinInfo {
+    fn show_output_pin(&mut self, node: NodeId, k: usize, ui: &mut Ui) -> PinInfo {
         let Some(o) = self.doc.doc().outputs.get(k) else {
             return PinInfo::default();
         };
@@ -587,6 +669,7 @@ impl Viewer<'_> {
         if self.low_detail() {
             return info;
         }
+        self.pin_rows.note(node, true, k, ui);
         ui.horizontal(|ui| {
             let text = egui::RichText::new(&name);
             let text = match note.is_some() {
@@ -784,6 +867,20 @@ fn frame_stroke(errors: bool) -> Stroke {
     }
 }
 
+/// `frame` with the outline `stroke`, its inner margin narrowed by as much as the outline
+/// is wider than `frame`'s: egui counts a frame's outline in its size, and a node that
+/// turned red after an edit (an error) grew by 2 points.
+fn outlined(frame: egui::Frame, stroke: Stroke) -> egui::Frame {
+    let d = (stroke.width - frame.stroke.width).round() as i8;
+    let m = frame.inner_margin;
+    frame.stroke(stroke).inner_margin(egui::Margin {
+        left: m.left.saturating_sub(d),
+        right: m.right.saturating_sub(d),
+        top: m.top.saturating_sub(d),
+        bottom: m.bottom.saturating_sub(d),
+    })
+}
+
 /// `frame` as the overview draws it: without shadow, outline or rounding.
 fn plain(frame: egui::Frame) -> egui::Frame {
     frame
@@ -881,7 +978,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn has_footer(&mut self, node: &NodeView) -> bool {
-        self.swatches.contains_key(&node.id) && !self.culled(&node.id)
+        (self.swatches.contains_key(&node.id) || self.image_rows(&node.id))
+            && !self.culled(&node.id)
     }
 
     fn show_footer(
@@ -893,22 +991,15 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
-        let side = egui::vec2(NODE_SWATCH_POINTS, NODE_SWATCH_POINTS);
-        match self.swatches.get(&id) {
-            Some(Swatch::Image(t)) => {
-                ui.image((*t, side));
-            }
-            Some(Swatch::Message(m)) => {
-                ui.add(
-                    egui::Label::new(
-                        egui::RichText::new(m).color(Color32::from_rgb(255, 120, 110)),
-                    )
-                    .wrap(),
-                );
-            }
-            Some(Swatch::Pending) | None => {
-                ui.allocate_ui(side, |ui| ui.weak("rendering…"));
-            }
+        if self.image_rows(&id) {
+            ui.vertical(|ui| {
+                if let Some(a) = super::textures_ui::node_rows(ui, self.doc, self.file, &id) {
+                    self.actions.push(Action::Texture(a));
+                }
+                self.show_swatch(&id, ui);
+            });
+        } else {
+            self.show_swatch(&id, ui);
         }
     }
 
@@ -938,11 +1029,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         let default = self.frame_for_zoom(default);
         if snarl[node].id == OUTPUT_NODE {
             let notes = (0..self.doc.doc().outputs.len()).any(|k| note(self.doc, k).is_some());
-            return default.stroke(frame_stroke(notes));
+            return outlined(default.stroke(Stroke::NONE), frame_stroke(notes));
         }
         match self.errors_of(&snarl[node].id).is_empty() {
             true => default,
-            false => default.stroke(frame_stroke(true)),
+            false => outlined(default, frame_stroke(true)),
         }
     }
 
@@ -967,47 +1058,74 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
         let id = self.id(snarl, pin.id.node).to_owned();
         if id == OUTPUT_NODE {
-            return self.show_output_pin(pin.id.input, ui);
+            return self.show_output_pin(pin.id.node, pin.id.input, ui);
         }
         let doc = self.doc;
         let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
             return PinInfo::default();
         };
         let ty = self.doc.port_type(&id, decl.ty);
-        let ty_name = ty.map_or("T", |t| t.name());
         let info = self.pin(&id, decl.ty);
         if self.low_detail() || self.culled(&id) {
             return info;
         }
+        self.pin_rows.note(pin.id.node, true, pin.id.input, ui);
+        let rejected = self.rejections.get(&id, decl.name.as_ref());
         // Compact editors: the bundled graphs' positions leave ~200 points per column.
         ui.spacing_mut().slider_width = 40.0;
         ui.spacing_mut().interact_size.x = 44.0;
-        ui.horizontal(|ui| {
-            // The label is drawn as a plain one (its colour unchanged); a click-sensing
-            // region over it opens the input's menu (expose as parameter, un-expose).
-            let label = ui.label(decl.name.as_ref());
-            let label = ui
-                .interact(label.rect, label.id.with("menu"), egui::Sense::click())
-                .on_hover_ui(|ui| {
-                    ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
-                });
-            label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
-            // A switch's choices take links only (the loader refuses a literal there).
-            if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
-                let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
-                let ty = ty.unwrap_or(crate::types::SocketType::Float);
-                let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
-                let default = decl.default_for(generic);
-                let lanes = current_lanes(decl, ty, written, &default);
-                let (value, r) = value_editor_response(ui, decl, ty, &lanes, self.hard);
-                if let Some(value) = value {
-                    self.actions.push(Action::SetInput {
-                        node: id.clone(),
-                        input: decl.name.clone().into_owned(),
-                        value,
+        // The row, and under it (in red) why the last value typed was refused.
+        ui.vertical(|ui| {
+            let row = ui.horizontal(|ui| {
+                // The label is drawn as a plain one (its colour unchanged); a click-sensing
+                // region over it opens the input's menu (expose as parameter, un-expose).
+                let label = ui.label(decl.name.as_ref());
+                let label = ui
+                    .interact(label.rect, label.id.with("menu"), egui::Sense::click())
+                    .on_hover_ui(|ui| {
+                        ui.label(tip(decl, ty, true));
                     });
+                label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                // A switch's choices take links only (the loader refuses a literal there).
+                if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
+                    let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
+                    let ty = ty.unwrap_or(crate::types::SocketType::Float);
+                    let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
+                    let default = decl.default_for(generic);
+                    let lanes = current_lanes(decl, ty, written, &default);
+                    let edited = value_editor_checked(ui, decl, ty, &lanes, self.hard, true);
+                    if let Some(value) = edited.value {
+                        self.actions.push(Action::SetInput {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            value,
+                        });
+                    }
+                    if let Some(why) = edited.rejected {
+                        self.actions.push(Action::Reject {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            why,
+                        });
+                    }
+                    let r = edited.response;
+                    // Not on an enum's combo box: its popup and a context menu on its response
+                    // share one id (`response.id.with("popup")`), and the menu's close on a
+                    // primary click shut the list as it opened (wrap, filter could not be
+                    // chosen). An enum cannot be a parameter; the label keeps the menu.
+                    if decl.choices.is_empty() {
+                        r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                    }
                 }
-                r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+            });
+            if let Some(why) = rejected {
+                // Wrapped to the row's width, so that the node keeps its size.
+                let width = row.response.rect.width();
+                ui.scope(|ui| {
+                    ui.set_max_width(width);
+                    let text = egui::RichText::new(why).small().color(REFUSED_COLOR);
+                    ui.add(egui::Label::new(text).wrap());
+                });
             }
         });
         info
@@ -1023,22 +1141,11 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         if self.low_detail() || self.culled(&id) {
             return self.pin(&id, decl.ty);
         }
-        let ty_name = self.doc.port_type(&id, decl.ty).map_or("T", |t| t.name());
-        if id == INPUT_NODE {
-            // egui-snarl 0.12 draws an output pin over the end of its label (a one-letter
-            // name vanishes under it); the Group Input node's names are what it is for.
-            // Rows after the first start right of the clip rect, by the pin space the first
-            // reserved past it.
-            let overflow = (ui.max_rect().right() - ui.clip_rect().right()).max(0.0);
-            ui.add_space(overflow + INPUT_LABEL_GAP);
-            ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
-                ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
-            });
-            return self.pin(&id, decl.ty);
-        }
+        let ty = self.doc.port_type(&id, decl.ty);
+        self.pin_rows.note(pin.id.node, false, pin.id.output, ui);
         // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
         ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
-            ui.label(port_hover(ty_name, &decl.unit, &decl.doc));
+            ui.label(tip(decl, ty, false));
         });
         self.pin(&id, decl.ty)
     }
@@ -1105,6 +1212,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         to_global: &mut egui::emath::TSTransform,
         _: &mut Snarl<NodeView>,
     ) {
+        if let Some((ctx, modifiers)) = self.restore.take() {
+            super::select_ui::SelectTool::restore(&ctx, Some(modifiers));
+        }
         if let Some(t) = self.set_transform.take() {
             *to_global = t;
         }
@@ -1112,18 +1222,43 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         self.culling = self.cull(*to_global);
     }
 
-    /// Records how the overview drew the node (its stand-in's look, [`super::stand_in`]).
+    /// Outlines the node when it is selected, puts the tooltips over its pins
+    /// ([`super::pin_tips`]) and records how the overview drew it (its stand-in's look,
+    /// [`super::stand_in`]).
     fn final_node_rect(
         &mut self,
         node: NodeId,
         rect: egui::Rect,
-        _: &mut Ui,
+        ui: &mut Ui,
         snarl: &mut Snarl<NodeView>,
     ) {
         let Some(info) = snarl.get_node_info(node) else {
             return;
         };
-        let Some(k) = self.doc.index(&info.value.id) else {
+        let id = info.value.id.clone();
+        if self.selection.contains(&id) {
+            let color = match self.selection.active() == Some(id.as_str()) {
+                true => ACTIVE_COLOR,
+                false => SELECTED_COLOR,
+            };
+            let zoom = self.to_screen.map_or(1.0, |t| t.scaling);
+            let width = 2.0f32.max(1.0 / zoom);
+            ui.painter().rect_stroke(
+                rect.expand(width),
+                ui.visuals().window_corner_radius,
+                Stroke::new(width, color),
+                egui::StrokeKind::Inside,
+            );
+        }
+        let pin = ui.spacing().interact_size.y * 0.6;
+        let mut rows = std::mem::take(&mut self.pin_rows);
+        rows.hover(node, rect, pin, ui, |input, k| self.pin_tip(&id, input, k));
+        self.pin_rows = rows;
+        if id == OUTPUT_NODE {
+            self.drawn.push((OUTPUT_DRAWN, rect));
+            return;
+        }
+        let Some(k) = self.doc.index(&id) else {
             return;
         };
         if self.culling.is_culled(k) {

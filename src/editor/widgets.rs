@@ -1,11 +1,14 @@
 //! In-place editors of unlinked input values: sliders over the soft range (the hard range
 //! while Ctrl is held), linear colours shown in sRGB, vectors, enum combos and toggles.
 
+use super::entry;
+use super::fields;
 use super::ports::Port;
 use crate::node::Range;
 use crate::types::SocketType;
 use crate::value::{Value, json_f32};
 use egui::{SliderClamping, Ui};
+use std::cell::RefCell;
 
 /// The value `written` (the literal in the file, or `None` for the default `default`) of an
 /// input of type `ty` as lanes, an enum input as its index.
@@ -46,10 +49,12 @@ pub fn value_editor(
     lanes: &[f32],
     hard: bool,
 ) -> Option<serde_json::Value> {
-    value_editor_response(ui, decl, ty, lanes, hard).0
+    value_editor_checked(ui, decl, ty, lanes, hard, false).value
 }
 
-/// [`value_editor`], with the editor's response (its widgets' union), for a context menu.
+/// [`value_editor`] on a node of the canvas, with the editor's response (its widgets'
+/// union), for a context menu: its number fields keep their size whatever they show or
+/// are typed ([`super::fields`]), so that the node keeps its size.
 pub fn value_editor_response(
     ui: &mut Ui,
     decl: &Port,
@@ -57,17 +62,81 @@ pub fn value_editor_response(
     lanes: &[f32],
     hard: bool,
 ) -> (Option<serde_json::Value>, egui::Response) {
+    let e = value_editor_checked(ui, decl, ty, lanes, hard, true);
+    (e.value, e.response)
+}
+
+/// What an input's editor did in a frame ([`value_editor_checked`]).
+pub struct Edited {
+    /// The new literal, when the user changed the value.
+    pub value: Option<serde_json::Value>,
+    /// Why the text the user typed was refused ([`super::entry::check`]); the value is
+    /// then unchanged.
+    pub rejected: Option<String>,
+    /// The editor's response (its widgets' union).
+    pub response: egui::Response,
+}
+
+/// The lane names of a vector's fields, in its refusals (`n.y`).
+const LANES: [&str; 4] = ["x", "y", "z", "w"];
+
+/// [`value_editor`], where typed text is checked ([`super::entry::check`]): text that is
+/// not a number, or a number outside the port's hard range, is refused (and the reason
+/// returned); a drag stays within the hard range. Typed text is read once the edit ends
+/// (Enter, or a click elsewhere), not at each keystroke. `fixed`: number fields of a fixed
+/// size ([`super::fields`]), as on the canvas.
+pub fn value_editor_checked(
+    ui: &mut Ui,
+    decl: &Port,
+    ty: SocketType,
+    lanes: &[f32],
+    hard: bool,
+    fixed: bool,
+) -> Edited {
     let lane = |k: usize| lanes.get(k).copied().unwrap_or(0.0);
-    match ty {
+    let refused = RefCell::new(None::<String>);
+    // A parser for egui's text entry that records why it refused `what`'s text.
+    let parser = |what: String, whole: bool| {
+        let refused = &refused;
+        move |text: &str| {
+            let read = entry::check(decl, &what, text).and_then(|x| match whole {
+                true => entry::whole(&what, x),
+                false => Ok(x),
+            });
+            match read {
+                Ok(x) => Some(x),
+                Err(why) => {
+                    *refused.borrow_mut() = Some(why);
+                    None
+                }
+            }
+        }
+    };
+    let drag = drag_range(decl);
+    let (value, response) = match ty {
         SocketType::Float => {
             let mut v = lane(0);
             let r = match slider_range(decl, hard) {
-                Some(r) => ui.add(
+                Some(r) => fields::slider(
+                    ui,
+                    fixed,
                     egui::Slider::new(&mut v, r.min..=r.max)
                         .clamping(SliderClamping::Never)
-                        .max_decimals(4),
+                        .max_decimals(4)
+                        .update_while_editing(false)
+                        .custom_parser(parser(decl.name.to_string(), false)),
                 ),
-                _ => ui.add(egui::DragValue::new(&mut v).speed(0.01).max_decimals(4)),
+                _ => fields::drag_value(
+                    ui,
+                    fixed,
+                    egui::DragValue::new(&mut v)
+                        .speed(0.01)
+                        .max_decimals(4)
+                        .range(drag.clone())
+                        .clamp_existing_to_range(false)
+                        .update_while_editing(false)
+                        .custom_parser(parser(decl.name.to_string(), false)),
+                ),
             };
             ((r.changed() && v.is_finite()).then(|| json_f32(v)), r)
         }
@@ -77,8 +146,19 @@ pub fn value_editor_response(
             let r = ui
                 .horizontal(|ui| {
                     let mut all: Option<egui::Response> = None;
-                    for x in &mut v {
-                        let r = ui.add(egui::DragValue::new(x).speed(0.01).max_decimals(3));
+                    for (k, x) in v.iter_mut().enumerate() {
+                        let what = format!("{}.{}", decl.name, LANES[k]);
+                        let r = fields::drag_value(
+                            ui,
+                            fixed,
+                            egui::DragValue::new(x)
+                                .speed(0.01)
+                                .max_decimals(3)
+                                .range(drag.clone())
+                                .clamp_existing_to_range(false)
+                                .update_while_editing(false)
+                                .custom_parser(parser(what, false)),
+                        );
                         changed |= r.changed();
                         all = Some(match all {
                             Some(a) => a | r,
@@ -122,7 +202,15 @@ pub fn value_editor_response(
         }
         SocketType::Int => {
             let mut v = lane(0) as i32;
-            let r = ui.add(egui::DragValue::new(&mut v));
+            let r = fields::drag_value(
+                ui,
+                fixed,
+                egui::DragValue::new(&mut v)
+                    .range(drag.clone())
+                    .clamp_existing_to_range(false)
+                    .update_while_editing(false)
+                    .custom_parser(parser(decl.name.to_string(), true)),
+            );
             (r.changed().then(|| serde_json::Value::from(v)), r)
         }
         SocketType::Bool => {
@@ -130,6 +218,19 @@ pub fn value_editor_response(
             let r = ui.checkbox(&mut b, "");
             (r.changed().then_some(serde_json::Value::Bool(b)), r)
         }
+    };
+    Edited {
+        value,
+        rejected: refused.into_inner(),
+        response,
+    }
+}
+
+/// The range a drag of a number field stays in: the port's hard range, else any number.
+fn drag_range(decl: &Port) -> std::ops::RangeInclusive<f64> {
+    match decl.hard {
+        Some(h) => f64::from(h.min)..=f64::from(h.max),
+        None => f64::NEG_INFINITY..=f64::INFINITY,
     }
 }
 

@@ -33,6 +33,11 @@ impl Slot {
         Slot { layer, index }
     }
 
+    /// The layer egui-snarl paints in (the canvas'), and the index of its wires in it.
+    pub fn place(&self) -> (LayerId, ShapeIdx) {
+        (self.layer, self.index)
+    }
+
     /// Sorts the wires painted at this slot ([`compare`]); how many there were (0 where
     /// the slot holds no `Shape::Vec`: nothing is changed then).
     pub fn sort(&self, ctx: &Context) -> usize {

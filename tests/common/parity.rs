@@ -136,6 +136,15 @@ pub const CONDITIONED: &[(&str, f64, &str)] = &[
          phase is an ULP of t or x",
     ),
     (
+        "voronoi_texture",
+        64.0,
+        "Worley noise is discontinuous at every cell border (F1's colour and position, F2's \
+         distance past a third point, distance to edge at a vertex): where two candidate points \
+         lie within a few roundings of each other either may win, and a fused product in the \
+         jitter (o + hash·randomness, WGSL §15.7.5) is such a rounding; over detail octaves the \
+         coordinates grow by lacunarity^detail, so the borders come closer in ULPs",
+    ),
+    (
         "thin_film",
         4.0,
         "films of 6–10 µm are 100 cycles of phase thick at 453 nm: sqrt's 4 ULP in the film's \
