@@ -63,6 +63,9 @@ pub struct EditorApp {
     crisp: super::crisp_text::CrispText,
     /// The values refused on the canvas, with why ([`super::entry`]).
     pub rejections: super::entry::Rejections,
+    /// The instances entered when the last frame was drawn: a change shows the new
+    /// level's nodes afresh.
+    level: Vec<String>,
 }
 
 impl EditorApp {
@@ -87,6 +90,78 @@ impl EditorApp {
             zoom_to: None,
             crisp: Default::default(),
             rejections: Default::default(),
+            level: Vec::new(),
+        }
+    }
+
+    /// The canvas widget's id at the current level: each group entered has its own (egui-snarl
+    /// keeps its view by it), the graph's top [`canvas_id`].
+    pub fn canvas_key(&self) -> egui::Id {
+        match &self.state.scope {
+            None => canvas_id(),
+            Some(s) => s
+                .levels
+                .iter()
+                .fold(canvas_id(), |id, l| id.with(&l.instance)),
+        }
+    }
+
+    /// The one group instance selected (nothing selected: the focused one), if so.
+    fn selected_instance(&self, ctx: &egui::Context) -> Option<String> {
+        let selected = self.selected(ctx);
+        let is_instance = |id: &str| {
+            self.state
+                .doc
+                .node(id)
+                .is_some_and(|n| n.node_type == crate::group::GROUP)
+        };
+        match selected.as_slice() {
+            [one] if is_instance(one) => Some(one.clone()),
+            [] => self.state.focus.clone().filter(|f| is_instance(f)),
+            _ => None,
+        }
+    }
+
+    /// Groups the selected nodes (nothing selected: the focused one, as a node's menu
+    /// offers it); the new instance is then the selection.
+    fn group_selected(&mut self, ctx: &egui::Context) {
+        self.select.end_grab(&mut self.state);
+        let mut selected = self.selected(ctx);
+        if selected.is_empty()
+            && let Some(f) = self.state.focus.clone()
+        {
+            selected.push(f);
+        }
+        let _ = self.state.group_selection(&selected);
+    }
+
+    /// Runs a group command ([`super::group_ui::GroupCommand`]) on the selection.
+    fn group_command(&mut self, c: super::group_ui::GroupCommand, ctx: &egui::Context) {
+        use super::group_ui::GroupCommand;
+        match c {
+            GroupCommand::Group => {
+                let selected = self.selected(ctx);
+                let _ = self.state.group_selection(&selected);
+            }
+            GroupCommand::Ungroup => match self.selected_instance(ctx) {
+                Some(id) => {
+                    let _ = self.state.ungroup(&id);
+                }
+                None => {
+                    self.state.status = Some("select one group instance to ungroup (Alt+G)".into());
+                }
+            },
+            GroupCommand::Enter => match self.selected_instance(ctx) {
+                Some(id) => {
+                    let _ = self.state.enter_group(&id);
+                }
+                None => {
+                    self.state.status = Some("select one group instance to enter it (Tab)".into());
+                }
+            },
+            GroupCommand::Leave => {
+                self.state.leave_group();
+            }
         }
     }
 
@@ -194,8 +269,14 @@ impl EditorApp {
         if self.state.preview.clock.advance(now) {
             ctx.request_repaint();
         }
+        super::group_ui::breadcrumb(&ctx, &mut self.state, self.canvas_rect);
         let s = &mut self.state;
-        s.preview.poll(&ctx, &s.doc, s.path.as_ref());
+        // Inside a group the preview shows the whole graph, the group's edits in it.
+        let root = match &s.scope {
+            Some(scope) => &scope.root,
+            None => &s.doc,
+        };
+        s.preview.poll(&ctx, root, s.path.as_ref());
     }
 
     /// The window title: the graph's name, its file and a star when unsaved.
@@ -214,6 +295,26 @@ impl EditorApp {
     }
 
     fn canvas(&mut self, ui: &mut Ui) -> Vec<Action> {
+        let level: Vec<String> = self
+            .state
+            .scope
+            .as_ref()
+            .map(|s| s.levels.iter().map(|l| l.instance.clone()).collect())
+            .unwrap_or_default();
+        if level != self.level {
+            // Another level (a group entered or left): its nodes appear afresh; a group
+            // entered is framed as a graph opens (1×), the level left keeps its view
+            // (egui-snarl's, by [`Self::canvas_key`]).
+            let entered = level.len() > self.level.len();
+            self.revealed = 0;
+            self.looks = Looks::default();
+            self.drawn.clear();
+            self.nodes_measured = false;
+            self.frame_in = u8::from(entered);
+            self.fit_whole = false;
+            self.select.end_grab(&mut self.state);
+        }
+        self.level = level;
         self.prune_selection();
         let held = self.select.held_view(ui.ctx(), self.to_screen);
         let n = self.state.doc.doc().nodes.len();
@@ -228,6 +329,7 @@ impl EditorApp {
             self.revealed = n;
         }
         let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+        let key = self.canvas_key();
         let shader_error = self.shader_problem();
         let selected = self.selected_node_ids();
         let mut viewer = Viewer {
@@ -336,11 +438,10 @@ impl EditorApp {
         // the viewer gives it back before any node is drawn.
         let hidden = SelectTool::hide_shift(ui.ctx());
         viewer.restore = hidden.map(|m| (ui.ctx().clone(), m));
-        let background =
-            SnarlWidget::new()
-                .id(canvas_id())
-                .style(style)
-                .show(shown, &mut viewer, ui);
+        let background = SnarlWidget::new()
+            .id(key)
+            .style(style)
+            .show(shown, &mut viewer, ui);
         if let Some((ctx, m)) = viewer.restore.take() {
             SelectTool::restore(&ctx, Some(m));
         }
@@ -442,6 +543,15 @@ impl EditorApp {
                 self.state.move_output_node(pos);
             }
         }
+        // So is the Group Input node's, inside a group.
+        if let Some(inp) = super::view::input_node_id(&self.state.snarl)
+            && let Some(info) = self.state.snarl.get_node_info(inp)
+        {
+            let pos = [info.pos.x, info.pos.y];
+            if self.state.doc.input_node() != Some(pos) {
+                self.state.doc.set_input_node(Some(pos));
+            }
+        }
         // Ctrl+Shift+click on a node shows its output in the main preview (Blender's node
         // wrangler); on the same node again, the graph's outputs.
         let (clicked, ctrl_shift, at) = ui.input(|i| {
@@ -531,6 +641,10 @@ impl EditorApp {
 
     /// The swatches of the nodes whose preview is on.
     fn node_swatches(&self) -> std::collections::BTreeMap<String, Swatch> {
+        if self.state.in_group() {
+            // The swatches are the graph's nodes' (ids inside a group are the group's own).
+            return Default::default();
+        }
         let p = &self.state.preview;
         p.nodes_on()
             .map(|id| {
@@ -608,6 +722,7 @@ impl EditorApp {
     }
 
     fn apply(&mut self, actions: Vec<Action>, ctx: &egui::Context) {
+        let mut grouping = false;
         let s = &mut self.state;
         for a in actions {
             match a {
@@ -663,9 +778,20 @@ impl EditorApp {
                 Action::Duplicate(ids) => {
                     self.select.duplicate(s, &ids);
                 }
+                Action::EnterGroup(id) => {
+                    let _ = s.enter_group(&id);
+                }
+                Action::Ungroup(id) => {
+                    let _ = s.ungroup(&id);
+                }
+                Action::GroupSelected => {
+                    grouping = true;
+                }
             }
         }
-        let _ = ctx;
+        if grouping {
+            self.group_selected(ctx);
+        }
     }
 
     fn shortcuts(&mut self, ctx: &egui::Context) {
@@ -715,14 +841,43 @@ impl EditorApp {
             // Escape and clicks end it (super::select_ui); nothing else meanwhile.
             return;
         }
-        let (search, delete, duplicate) = ctx.input_mut(|i| {
+        let (search, tab, delete, duplicate) = ctx.input_mut(|i| {
             (
-                i.consume_key(Modifiers::SHIFT, Key::A) || i.consume_key(Modifiers::NONE, Key::Tab),
+                i.consume_key(Modifiers::SHIFT, Key::A),
+                i.consume_key(Modifiers::NONE, Key::Tab),
                 i.consume_key(Modifiers::NONE, Key::Delete)
                     || i.consume_key(Modifiers::NONE, Key::X),
                 i.consume_key(Modifiers::SHIFT, Key::D),
             )
         });
+        // Groups (Blender's keys): Ctrl+G groups the selection, Alt+G ungroups, Tab enters
+        // the selected instance (nothing selected: the focused one, the active node) or
+        // leaves the group (at the top without one, Tab opens the add-node search as
+        // before).
+        let (make, ungroup) = ctx.input_mut(|i| {
+            (
+                i.consume_shortcut(&cmd(Key::G)),
+                i.consume_key(Modifiers::ALT, Key::G),
+            )
+        });
+        if make {
+            self.group_command(super::group_ui::GroupCommand::Group, ctx);
+        }
+        if ungroup {
+            self.group_command(super::group_ui::GroupCommand::Ungroup, ctx);
+        }
+        if tab {
+            // The Tab is the canvas' (egui would also move the keyboard focus to the next
+            // widget, a text field of the panel the group shows).
+            ctx.memory_mut(|m| m.move_focus(egui::FocusDirection::None));
+            if let Some(id) = self.selected_instance(ctx) {
+                let _ = self.state.enter_group(&id);
+            } else if self.state.in_group() {
+                self.state.leave_group();
+            } else {
+                self.open_search(ctx);
+            }
+        }
         if search {
             self.open_search(ctx);
         }
@@ -842,6 +997,8 @@ impl EditorApp {
                         self.ask_save_as();
                     }
                 });
+                let instance = self.selected_instance(ui.ctx());
+                let mut asked = None;
                 ui.menu_button("Edit", |ui| {
                     if ui
                         .add_enabled(
@@ -885,7 +1042,13 @@ impl EditorApp {
                         self.state.focus = Some(super::variants::VARIANTS_PANEL.to_owned());
                         ui.close();
                     }
+                    ui.separator();
+                    asked = super::group_ui::menu(ui, &self.state, instance.as_deref());
                 });
+                if let Some(c) = asked {
+                    let ctx = ui.ctx().clone();
+                    self.group_command(c, &ctx);
+                }
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
                         self.frame_all();
@@ -969,17 +1132,36 @@ impl EditorApp {
                 super::preview_ui::preview_panel(ui, &mut self.state);
                 let hard = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
                 ui.separator();
-                if super::variants_ui::variants_panel(ui, &mut self.state) {
+                // Inside a group the graph's variant sets and parameters are still the whole
+                // document's (the preview's).
+                let sets = self
+                    .state
+                    .with_root(|s| super::variants_ui::variants_panel(ui, s));
+                if sets {
                     ui.separator();
                 }
-                super::preview_ui::parameters_panel(ui, &mut self.state, hard);
+                self.state
+                    .with_root(|s| super::preview_ui::parameters_panel(ui, s, hard));
                 ui.separator();
                 egui::ScrollArea::vertical().show(ui, |ui| self.inspector(ui));
             });
     }
 
     fn inspector(&mut self, ui: &mut Ui) {
-        let Some(id) = self.state.focus.clone() else {
+        let focus = self.state.focus.clone();
+        // Inside a group, its Group Input and Group Output nodes show its interface.
+        let interface = match focus.as_deref() {
+            None | Some(super::scope::GROUP_PANEL) | Some(super::scope::INPUT_NODE) => {
+                self.state.doc.body().map(|b| b.group.clone())
+            }
+            Some(OUTPUT_NODE) => self.state.doc.body().map(|b| b.group.clone()),
+            _ => None,
+        };
+        if let Some(group) = interface {
+            super::group_ui::interface_panel(ui, &mut self.state, &group);
+            return;
+        }
+        let Some(id) = focus else {
             ui.weak("Click a node's title to see its documentation.");
             return;
         };
@@ -988,12 +1170,14 @@ impl EditorApp {
             return;
         }
         if id == super::params::PARAMETERS_PANEL {
-            super::preview_ui::parameters_editor(ui, &mut self.state);
+            self.state
+                .with_root(|s| super::preview_ui::parameters_editor(ui, s));
             return;
         }
         let centre = self.view_centre();
         if id == super::variants::VARIANTS_PANEL {
-            super::variants_ui::variants_editor(ui, &mut self.state, centre);
+            self.state
+                .with_root(|s| super::variants_ui::variants_editor(ui, s, centre));
             return;
         }
         if super::variants::is_switch(&self.state.doc, &id) {
@@ -1089,6 +1273,11 @@ impl EditorApp {
         }
         if let Some(a) = texture {
             super::textures::apply(&mut self.state, a);
+        }
+        // An instance of a group of this file: its interface, editable (Tab enters it).
+        if let Some(group) = self.state.interface_group(Some(&id)) {
+            ui.separator();
+            super::group_ui::interface_panel(ui, &mut self.state, &group);
         }
     }
 

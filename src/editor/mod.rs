@@ -4,7 +4,8 @@
 //!
 //! Modules: [`model`] (the document and its validation), [`outputs`] (the Material Output
 //! node: the graph's `outputs` on the canvas), [`params`] (exposing, editing and un-exposing
-//! parameters), [`variants`] and [`variants_ui`] (variant sets, their switches and the
+//! parameters), [`grouping`], [`scope`], [`interface`], [`group_state`] and [`group_ui`]
+//! (node groups made, undone, entered, and their interface), [`variants`] and [`variants_ui`] (variant sets, their switches and the
 //! previewed choice), [`browser`] (the in-app file browser of File → Open and the texture
 //! picker), [`textures`], [`textures_ui`] and [`thumbnails`] (texture nodes: their image,
 //! colour space and missing files; image thumbnails), [`ports`] (a node's pins: its
@@ -26,8 +27,12 @@ pub mod fields;
 pub mod files;
 pub mod first_view;
 pub mod glyphs;
+pub mod group_state;
+pub mod group_ui;
+pub mod grouping;
 pub mod handoff;
 pub mod headless;
+pub mod interface;
 pub mod layout;
 pub mod model;
 pub mod outputs;
@@ -37,6 +42,7 @@ pub mod pin_tips;
 pub mod ports;
 pub mod preview;
 pub mod preview_ui;
+pub mod scope;
 pub mod search;
 pub mod search_ui;
 pub mod select_ui;

@@ -45,6 +45,16 @@ pub struct EditorDoc {
     /// never saved; `None` until it is placed (a file with outputs places it right of its
     /// rightmost node when shown, [`EditorDoc::output_node_place`]).
     output_node: Option<[f32; 2]>,
+    /// Where the Group Input node is on the canvas, inside a group (editor-only).
+    input_node: Option<[f32; 2]>,
+    /// Inside a group ([`super::scope`]): the group whose nodes and outputs the document
+    /// holds; it is validated through [`super::scope::harness`].
+    body: Option<super::scope::Body>,
+    /// The harness' reroute ids, one per interface input, inside a group.
+    harness_ids: Vec<String>,
+    /// The Group Input node's pins (the interface inputs), made on first use after each
+    /// change.
+    input_ports: OnceLock<Ports>,
 }
 
 impl EditorDoc {
@@ -61,7 +71,7 @@ impl EditorDoc {
         registry: &'static Registry,
         files: Option<Arc<dyn GroupFiles>>,
     ) -> EditorDoc {
-        let validation = validate(&doc, registry, files.as_ref());
+        let validation = validate(&doc, registry, files.as_ref(), None).0;
         let ids = id_index(&doc);
         EditorDoc {
             doc,
@@ -74,7 +84,114 @@ impl EditorDoc {
             ports: OnceLock::new(),
             files,
             output_node: None,
+            input_node: None,
+            body: None,
+            harness_ids: Vec::new(),
+            input_ports: OnceLock::new(),
         }
+    }
+
+    /// The body of a group ([`super::scope::body_doc`]), validated through its harness
+    /// ([`super::scope::harness`]): the canvas inside the group.
+    pub fn with_body(
+        doc: GraphDocument,
+        registry: &'static Registry,
+        files: Option<Arc<dyn GroupFiles>>,
+        body: super::scope::Body,
+    ) -> EditorDoc {
+        let (validation, harness_ids) = validate(&doc, registry, files.as_ref(), Some(&body.group));
+        let ids = id_index(&doc);
+        EditorDoc {
+            doc,
+            validation,
+            registry,
+            canonical: OnceLock::new(),
+            structure: OnceLock::new(),
+            sizes: OnceLock::new(),
+            ids,
+            ports: OnceLock::new(),
+            files,
+            output_node: None,
+            input_node: None,
+            body: Some(body),
+            harness_ids,
+            input_ports: OnceLock::new(),
+        }
+    }
+
+    /// Inside a group: which group the document's nodes and outputs are.
+    pub fn body(&self) -> Option<&super::scope::Body> {
+        self.body.as_ref()
+    }
+
+    /// Why the document cannot be edited (a group of another file), if so.
+    pub fn read_only(&self) -> Option<&str> {
+        self.body.as_ref()?.read_only.as_deref()
+    }
+
+    /// The interface of the group the document is the body of (none at the top).
+    pub fn interface(&self) -> Option<&crate::document::GroupDocument> {
+        self.doc.groups.get(&self.body.as_ref()?.group)
+    }
+
+    /// The Group Input node's pins: an output per interface input, typed by it (none at
+    /// the top).
+    fn input_ports(&self) -> &Ports {
+        self.input_ports.get_or_init(|| {
+            let outputs = self
+                .interface()
+                .map(|g| {
+                    g.inputs
+                        .iter()
+                        .map(|i| {
+                            let ty = SocketType::from_name(&i.ty);
+                            super::ports::Port {
+                                name: std::borrow::Cow::Owned(i.name.clone()),
+                                ty: ty.map_or(PortType::Generic, PortType::Fixed),
+                                default: ty.map_or(
+                                    crate::value::Value::float(0.0),
+                                    crate::value::Value::zero,
+                                ),
+                                soft: None,
+                                hard: None,
+                                unit: std::borrow::Cow::Owned(i.unit.clone().unwrap_or_default()),
+                                doc: std::borrow::Cow::Owned(i.doc.clone()),
+                                choices: &[],
+                            }
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            Ports {
+                kind: super::ports::Kind::Unknown,
+                inputs: Vec::new(),
+                outputs,
+            }
+        })
+    }
+
+    /// Where the Group Input node was placed (editor-only).
+    pub fn input_node(&self) -> Option<[f32; 2]> {
+        self.input_node
+    }
+
+    /// Places the Group Input node (editor-only, not a document change).
+    pub fn set_input_node(&mut self, place: Option<[f32; 2]>) {
+        self.input_node = place;
+    }
+
+    /// Where the canvas draws the Group Input node, given the nodes' `places`: its place,
+    /// else left of the leftmost node, level with the topmost; `None` at the top.
+    pub fn input_node_place(&self, places: &[[f32; 2]]) -> Option<[f32; 2]> {
+        self.body.as_ref()?;
+        Some(self.input_node.unwrap_or_else(|| {
+            let left = places.iter().map(|p| p[0]).fold(f32::INFINITY, f32::min);
+            let top = places.iter().map(|p| p[1]).fold(f32::INFINITY, f32::min);
+            match left.is_finite() && top.is_finite() {
+                true => [left - 160.0 - super::outputs::GAP, top],
+                false => [-240.0, 0.0],
+            }
+        }))
     }
 
     /// The files of the graph file at `path`: groups of other files are read from its
@@ -140,9 +257,15 @@ impl EditorDoc {
 
     /// Replaces the whole document (undo, redo, recovery) and revalidates.
     pub fn replace(&mut self, doc: GraphDocument) {
-        self.validation = validate(&doc, self.registry, self.files.as_ref());
+        (self.validation, self.harness_ids) =
+            validate(&doc, self.registry, self.files.as_ref(), self.group());
         self.doc = doc;
         self.changed();
+    }
+
+    /// The group the document is the body of, by name.
+    fn group(&self) -> Option<&str> {
+        self.body.as_ref().map(|b| b.group.as_str())
     }
 
     /// The canonical text `matgraph fmt` writes: the validated graph's form (literals
@@ -197,8 +320,11 @@ impl EditorDoc {
     }
 
     /// The pins of node `id`: its type's, or a group instance's interface
-    /// ([`super::ports`]).
+    /// ([`super::ports`]); inside a group, the Group Input node's ([`super::scope::INPUT_NODE`]).
     pub fn ports(&self, id: &str) -> Option<&Ports> {
+        if id == super::scope::INPUT_NODE && self.body.is_some() {
+            return Some(self.input_ports());
+        }
         self.ports_at(self.index(id)?)
     }
 
@@ -244,6 +370,20 @@ impl EditorDoc {
     /// those inside it ([`GraphError::InGroup`], or a node of its inlined body, `id/…`)
     /// and those of the group it uses (its interface, a recursion through it).
     pub fn node_errors(&self, id: &str) -> Vec<String> {
+        if id == super::scope::INPUT_NODE && self.body.is_some() {
+            // The harness' reroutes stand for the Group Input node.
+            return self
+                .errors()
+                .iter()
+                .filter(|e| {
+                    e.node()
+                        .is_some_and(|n| self.harness_ids.iter().any(|h| h == owner(n)))
+                        || matches!(e, GraphError::BadGroupInput { group, .. }
+                            if Some(group.as_str()) == self.group())
+                })
+                .map(|e| e.to_string())
+                .collect();
+        }
         let group = self.node(id).and_then(|n| n.group.as_deref());
         let top = self
             .files
@@ -479,9 +619,9 @@ impl EditorDoc {
     }
 
     /// Whether the canvas shows the Material Output node: the graph has outputs, or it
-    /// was added.
+    /// was added; inside a group (the Group Output node) always.
     pub fn shows_output_node(&self) -> bool {
-        self.output_node.is_some() || !self.doc.outputs.is_empty()
+        self.output_node.is_some() || !self.doc.outputs.is_empty() || self.body.is_some()
     }
 
     /// Where the canvas draws the Material Output node, given the nodes' `places`: its
@@ -575,7 +715,8 @@ impl EditorDoc {
     /// Applies `candidate` when it has no error the current document lacks; otherwise
     /// returns the new errors' messages, one a line.
     fn try_apply(&mut self, candidate: GraphDocument) -> Result<(), String> {
-        let result = validate(&candidate, self.registry, self.files.as_ref());
+        let (result, harness_ids) =
+            validate(&candidate, self.registry, self.files.as_ref(), self.group());
         if let Err(errors) = &result {
             let before: Vec<String> = self.errors().iter().map(|e| e.to_string()).collect();
             let new: Vec<String> = errors
@@ -589,12 +730,14 @@ impl EditorDoc {
         }
         self.doc = candidate;
         self.validation = result;
+        self.harness_ids = harness_ids;
         self.changed();
         Ok(())
     }
 
     fn revalidate(&mut self) {
-        self.validation = validate(&self.doc, self.registry, self.files.as_ref());
+        (self.validation, self.harness_ids) =
+            validate(&self.doc, self.registry, self.files.as_ref(), self.group());
         self.changed();
     }
 
@@ -604,20 +747,36 @@ impl EditorDoc {
         self.structure = OnceLock::new();
         self.sizes = OnceLock::new();
         self.ports = OnceLock::new();
+        self.input_ports = OnceLock::new();
         self.ids = id_index(&self.doc);
     }
 }
 
-/// `doc` validated against `registry`, groups of other files read through `files`.
+/// `doc` validated against `registry`, groups of other files read through `files`; the body
+/// of group `body` through its harness ([`super::scope::harness`], whose reroute ids come
+/// second).
 fn validate(
     doc: &GraphDocument,
     registry: &Registry,
     files: Option<&Arc<dyn GroupFiles>>,
-) -> Result<Graph, Vec<GraphError>> {
-    match files {
+    body: Option<&str>,
+) -> (Result<Graph, Vec<GraphError>>, Vec<String>) {
+    let (harness, ids);
+    let doc = match body {
+        Some(group) => {
+            (harness, ids) = super::scope::harness(doc, group);
+            &harness
+        }
+        None => {
+            ids = Vec::new();
+            doc
+        }
+    };
+    let result = match files {
         Some(f) => Graph::from_document_in(doc, registry, f.clone()),
         None => Graph::from_document(doc, registry),
-    }
+    };
+    (result, ids)
 }
 
 /// The top-level node a node id of the validated graph belongs to: itself, or for a node

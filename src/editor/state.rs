@@ -101,6 +101,9 @@ pub struct EditorState {
     pub disk_time: Option<std::time::SystemTime>,
     /// Time (egui seconds) the file was last checked for changes on disk.
     pub checked_at: f64,
+    /// Inside a group ([`super::scope`], Tab): the whole document and the levels entered;
+    /// [`EditorState::doc`] is then the group's body.
+    pub scope: Option<super::scope::Scope>,
 }
 
 /// Seconds between checks of the file for changes on disk.
@@ -136,6 +139,7 @@ impl EditorState {
             recent: None,
             disk_time: None,
             checked_at: f64::NEG_INFINITY,
+            scope: None,
         };
         state.offer_recovery();
         state
@@ -379,7 +383,7 @@ impl EditorState {
 
     /// Whether the document differs from the file.
     pub fn dirty(&self) -> bool {
-        self.doc.canonical() != self.saved
+        self.root().canonical() != self.saved
     }
 
     /// Applies `f` to the document as one undo step (`key`: consecutive edits with the same
@@ -390,10 +394,19 @@ impl EditorState {
         structural: bool,
         f: impl FnOnce(&mut EditorDoc) -> Result<R, String>,
     ) -> Result<R, String> {
-        let before = self.doc.doc().clone();
+        if let Some(why) = self.doc.read_only() {
+            let why = why.to_owned();
+            self.status = Some(why.clone());
+            return Err(why);
+        }
+        let before = self.root().doc().clone();
         let result = f(&mut self.doc);
+        if result.is_ok() {
+            // Inside a group, the body goes back into the whole document.
+            self.sync_root();
+        }
         match &result {
-            Ok(_) if self.doc.doc() != &before => {
+            Ok(_) if self.root().doc() != &before => {
                 self.history.record(before, key);
                 if structural {
                     self.snarl = build_snarl(&self.doc);
@@ -475,6 +488,10 @@ impl EditorState {
 
     /// Moves nodes (a drag: coalesced until [`History::seal`]).
     pub fn move_nodes(&mut self, moves: &[(String, [f32; 2])]) {
+        if self.doc.read_only().is_some() {
+            // A group of another file: its nodes may be looked at where they are dragged.
+            return;
+        }
         let _ = self.edit(Some("move"), false, |d| {
             d.set_positions(moves);
             Ok(())
@@ -483,8 +500,9 @@ impl EditorState {
 
     /// Undoes the last step.
     pub fn undo(&mut self) {
-        if let Some(doc) = self.history.undo(self.doc.doc()) {
-            self.doc.replace(doc);
+        let current = self.root().doc().clone();
+        if let Some(doc) = self.history.undo(&current) {
+            self.replace_root(doc);
             self.snarl = build_snarl(&self.doc);
             self.changed();
             self.status = Some("undone".into());
@@ -493,8 +511,9 @@ impl EditorState {
 
     /// Redoes the last undone step.
     pub fn redo(&mut self) {
-        if let Some(doc) = self.history.redo(self.doc.doc()) {
-            self.doc.replace(doc);
+        let current = self.root().doc().clone();
+        if let Some(doc) = self.history.redo(&current) {
+            self.replace_root(doc);
             self.snarl = build_snarl(&self.doc);
             self.changed();
             self.status = Some("redone".into());
@@ -517,12 +536,14 @@ impl EditorState {
     /// Saves in canonical form to `path`, atomically, and makes it the document's file
     /// (groups of other files are read from its folder from then on).
     pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
-        let text = self.doc.canonical_json();
+        let text = self.root().canonical_json();
         let result = files::save(path, &text);
         match &result {
             Ok(()) => {
                 files::discard_recovery(self.path.as_deref());
-                if self.path.as_deref() != Some(path) || self.doc.files().is_none() {
+                if self.path.as_deref() != Some(path) || self.root().files().is_none() {
+                    // Inside a group, the levels are left: their files are the old path's.
+                    self.leave_all();
                     self.doc.set_files(Some(EditorDoc::files_of(path)));
                     self.snarl = build_snarl(&self.doc);
                 }
@@ -542,7 +563,7 @@ impl EditorState {
     /// Writes the recovery file now (the autosave).
     pub fn autosave(&mut self) {
         let path = files::recovery_path(self.path.as_deref());
-        match files::save(&path, &self.doc.canonical_json()) {
+        match files::save(&path, &self.root().canonical_json()) {
             Ok(()) => self.unsaved_since = None,
             Err(e) => self.status = Some(format!("autosave: {e}")),
         }
@@ -562,6 +583,7 @@ impl EditorState {
 
     /// Takes the recovery file's document as the current one (an undoable step).
     pub fn recover(&mut self, doc: GraphDocument) {
+        self.leave_all();
         let _ = self.edit(None, true, |d| {
             d.replace(doc);
             Ok(())

@@ -3,6 +3,7 @@
 
 use super::model::{EditorDoc, link_of};
 use super::outputs::OUTPUT_NODE;
+use super::scope::INPUT_NODE;
 use crate::node::Category;
 use crate::types::SocketType;
 use egui::Color32;
@@ -132,40 +133,93 @@ pub fn build_snarl_prefix(doc: &EditorDoc, count: usize) -> Snarl<NodeView> {
             );
         }
     }
-    // The Material Output node ([`super::outputs`]) after the document's nodes, once they
-    // are all shown: one input pin per graph output, wired from the node output it reads.
-    if count == d.nodes.len()
-        && let Some(place) = doc.output_node_place(&places)
-    {
-        let out = snarl.insert_node(
+    // The Material Output node ([`super::outputs`]) and, inside a group, the Group Input
+    // node, after the document's nodes once they are all shown.
+    if count < d.nodes.len() {
+        return snarl;
+    }
+    let out = doc.output_node_place(&places).map(|place| {
+        snarl.insert_node(
             egui::pos2(place[0], place[1]),
             NodeView {
                 id: OUTPUT_NODE.to_owned(),
             },
-        );
+        )
+    });
+    // Inside a group, the Group Input node ([`super::scope`]): one output pin per
+    // interface input, wired to what reads `@in.NAME`.
+    let input = doc.input_node_place(&places).map(|place| {
+        snarl.insert_node(
+            egui::pos2(place[0], place[1]),
+            NodeView {
+                id: INPUT_NODE.to_owned(),
+            },
+        )
+    });
+    // The source pin a link names: a node's output, or the Group Input node's.
+    let source = |link: &str| -> Option<OutPinId> {
+        let (src, name) = link.split_once('.')?;
+        if src == INPUT_NODE {
+            let k = doc.ports(INPUT_NODE)?.output_index(name)?;
+            return Some(OutPinId {
+                node: input?,
+                output: k,
+            });
+        }
+        let s = doc.index(src)?;
+        let k = doc.ports_at(s)?.output_index(name)?;
+        Some(OutPinId {
+            node: NodeId(s),
+            output: k,
+        })
+    };
+    if input.is_some() {
+        for (k, n) in d.nodes.iter().enumerate() {
+            let Some(ports) = doc.ports_at(k) else {
+                continue;
+            };
+            for (i, decl) in ports.inputs.iter().enumerate() {
+                let Some(link) = n.inputs.get(decl.name.as_ref()).and_then(link_of) else {
+                    continue;
+                };
+                if link.split_once('.').is_some_and(|(s, _)| s == INPUT_NODE)
+                    && let Some(from) = source(link)
+                {
+                    snarl.connect(
+                        from,
+                        InPinId {
+                            node: NodeId(k),
+                            input: i,
+                        },
+                    );
+                }
+            }
+        }
+    }
+    // The Material Output node ([`super::outputs`]) after the document's nodes, once they
+    // are all shown: one input pin per graph output, wired from the node output it reads.
+    if let Some(out) = out {
         for (i, o) in d.outputs.iter().enumerate() {
-            let Some((src, name)) = o.from.split_once('.') else {
-                continue;
-            };
-            let Some(s) = doc.index(src) else {
-                continue;
-            };
-            let Some(k) = doc.ports_at(s).and_then(|p| p.output_index(name)) else {
-                continue;
-            };
-            snarl.connect(
-                OutPinId {
-                    node: NodeId(s),
-                    output: k,
-                },
-                InPinId {
-                    node: out,
-                    input: i,
-                },
-            );
+            if let Some(from) = source(&o.from) {
+                snarl.connect(
+                    from,
+                    InPinId {
+                        node: out,
+                        input: i,
+                    },
+                );
+            }
         }
     }
     snarl
+}
+
+/// The Group Input node's id on `snarl`, when it is shown (inside a group).
+pub fn input_node_id(snarl: &Snarl<NodeView>) -> Option<NodeId> {
+    snarl
+        .node_ids()
+        .find(|(_, v)| v.id == INPUT_NODE)
+        .map(|(n, _)| n)
 }
 
 /// The Material Output node's id on `snarl`, when it is shown.

@@ -12,6 +12,7 @@ use super::overview::{Body, Overview, pin_shape};
 use super::params;
 use super::pin_tips::{PinRows, tip};
 use super::ports::Kind;
+use super::scope::{GROUP_OUTPUT_TITLE, GROUP_PANEL, INPUT_NODE, INPUT_TITLE};
 use super::search::WireFilter;
 use super::stand_in::{LookKey, Looks};
 use super::view::{GENERIC_UNKNOWN, NodeView, category_color, socket_color};
@@ -93,6 +94,12 @@ pub enum Action {
     Unexpose(String),
     /// List an unlisted `parameter` node in the graph's parameters.
     ListParameter(String),
+    /// Enter this group instance's group (Tab).
+    EnterGroup(String),
+    /// Ungroup this group instance (Alt+G).
+    Ungroup(String),
+    /// Group the selected nodes (Ctrl+G).
+    GroupSelected,
     /// A value typed into an input's editor was refused ([`super::entry::check`]): the
     /// graph is unchanged.
     Reject {
@@ -435,7 +442,13 @@ impl Viewer<'_> {
     /// instance, dark red for an unknown type), dimmed when the node is muted.
     fn header_fill(&self, id: &str) -> Color32 {
         if id == OUTPUT_NODE {
-            return OUTPUT_COLOR;
+            return match self.doc.body() {
+                Some(_) => GROUP_COLOR,
+                None => OUTPUT_COLOR,
+            };
+        }
+        if id == INPUT_NODE {
+            return GROUP_COLOR;
         }
         let fill = match self.doc.ports(id).map(|p| &p.kind) {
             Some(Kind::Type(t)) => category_color(t.category()),
@@ -589,21 +602,44 @@ impl Viewer<'_> {
                 Some(format!("{}: {n}", self.doc.doc().outputs[k].name))
             })
             .collect();
+        let (title, focus) = match self.doc.body() {
+            Some(_) => (GROUP_OUTPUT_TITLE, GROUP_PANEL),
+            None => (OUTPUT_TITLE, OUTPUT_NODE),
+        };
+        ui.horizontal(|ui| {
+            let label = ui.add(
+                egui::Label::new(egui::RichText::new(title).strong().color(Color32::WHITE))
+                    .sense(egui::Sense::click()),
+            );
+            if label.clicked() {
+                self.actions.push(Action::Focus(focus.to_owned()));
+            }
+            if !notes.is_empty() {
+                ui.label(egui::RichText::new("⚠").color(UNCONNECTED_COLOR))
+                    .on_hover_text(notes.join("\n"));
+            }
+        });
+    }
+
+    /// The Group Input node's header: its title (a click shows the interface in the side
+    /// panel) and a ⚠ with the interface's errors.
+    fn show_input_header(&mut self, ui: &mut Ui) {
+        let errors = self.errors_of(INPUT_NODE);
         ui.horizontal(|ui| {
             let label = ui.add(
                 egui::Label::new(
-                    egui::RichText::new(OUTPUT_TITLE)
+                    egui::RichText::new(INPUT_TITLE)
                         .strong()
                         .color(Color32::WHITE),
                 )
                 .sense(egui::Sense::click()),
             );
             if label.clicked() {
-                self.actions.push(Action::Focus(OUTPUT_NODE.to_owned()));
+                self.actions.push(Action::Focus(GROUP_PANEL.to_owned()));
             }
-            if !notes.is_empty() {
+            if !errors.is_empty() {
                 ui.label(egui::RichText::new("⚠").color(UNCONNECTED_COLOR))
-                    .on_hover_text(notes.join("\n"));
+                    .on_hover_text(errors.join("\n"));
             }
         });
     }
@@ -643,7 +679,11 @@ impl Viewer<'_> {
             let label = ui
                 .add(egui::Label::new(text).sense(egui::Sense::click()))
                 .on_hover_text(format!(
-                    "graph output '{name}'{}; right-click to rename or remove",
+                    "{} output '{name}'{}; right-click to rename or remove",
+                    match self.doc.body() {
+                        Some(_) => "group",
+                        None => "graph",
+                    },
                     ty.map_or(String::new(), |t| format!(" ({t})"))
                 ));
             if let Some(n) = &note {
@@ -687,6 +727,11 @@ impl Viewer<'_> {
     /// parameter" with an editable name for an unlinked float, vector or colour input;
     /// "Un-expose" for one an exposed parameter feeds.
     fn input_pin_menu(&mut self, ui: &mut Ui, id: &str, input: &str) {
+        if self.doc.body().is_some() {
+            // A graph's parameters are nodes of its top level, set by the app.
+            ui.weak("Inside a group: wire this input from the Group Input node, and expose the instance's input at the graph's top.");
+            return;
+        }
         if let Some(name) = params::feeding(self.doc, id, input) {
             if ui
                 .button(format!("Un-expose parameter '{name}'"))
@@ -847,7 +892,14 @@ fn plain(frame: egui::Frame) -> egui::Frame {
 impl SnarlViewer<NodeView> for Viewer<'_> {
     fn title(&mut self, node: &NodeView) -> String {
         if node.id == OUTPUT_NODE {
-            return OUTPUT_TITLE.to_owned();
+            return match self.doc.body() {
+                Some(_) => GROUP_OUTPUT_TITLE,
+                None => OUTPUT_TITLE,
+            }
+            .to_owned();
+        }
+        if node.id == INPUT_NODE {
+            return INPUT_TITLE.to_owned();
         }
         // The id alone keeps nodes narrow (the bundled graphs leave 200 units per column);
         // the type is in the hover, the header colour and the side panel.
@@ -868,6 +920,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         }
         if id == OUTPUT_NODE {
             self.show_output_header(ui);
+            return;
+        }
+        if id == INPUT_NODE {
+            self.show_input_header(ui);
             return;
         }
         let errors = self.errors_of(&id);
@@ -906,6 +962,10 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             if !errors.is_empty() {
                 ui.label(egui::RichText::new("⚠").color(Color32::from_rgb(255, 90, 80)))
                     .on_hover_text(errors.join("\n"));
+            }
+            if self.doc.body().is_some() {
+                // The swatches render the whole graph's nodes (a group's are not cut).
+                return;
             }
             let on = self.swatches.contains_key(&id);
             let toggle = ui
@@ -1224,8 +1284,23 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         if snarl[node].id == OUTPUT_NODE {
-            ui.strong(OUTPUT_TITLE);
-            ui.label("The graph's outputs: wire a node output into a pin; right-click for more.");
+            match self.doc.body() {
+                Some(_) => {
+                    ui.strong(GROUP_OUTPUT_TITLE);
+                    ui.label("The group's outputs: wire a node output into a pin; click the title to edit the interface.");
+                }
+                None => {
+                    ui.strong(OUTPUT_TITLE);
+                    ui.label(
+                        "The graph's outputs: wire a node output into a pin; right-click for more.",
+                    );
+                }
+            }
+            return;
+        }
+        if snarl[node].id == INPUT_NODE {
+            ui.strong(INPUT_TITLE);
+            ui.label("The group's inputs: wire a pin into a node input; click the title to edit the interface.");
             return;
         }
         match self.doc.ports(&snarl[node].id).map(|p| &p.kind) {
@@ -1358,9 +1433,37 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
-        if id == OUTPUT_NODE {
+        if id == OUTPUT_NODE && self.doc.body().is_none() {
             self.output_node_menu(ui);
             return;
+        }
+        if id == OUTPUT_NODE || id == INPUT_NODE {
+            if ui.button("Edit the group's interface").clicked() {
+                self.actions.push(Action::Focus(GROUP_PANEL.to_owned()));
+                ui.close();
+            }
+            return;
+        }
+        if self.doc.ports(&id).and_then(|p| p.group()).is_some() {
+            if ui.button("Enter group  (Tab)").clicked() {
+                self.actions.push(Action::EnterGroup(id.clone()));
+                ui.close();
+            }
+            if ui.button("Ungroup  (Alt+G)").clicked() {
+                self.actions.push(Action::Ungroup(id.clone()));
+                ui.close();
+            }
+            ui.separator();
+        }
+        if ui
+            .button("Group selected  (Ctrl+G)")
+            .on_hover_text(
+                "the selected nodes (this one if none) become a group and one node using it",
+            )
+            .clicked()
+        {
+            self.actions.push(Action::GroupSelected);
+            ui.close();
         }
         if ui.button("Duplicate").clicked() {
             self.actions.push(Action::Duplicate(vec![id.clone()]));
@@ -1382,7 +1485,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             self.actions.push(Action::PreviewOutput(Some(id.clone())));
             ui.close();
         }
-        if params::is_parameter_node(self.doc, &id) {
+        // A graph's parameters are nodes of its top level (not inside a group).
+        if params::is_parameter_node(self.doc, &id) && self.doc.body().is_none() {
             ui.separator();
             match params::of_node(self.doc.doc(), &id).map(|p| p.name.clone()) {
                 Some(name) => {
