@@ -122,8 +122,13 @@ fn unit(h: u32) -> f32 {
 
 /// Blender's `hash_floatN_to_float`: the lookup3 hash of the floats' bits, in [0, 1].
 pub fn hash_floats(k: &[f32]) -> f32 {
-    let bits: Vec<u32> = k.iter().map(|x| x.to_bits()).collect();
-    unit(jenkins(&bits))
+    // At most four words, on the stack: Voronoi hashes a cell dozens of times a sample.
+    let mut bits = [0u32; 4];
+    let n = k.len().min(4);
+    for (b, x) in bits.iter_mut().zip(k) {
+        *b = x.to_bits();
+    }
+    unit(jenkins(&bits[..n]))
 }
 
 /// Blender's `hash_floatN_to_float3`: three decorrelated hashes of `k` in [0, 1].
@@ -143,13 +148,14 @@ pub fn hash_floats3(k: &[f32]) -> Vec3 {
 /// Source: Blender 4.x `svm_node_tex_white_noise` (`hash_floatN_to_float`,
 /// `hash_floatN_to_float3`); 1D reads w, 2D vector.xy, 3D vector, 4D vector and w.
 pub fn white_noise(vector: Vec3, w: f32, dimensions: i32) -> (f32, Vec3) {
-    let k: Vec<f32> = match dimensions.clamp(0, 3) {
-        0 => vec![w],
-        1 => vec![vector.x, vector.y],
-        2 => vec![vector.x, vector.y, vector.z],
-        _ => vec![vector.x, vector.y, vector.z, w],
+    let all = [vector.x, vector.y, vector.z, w];
+    let k: &[f32] = match dimensions.clamp(0, 3) {
+        0 => &all[3..],
+        1 => &all[..2],
+        2 => &all[..3],
+        _ => &all,
     };
-    (hash_floats(&k), hash_floats3(&k))
+    (hash_floats(k), hash_floats3(k))
 }
 
 /// The choices of the gradient texture's `type` (Blender's order).
@@ -204,8 +210,7 @@ pub fn gradient_texture(p: Vec3, kind: i32) -> (Vec3, f32) {
 /// The offset Blender adds to the coordinates for seed `seed`, component `k`:
 /// `100 + 100 · hash(bits(seed), bits(k)) / (2³² − 1)` (`random_floatN_offset`).
 pub fn seed_offset(seed: f32, k: f32) -> f32 {
-    let h = jenkins(&[seed.to_bits(), k.to_bits()]);
-    100.0 + (h as f32 / 4_294_967_295.0f32) * 100.0
+    100.0 + hash_floats(&[seed, k]) * 100.0
 }
 
 /// Perlin's quintic fade `6t⁵ − 15t⁴ + 10t³`.
@@ -441,13 +446,7 @@ pub fn fractal(
 /// `random_floatN_offset`; 1D uses the one-float hash).
 fn offset_vec(seed: f32, dims: usize) -> Vec4 {
     if dims == 1 {
-        let h = jenkins(&[seed.to_bits()]);
-        return Vec4::new(
-            100.0 + (h as f32 / 4_294_967_295.0f32) * 100.0,
-            0.0,
-            0.0,
-            0.0,
-        );
+        return Vec4::new(100.0 + hash_floats(&[seed]) * 100.0, 0.0, 0.0, 0.0);
     }
     let mut o = Vec4::ZERO;
     for k in 0..dims {
@@ -767,19 +766,9 @@ fn mg_bn_fractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunari
     return sum;
 }
 
-fn mg_bn_offset(seed: f32, dims: i32) -> vec4<f32> {
-    if (dims == 1) {
-        return vec4<f32>(100.0 + (f32(mg_bn_hash1(bitcast<u32>(seed))) / 4294967295.0) * 100.0, 0.0, 0.0, 0.0);
-    }
-    var o = vec4<f32>(0.0);
-    for (var k = 0; k < dims; k = k + 1) {
-        o[k] = 100.0 + (f32(mg_bn_hash2(bitcast<u32>(seed), bitcast<u32>(f32(k)))) / 4294967295.0) * 100.0;
-    }
-    return o;
-}
 "#;
 
-/// WGSL of Blender's float hashes (`hash_floatN_to_float`).
+/// WGSL of Blender's float hashes (`hash_floatN_to_float`) and seed offsets.
 pub const HASH_FLOATS_WGSL: &str = r#"
 fn mg_bn_unit(h: u32) -> f32 {
     return f32(h) / 4294967295.0;
@@ -795,6 +784,18 @@ fn mg_bn_hf3(x: f32, y: f32, z: f32) -> f32 {
 }
 fn mg_bn_hf4(x: f32, y: f32, z: f32, w: f32) -> f32 {
     return mg_bn_unit(mg_bn_hash4(bitcast<u32>(x), bitcast<u32>(y), bitcast<u32>(z), bitcast<u32>(w)));
+}
+
+// Blender's `random_floatN_offset(seed)`: 100 + 100·hash per component (1D: one float's hash).
+fn mg_bn_offset(seed: f32, dims: i32) -> vec4<f32> {
+    if (dims == 1) {
+        return vec4<f32>(100.0 + mg_bn_hf1(seed) * 100.0, 0.0, 0.0, 0.0);
+    }
+    var o = vec4<f32>(0.0);
+    for (var k = 0; k < dims; k = k + 1) {
+        o[k] = 100.0 + mg_bn_hf2(seed, f32(k)) * 100.0;
+    }
+    return o;
 }
 "#;
 
@@ -956,7 +957,7 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::float("fac").doc("The fractal noise (fBm normalised: in [0, 1], 0.5 on average)."))
         .output(Out::color("color").doc("fac and two more channels at seeded offsets."))
         .wgsl(NOISE_TEXTURE_WGSL)
-        .wgsl_uses(&[BLENDER_NOISE_WGSL])
+        .wgsl_uses(&[BLENDER_NOISE_WGSL, HASH_FLOATS_WGSL])
         .hard_case("lattice points", &[("vector", v3([1.0, 2.0, 3.0])), ("scale", f(1.0))])
         .hard_case("negative coordinates", &[("vector", v3([-7.3, -0.5, -9.9])), ("scale", f(3.7))])
         .hard_case(

@@ -78,19 +78,21 @@ fn cell_color(c: Vec4, dims: usize) -> Vec3 {
 }
 
 /// The cell offsets within `r` cells, in Blender's order (w outermost, x innermost).
-fn offsets(dims: usize, r: i32) -> Vec<Vec4> {
-    let span = |k: usize| if k < dims { -r..=r } else { 0..=0 };
-    let mut v = Vec::new();
-    for u in span(3) {
-        for k in span(2) {
-            for j in span(1) {
-                for i in span(0) {
-                    v.push(Vec4::new(i as f32, j as f32, k as f32, u as f32));
-                }
-            }
-        }
-    }
-    v
+fn offsets(dims: usize, r: i32) -> impl Iterator<Item = Vec4> {
+    let span = move |k: usize| if k < dims { -r..=r } else { 0..=0 };
+    span(3).flat_map(move |u| {
+        span(2).flat_map(move |k| {
+            span(1).flat_map(move |j| {
+                span(0).map(move |i| Vec4::new(i as f32, j as f32, k as f32, u as f32))
+            })
+        })
+    })
+}
+
+/// The point of the cell at offset `o` from `cell`: the offset plus the cell's jitter times
+/// the randomness (relative to `cell`).
+fn point(p: &Params, cell: Vec4, o: Vec4) -> Vec4 {
+    o + jitter(cell + o, p.dims) * p.randomness
 }
 
 /// `a + t·(b − a)` (Cycles' `mix`).
@@ -105,35 +107,15 @@ struct Octave {
     position: Vec4,
 }
 
-/// F1: the nearest point. Source: Blender's `voronoi_f1`.
-fn f1(p: &Params, coord: Vec4) -> Octave {
-    let cell = coord.floor();
-    let local = coord - cell;
-    let (mut best, mut off, mut pos) = (f32::MAX, Vec4::ZERO, Vec4::ZERO);
-    for o in offsets(p.dims, 1) {
-        let point = o + jitter(cell + o, p.dims) * p.randomness;
-        let d = distance(point, local, p);
-        if d < best {
-            off = o;
-            best = d;
-            pos = point;
-        }
-    }
-    Octave {
-        distance: best,
-        color: cell_color(cell + off, p.dims),
-        position: pos + cell,
-    }
-}
-
-/// F2: the second nearest point. Source: Blender's `voronoi_f2`.
-fn f2(p: &Params, coord: Vec4) -> Octave {
+/// F1 (the nearest point) or, with `second`, F2 (the second nearest). Source: Blender's
+/// `voronoi_f1` and `voronoi_f2`, one scan (F2's keeps F1's nearest as its first).
+fn nearest(p: &Params, coord: Vec4, second: bool) -> Octave {
     let cell = coord.floor();
     let local = coord - cell;
     let (mut d1, mut d2) = (f32::MAX, f32::MAX);
     let (mut o1, mut p1, mut o2, mut p2) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
     for o in offsets(p.dims, 1) {
-        let point = o + jitter(cell + o, p.dims) * p.randomness;
+        let point = point(p, cell, o);
         let d = distance(point, local, p);
         if d < d1 {
             d2 = d1;
@@ -148,10 +130,11 @@ fn f2(p: &Params, coord: Vec4) -> Octave {
             p2 = point;
         }
     }
+    let (d, o, pos) = if second { (d2, o2, p2) } else { (d1, o1, p1) };
     Octave {
-        distance: d2,
-        color: cell_color(cell + o2, p.dims),
-        position: p2 + cell,
+        distance: d,
+        color: cell_color(cell + o, p.dims),
+        position: pos + cell,
     }
 }
 
@@ -163,7 +146,7 @@ fn smooth_f1(p: &Params, coord: Vec4) -> Octave {
     let (mut sd, mut sc, mut sp) = (0.0f32, Vec3::ZERO, Vec4::ZERO);
     let mut h = -1.0f32;
     for o in offsets(p.dims, 2) {
-        let point = o + jitter(cell + o, p.dims) * p.randomness;
+        let point = point(p, cell, o);
         let d = distance(point, local, p);
         h = if h == -1.0 {
             1.0
@@ -216,9 +199,8 @@ fn distance_to_edge(p: &Params, coord: Vec4) -> f32 {
     let dot = |a: Vec4, b: Vec4| (0..p.dims).fold(0.0, |s, k| s + a[k] * b[k]);
     let mut closest = Vec4::ZERO;
     let mut best = f32::MAX;
-    let cells = offsets(p.dims, 1);
-    for &o in &cells {
-        let v = o + jitter(cell + o, p.dims) * p.randomness - local;
+    for o in offsets(p.dims, 1) {
+        let v = point(p, cell, o) - local;
         let d = dot(v, v);
         if d < best {
             best = d;
@@ -226,8 +208,8 @@ fn distance_to_edge(p: &Params, coord: Vec4) -> f32 {
         }
     }
     best = f32::MAX;
-    for &o in &cells {
-        let v = o + jitter(cell + o, p.dims) * p.randomness - local;
+    for o in offsets(p.dims, 1) {
+        let v = point(p, cell, o) - local;
         let perp = v - closest;
         if dot(perp, perp) > 0.0001 {
             let n = perp / dot(perp, perp).sqrt();
@@ -246,7 +228,7 @@ fn n_sphere_radius(p: &Params, coord: Vec4) -> f32 {
     let e = Params { metric: 0, ..*p };
     let (mut closest, mut closest_off, mut best) = (Vec4::ZERO, Vec4::ZERO, f32::MAX);
     for o in offsets(p.dims, 1) {
-        let point = o + jitter(cell + o, p.dims) * p.randomness;
+        let point = point(p, cell, o);
         let d = distance(point, local, &e);
         if d < best {
             best = d;
@@ -261,7 +243,7 @@ fn n_sphere_radius(p: &Params, coord: Vec4) -> f32 {
             continue;
         }
         let off = o + closest_off;
-        let point = off + jitter(cell + off, p.dims) * p.randomness;
+        let point = point(p, cell, off);
         let d = distance(closest, point, &e);
         if d < best {
             best = d;
@@ -362,9 +344,9 @@ pub fn voronoi_texture(
             for i in 0..=octaves {
                 let q = coord * s;
                 let o = match feature {
-                    "f2" => f2(&p, q),
+                    "f2" => nearest(&p, q, true),
                     "smooth_f1" if p.smoothness != 0.0 => smooth_f1(&p, q),
-                    _ => f1(&p, q),
+                    _ => nearest(&p, q, false),
                 };
                 if zero_input {
                     max_amplitude = 1.0;

@@ -114,8 +114,8 @@ fn a_data_map_reads_its_stored_bytes_and_the_default_stays_srgb() {
     );
     for i in 0..n {
         let stored = &rgba[i * 4..i * 4 + 4];
-        for c in 0..3 {
-            let byte = stored[c] as f64 / 255.0;
+        for (c, &b) in stored[..3].iter().enumerate() {
+            let byte = b as f64 / 255.0;
             let at = |k: usize| out.planar(k)[c * n + i] as f64;
             // Data and linear: the byte over 255, to f32 rounding.
             assert!(

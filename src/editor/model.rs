@@ -71,24 +71,7 @@ impl EditorDoc {
         registry: &'static Registry,
         files: Option<Arc<dyn GroupFiles>>,
     ) -> EditorDoc {
-        let validation = validate(&doc, registry, files.as_ref(), None).0;
-        let ids = id_index(&doc);
-        EditorDoc {
-            doc,
-            validation,
-            registry,
-            canonical: OnceLock::new(),
-            structure: OnceLock::new(),
-            sizes: OnceLock::new(),
-            ids,
-            ports: OnceLock::new(),
-            files,
-            output_node: None,
-            input_node: None,
-            body: None,
-            harness_ids: Vec::new(),
-            input_ports: OnceLock::new(),
-        }
+        Self::build(doc, registry, files, None)
     }
 
     /// The body of a group ([`super::scope::body_doc`]), validated through its harness
@@ -99,7 +82,19 @@ impl EditorDoc {
         files: Option<Arc<dyn GroupFiles>>,
         body: super::scope::Body,
     ) -> EditorDoc {
-        let (validation, harness_ids) = validate(&doc, registry, files.as_ref(), Some(&body.group));
+        Self::build(doc, registry, files, Some(body))
+    }
+
+    /// The document validated (through the harness of `body`'s group when it is a group's
+    /// body), its caches empty.
+    fn build(
+        doc: GraphDocument,
+        registry: &'static Registry,
+        files: Option<Arc<dyn GroupFiles>>,
+        body: Option<super::scope::Body>,
+    ) -> EditorDoc {
+        let group = body.as_ref().map(|b| b.group.as_str());
+        let (validation, harness_ids) = validate(&doc, registry, files.as_ref(), group);
         let ids = id_index(&doc);
         EditorDoc {
             doc,
@@ -113,7 +108,7 @@ impl EditorDoc {
             files,
             output_node: None,
             input_node: None,
-            body: Some(body),
+            body,
             harness_ids,
             input_ports: OnceLock::new(),
         }
