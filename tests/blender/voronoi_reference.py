@@ -8,6 +8,8 @@ import random
 
 import bpy
 
+import gn
+
 CASES = [
     # dimensions, feature, metric, normalize, w, scale, detail, roughness, lacunarity,
     # smoothness, exponent, randomness
@@ -35,61 +37,36 @@ rng = random.Random(77)
 points = [(0.0, 0.0, 0.0), (0.5, 0.25, -0.75), (1.0, 2.0, 3.0), (-1.5, 0.1, 2.2)]
 points += [tuple(rng.uniform(-2.0, 2.0) for _ in range(3)) for _ in range(44)]
 
-mesh = bpy.data.meshes.new("pts")
-mesh.from_pydata(points, [], [])
-obj = bpy.data.objects.new("pts", mesh)
-bpy.context.scene.collection.objects.link(obj)
+obj = gn.point_object(points)
+
+OUTPUTS = [("Distance", "FLOAT"), ("Color", "FLOAT_VECTOR"), ("Position", "FLOAT_VECTOR"),
+           ("W", "FLOAT"), ("Radius", "FLOAT")]
 
 out = {"blender": bpy.app.version_string, "points": [list(p) for p in points], "cases": []}
 for case in CASES:
     dims, feature, metric, normalize, w, scale, detail, rough, lac, smooth, expo, rand = case
-    tree = bpy.data.node_groups.new("v", "GeometryNodeTree")
-    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    gin = tree.nodes.new("NodeGroupInput")
-    gout = tree.nodes.new("NodeGroupOutput")
-    pos = tree.nodes.new("GeometryNodeInputPosition")
-    n = tree.nodes.new("ShaderNodeTexVoronoi")
-    n.voronoi_dimensions = dims
-    n.feature = feature
-    n.distance = metric
-    n.normalize = normalize
-    sock = {s.name: s for s in n.inputs}
-    if dims == "1D":
-        sep = tree.nodes.new("ShaderNodeSeparateXYZ")
-        tree.links.new(pos.outputs[0], sep.inputs[0])
-        tree.links.new(sep.outputs[0], sock["W"])
-    else:
-        tree.links.new(pos.outputs[0], sock["Vector"])
-        sock["W"].default_value = w
-    for name, v in (("Scale", scale), ("Detail", detail), ("Roughness", rough),
-                    ("Lacunarity", lac), ("Smoothness", smooth), ("Exponent", expo),
-                    ("Randomness", rand)):
-        sock[name].default_value = v
-    outs = {s.name: s for s in n.outputs}
-    stored = []
-    geo = gin.outputs[0]
-    for name, kind in (("Distance", "FLOAT"), ("Color", "FLOAT_VECTOR"), ("Position", "FLOAT_VECTOR"),
-                       ("W", "FLOAT"), ("Radius", "FLOAT")):
-        st = tree.nodes.new("GeometryNodeStoreNamedAttribute")
-        st.data_type = kind
-        st.inputs["Name"].default_value = "out_" + name.lower()
-        tree.links.new(geo, st.inputs["Geometry"])
-        tree.links.new(outs[name], st.inputs["Value"])
-        geo = st.outputs[0]
-    tree.links.new(geo, gout.inputs[0])
-    for m in list(obj.modifiers):
-        obj.modifiers.remove(m)
-    obj.modifiers.new("gn", "NODES").node_group = tree
-    dg = bpy.context.evaluated_depsgraph_get()
-    dg.update()
-    ev = obj.evaluated_get(dg).data
-    get = lambda name, vec: [list(a.vector) if vec else a.value for a in ev.attributes["out_" + name].data]
+
+    def make(tree, pos):
+        n = tree.nodes.new("ShaderNodeTexVoronoi")
+        n.voronoi_dimensions = dims
+        n.feature = feature
+        n.distance = metric
+        n.normalize = normalize
+        sock = gn.link_coordinates(tree, pos, n, dims)
+        if dims != "1D":
+            sock["W"].default_value = w
+        for name, v in (("Scale", scale), ("Detail", detail), ("Roughness", rough),
+                        ("Lacunarity", lac), ("Smoothness", smooth), ("Exponent", expo),
+                        ("Randomness", rand)):
+            sock[name].default_value = v
+        return n
+
+    r = gn.evaluate(obj, make, OUTPUTS)
     out["cases"].append({
         "dimensions": dims, "feature": feature, "metric": metric, "normalize": normalize,
         "w": w, "scale": scale, "detail": detail, "roughness": rough, "lacunarity": lac,
         "smoothness": smooth, "exponent": expo, "randomness": rand,
-        "distance": get("distance", False), "color": get("color", True),
-        "position": get("position", True), "w_out": get("w", False), "radius": get("radius", False),
+        "distance": r["Distance"], "color": r["Color"], "position": r["Position"],
+        "w_out": r["W"], "radius": r["Radius"],
     })
 print(json.dumps(out))
