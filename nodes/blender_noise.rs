@@ -17,7 +17,7 @@
 //!
 //! Every point is a vec4 with the node's dimension count: the unused components are carried
 //! but never read. The CPU and WGSL versions run the same float operations in the same
-//! order; tests/blender_textures.rs holds both to values Blender 4.2 itself computed.
+//! order; tests/models/blender_textures.rs holds both to values Blender 4.2 itself computed.
 
 use crate::node::{Category, In, NodeType, Out};
 use crate::value::Value;
@@ -890,7 +890,7 @@ pub fn all() -> Vec<NodeType> {
              noise.h): Perlin noise (Perlin 2002, OSL's gradients and range factors) on a lookup3 \
              hash (Jenkins 2006) of the cell, coordinates wrapped every 100 000; Musgrave's \
              fractals (Texturing & Modeling, ch. 16); distortion and colour by seeded offsets. \
-             Matches Blender 4.2 within 1e-4 (tests/blender_textures.rs, values from Blender \
+             Matches Blender 4.2 within 1e-4 (tests/models/blender_textures.rs, values from Blender \
              itself). Deviations: none in the definition; `vector` defaults to the origin \
              (Blender: the object's generated coordinates), so link geometry.position or uv. \
              Limits: the hard ranges are narrower than Blender's fields (roughness ≤ 1, \

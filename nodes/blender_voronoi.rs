@@ -7,7 +7,7 @@
 //!
 //! Every point is a vec4 with the dimension count, as in [`super::blender_noise`]; cells are
 //! visited in Blender's order (w outermost, x innermost), which matters for ties and for the
-//! smooth minimum's running blend. tests/blender_textures.rs holds the node to values
+//! smooth minimum's running blend. tests/models/blender_textures.rs holds the node to values
 //! Blender 4.2 computed.
 
 use super::blender_noise::{DIMENSIONS, hash_floats, hash_floats3};
@@ -765,7 +765,7 @@ pub fn all() -> Vec<NodeType> {
              (Worley 1996); F1, F2, smooth F1 (Quilez's smooth minimum), distance to edge \
              (Quilez's cell borders) and n-sphere radius; euclidean, manhattan, chebychev and \
              minkowski distances; Blender 4's octaves (distance and colour summed as fBm, \
-             position lerped). Matches Blender 4.2 within 1e-4 (tests/blender_textures.rs). \
+             position lerped). Matches Blender 4.2 within 1e-4 (tests/models/blender_textures.rs). \
              Deviations: `vector` defaults to the origin (Blender: generated coordinates). \
              Limits: the minkowski exponent's hard range is [0.25, 8] (Blender: 0–32): below \
              it (Σ|d|^e)^(1/e) overflows f32 and smooth F1 turns NaN, above it |d|^e of short \

@@ -488,7 +488,7 @@ pub fn all() -> Vec<NodeType> {
              (keep env_brdf.multiple·env_diffuse). Normal and view are normalised (a zero one \
              gives 0); n·v is clamped to [1e-30, 1] in V (a view past the silhouette is shaded \
              as grazing); f0 clamped to [0, 1]; samples to [1, 1024]. Measured against an \
-             f64 brute force (tests/ibl.rs): worst relative error 13 % at N = 64, 6.4 % at 256, \
+             f64 brute force (tests/models/ibl.rs): worst relative error 13 % at N = 64, 6.4 % at 256, \
              4.1 % at 1024 (the split sum: 37.5 %), too dark where it errs (rough, grazing). \
              Cost: N texture reads (two mip levels each) per sample, about 63 ns per GGX \
              sample on the report's CPU (docs/report/pbr.md).",

@@ -29,7 +29,7 @@ use super::optics::{f0_to_ior, fresnel_dielectric, fresnel_schlick, specular_to_
 /// wider and lower than the true one (a mirror's is a delta). Below it, the lobe is narrower
 /// than the direction error of f32 unit vectors (~6·10⁻⁸ rad) can resolve: at roughness
 /// 0.02 that error already moves D by up to ~10⁻³ relative on the lobe's flank (measured in
-/// tests/physics_pointwise.rs). Filament uses 0.045 for half-float reasons.
+/// tests/models/physics_pointwise.rs). Filament uses 0.045 for half-float reasons.
 pub const MIN_ROUGHNESS: f32 = 0.02;
 
 /// The smallest cosine the visibility term sees: cosines in (0, 1e-30) are taken as 1e-30,

@@ -74,7 +74,7 @@ fn every_node_type_stays_within_its_bound_on_a_worst_gpu() {
     } in node_cases()
     {
         let bound = bound_for(t.name());
-        // The seeds of tests/gpu_parity.rs: the same samples a GPU is checked at.
+        // The seeds of tests/gpu/gpu_parity.rs: the same samples a GPU is checked at.
         let samples = node_samples(t, generic, seed);
         let exact = run_cpu(t, generic, &samples);
         let mut errors = Errors::default();

@@ -1,5 +1,5 @@
 //! The generator of seed 002's wave textures (shared by `examples/sunshine_waves` and
-//! `tests/sunshine.rs`, which checks that the committed PNGs are its output byte for byte).
+//! `tests/models/sunshine.rs`, which checks that the committed PNGs are its output byte for byte).
 //!
 //! A wave texture is a sum of cosines on the torus: every wave vector is a whole number of
 //! cycles across the image, so the texture tiles exactly. With `s(x, y) = Σ aᵢ cos(2π(kxᵢ·x +

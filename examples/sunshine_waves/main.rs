@@ -1,7 +1,7 @@
 //! Writes seed 002's wave textures and their custom mip chains (see `gen.rs`) as PNGs.
 //!
 //! Run: `cargo run --release --example sunshine_waves [DIR]` (default
-//! `graphs/textures/sunshine`). The output is deterministic: `tests/sunshine.rs` checks that
+//! `graphs/textures/sunshine`). The output is deterministic: `tests/models/sunshine.rs` checks that
 //! the committed files are these bytes.
 
 #[path = "gen.rs"]

@@ -132,7 +132,7 @@ pub const FALLBACK_FONT: &str = "DejaVuSans-subset";
 /// subscripts, letterlike symbols, arrows, mathematical operators, technical symbols,
 /// geometric shapes; src/editor/fonts/DejaVuSans-LICENSE.txt says how it was made, and
 /// its licence) for the registry's docs' `Σ aᵢbᵢ`, `Bₖ` and `gainᵏ`, which no egui font
-/// has. `tests/editor_readable.rs` checks every character the editor prints.
+/// has. `tests/editor/readable.rs` checks every character the editor prints.
 pub fn fonts() -> egui::FontDefinitions {
     let mut fonts = egui::FontDefinitions::default();
     fonts.font_data.insert(

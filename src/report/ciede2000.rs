@@ -3,7 +3,7 @@
 //! Color Res. Appl. 30(1), eqs. 1–17), and linear sRGB → CIELAB (IEC 61966-2-1 inverse
 //! matrix; CIE 015:2018 eqs. 8.1–8.3, white D65 = the matrix's image of (1, 1, 1)).
 //! Used by the report's render-space error; tested against Sharma et al.'s Table 1 in
-//! tests/thin_film.rs.
+//! tests/models/thin_film.rs.
 
 /// CIEDE2000 ΔE00 between two CIELAB colours, kL = kC = kH = 1.
 pub fn delta_e_2000(lab1: [f64; 3], lab2: [f64; 3]) -> f64 {

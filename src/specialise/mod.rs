@@ -16,7 +16,7 @@
 //! - **approximations** (only with [`SpecialiseOptions::approximate`]): a free thin film
 //!   whose optical path difference exceeds the light's coherence length everywhere in its
 //!   domain replaced by its incoherent limit ([`thin_film`]), with the error measured in
-//!   `tests/specialise.rs` and stated in docs/specialise.md.
+//!   `tests/graphs/specialise.rs` and stated in docs/specialise.md.
 //!
 //! The core does no I/O: the result is a [`GraphDocument`] and its validated [`Graph`].
 

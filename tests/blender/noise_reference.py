@@ -5,7 +5,7 @@ Run with Blender's Python module (pip install bpy==4.2.0, Python 3.11):
 
 A geometry-nodes tree evaluates Noise Texture (the node Cycles and EEVEE share with
 geometry nodes, blenlib's noise) at the vertices of a point mesh: seeded random points and
-round ones, for each case below, and writes the Fac and Color outputs. tests/blender_textures.rs
+round ones, for each case below, and writes the Fac and Color outputs. tests/models/blender_textures.rs
 holds matgraph's noise_texture node to these values.
 """
 import json

@@ -1,5 +1,5 @@
 //! The parity suites' shared parts: the bounds, the seeded node samples, the graph sample
-//! grid, and the comparison. tests/gpu_parity.rs runs them against a GPU; tests/worst_gpu.rs
+//! grid, and the comparison. tests/gpu/gpu_parity.rs runs them against a GPU; tests/worst_gpu.rs
 //! against the CPU executor in its worst-conformant-GPU mode (`matgraph::precision`).
 
 use super::rng::Rng;

@@ -1,5 +1,5 @@
 //! CIEDE2000 (now in the library, `matgraph::report::ciede2000`) and Sharma, Wu & Dalal
-//! 2005's test data for it. Shared by tests/thin_film.rs and benches/thin_film.rs.
+//! 2005's test data for it. Shared by tests/models/thin_film.rs and benches/thin_film.rs.
 
 #![allow(dead_code)]
 

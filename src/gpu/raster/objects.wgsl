@@ -105,7 +105,7 @@ fn mgr_object_fs(s: MgrSurface) -> @location(0) vec4<f32> {
 // The same under MSAA: position_normal at the CPU's barycentrics, rebuilt from the sample's
 // position by mgr_barycentrics, then Shading::surface. Lavapipe's per-sample interpolation
 // at 4 samples does not land on the sample positions (measured: checker edges move, RMSE
-// 1.6/255 against the CPU on tests/gpu_render.rs's wobble), so the varyings serve 1 sample
+// 1.6/255 against the CPU on tests/gpu/gpu_render.rs's wobble), so the varyings serve 1 sample
 // per pixel only (at the pixel centre: RMSE 0.002/255).
 @fragment
 fn mgr_object_sample_fs(

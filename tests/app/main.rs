@@ -1,0 +1,12 @@
+//! What apps and users call: the command line, the report and the app contract.
+//!
+//! One test binary per concern (each links wgpu, naga and egui): run one module with
+//! `cargo test --test app MODULE::`.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod app_contract;
+mod cli;
+mod cli_params;
+mod report;
