@@ -7,6 +7,7 @@ pub mod bubble;
 pub mod ibl;
 pub mod image;
 pub mod input;
+pub mod mapping;
 pub mod math;
 pub mod math_scalar;
 pub mod math_vector;
@@ -44,5 +45,6 @@ pub fn all() -> Vec<NodeType> {
     // so types added at the end leave every earlier type's samples where they were.
     v.extend(blender_noise::all());
     v.extend(blender_voronoi::all());
+    v.extend(mapping::all());
     v
 }

@@ -10,6 +10,7 @@ mod common;
 mod blender_textures;
 mod bubble;
 mod ibl;
+mod mapping;
 mod math_edges;
 mod math_ops;
 mod optics_reference;
