@@ -11,6 +11,7 @@ pub mod mapping;
 pub mod math;
 pub mod math_scalar;
 pub mod math_vector;
+pub mod normal_map;
 pub mod optics;
 pub mod pbr;
 pub mod precise;
@@ -46,5 +47,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_noise::all());
     v.extend(blender_voronoi::all());
     v.extend(mapping::all());
+    v.extend(normal_map::all());
     v
 }

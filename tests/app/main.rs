@@ -10,3 +10,4 @@ mod app_contract;
 mod cli;
 mod cli_params;
 mod report;
+mod tangent_contract;
