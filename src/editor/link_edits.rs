@@ -63,22 +63,21 @@ pub fn with_reroutes(
     }
     let mut work = d.clone();
     let mut ids = Vec::new();
-    for (_, wires) in &groups {
+    for ((from, output), wires) in &groups {
         let n = wires.len() as f32;
         let x = wires.iter().map(|c| c.at[0]).sum::<f32>() / n;
         let y = wires.iter().map(|c| c.at[1]).sum::<f32>() / n;
         let id = work.add_node(crate::group::REROUTE, [x, y])?;
-        // Centred on the point: a node's position is its top-left corner.
+        work.set_input(&id, "input", link_json(from, output));
+        // Centred on the point (a node's position is its top-left corner), by its size
+        // wired.
         let k = work.index(&id).expect("the reroute was added");
         let (w, h) = work.node_sizes()[k];
         work.set_positions(&[(id.clone(), [x - w / 2.0, y - h / 2.0])]);
         ids.push((id, [x, y]));
     }
     let mut doc = work.doc().clone();
-    for (((from, output), wires), (id, at)) in groups.iter().zip(&ids) {
-        if let Some(n) = doc.nodes.iter_mut().find(|n| n.id == *id) {
-            n.inputs.insert("input".to_owned(), link_json(from, output));
-        }
+    for ((_, wires), (id, at)) in groups.iter().zip(&ids) {
         for c in wires {
             if c.to == OUTPUT_NODE {
                 if let Some(o) = doc.outputs.iter_mut().find(|o| o.name == c.input) {

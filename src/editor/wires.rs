@@ -119,7 +119,8 @@ pub const END_TOLERANCE: f32 = 0.05;
 
 /// The wires of `wires` that `line` (canvas points) crosses, each with the first point where
 /// it does (in the line's order, then the wire's), given the `pins` drawn this frame and the
-/// wires `painted` (polylines from output to input pin). A wire whose pins or polyline were
+/// wires `painted` (polylines from output to input pin), in the order the line crosses them
+/// (egui-snarl lists its wires in a random hash order). A wire whose pins or polyline were
 /// not drawn is not crossed.
 pub fn crossed(
     line: &[Pos2],
@@ -148,18 +149,27 @@ pub fn crossed(
         else {
             continue;
         };
-        if let Some(x) = first_crossing(line, curve) {
-            out.push((from, to, x));
+        if let Some((along, x)) = first_crossing(line, curve) {
+            out.push((along, from, to, x));
         }
     }
-    out
+    out.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+    out.into_iter().map(|(_, f, t, x)| (f, t, x)).collect()
 }
 
-/// The first point where polyline `a` crosses polyline `b` (by `a`'s segments, then `b`'s).
-pub fn first_crossing(a: &[Pos2], b: &[Pos2]) -> Option<Pos2> {
-    a.windows(2).find_map(|s| {
-        b.windows(2)
-            .find_map(|t| segment_crossing(s[0], s[1], t[0], t[1]))
+/// The first point where polyline `a` crosses polyline `b` (by `a`'s segments, then `b`'s),
+/// with how far along `a` it is (segment index plus the fraction of that segment).
+pub fn first_crossing(a: &[Pos2], b: &[Pos2]) -> Option<(f32, Pos2)> {
+    a.windows(2).enumerate().find_map(|(k, s)| {
+        b.windows(2).find_map(|t| {
+            let x = segment_crossing(s[0], s[1], t[0], t[1])?;
+            let run = (s[1] - s[0]).length();
+            let part = match run > 0.0 {
+                true => (x - s[0]).length() / run,
+                false => 0.0,
+            };
+            Some((k as f32 + part, x))
+        })
     })
 }
 
@@ -221,7 +231,8 @@ mod tests {
         // segment, where y = 4 - (3 - 2) = 3.
         let line = [pos2(3.0, -10.0), pos2(3.0, 10.0)];
         let wire = [pos2(0.0, 0.0), pos2(2.0, 4.0), pos2(6.0, 0.0)];
-        assert_eq!(first_crossing(&line, &wire), Some(pos2(3.0, 3.0)));
+        // Its point (3, 3) is 13/20 of the way down the line.
+    assert_eq!(first_crossing(&line, &wire), Some((0.65, pos2(3.0, 3.0))));
     }
 
     /// A wire is matched to the polyline whose ends are its pins; one whose pins were not
