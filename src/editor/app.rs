@@ -1043,6 +1043,7 @@ impl EditorApp {
                 });
                 let instance = self.selected_instance(ui.ctx());
                 let mut asked = None;
+                let mut command = None;
                 ui.menu_button("Edit", |ui| {
                     if ui
                         .add_enabled(
@@ -1088,15 +1089,13 @@ impl EditorApp {
                     }
                     ui.separator();
                     asked = super::group_ui::menu(ui, &self.state, instance.as_deref());
+                    ui.separator();
+                    command = super::node_commands::menu(ui, &self.state);
                 });
                 if let Some(c) = asked {
                     let ctx = ui.ctx().clone();
                     self.group_command(c, &ctx);
                 }
-                let mut command = None;
-                ui.menu_button("Node", |ui| {
-                    command = super::node_commands::menu(ui, &self.state);
-                });
                 if let Some(c) = command {
                     let ids = self.state.selection.ids().to_vec();
                     self.state.run_node_command(c, &ids);

@@ -82,7 +82,7 @@ pub enum NodeCommand {
 }
 
 impl NodeCommand {
-    /// Every command, in the order the Node menu lists them.
+    /// Every command, in the order the menus list them.
     pub const ALL: [NodeCommand; 4] = [
         NodeCommand::Mute,
         NodeCommand::Collapse,

@@ -1,6 +1,6 @@
 //! The node commands ([`NodeCommand`]: mute, collapse, join in a frame, remove from frame)
-//! run on nodes, and where they are offered besides their keys: the Node menu of the menu
-//! bar, a node's right-click menu, and View → Keymap, which picks the keymap
+//! run on nodes, and where they are offered besides their keys: the Edit menu, a node's
+//! right-click menu, and View → Keymap, which picks the keymap
 //! ([`super::keymap`]) and keeps it in the settings file.
 
 use super::keymap::{BINDINGS, Keymap, NodeCommand};
@@ -35,7 +35,7 @@ impl EditorState {
     }
 }
 
-/// The Node menu of the menu bar: the commands, on the selected nodes; the one asked for.
+/// The node commands' entries of the Edit menu, on the selected nodes; the one asked for.
 pub fn menu(ui: &mut Ui, state: &EditorState) -> Option<NodeCommand> {
     let any = !state.selection.is_empty();
     let mut asked = None;

@@ -232,7 +232,7 @@ mod tests {
         let line = [pos2(3.0, -10.0), pos2(3.0, 10.0)];
         let wire = [pos2(0.0, 0.0), pos2(2.0, 4.0), pos2(6.0, 0.0)];
         // Its point (3, 3) is 13/20 of the way down the line.
-    assert_eq!(first_crossing(&line, &wire), Some((0.65, pos2(3.0, 3.0))));
+        assert_eq!(first_crossing(&line, &wire), Some((0.65, pos2(3.0, 3.0))));
     }
 
     /// A wire is matched to the polyline whose ends are its pins; one whose pins were not

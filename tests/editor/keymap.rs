@@ -49,7 +49,13 @@ fn ctrl_right_drag_cuts_the_wires_it_crosses_in_one_undo_step() {
         screen(&h, egui::pos2(r.left() - 40.0, r.top())),
         screen(&h, egui::pos2(r.left() - 40.0, r.bottom())),
     );
-    drag(&mut h, from, to, PointerButton::Secondary, Modifiers::COMMAND);
+    drag(
+        &mut h,
+        from,
+        to,
+        PointerButton::Secondary,
+        Modifiers::COMMAND,
+    );
     assert_eq!(link(&h, "dot", "a").as_deref(), Some("geometry.normal"));
     assert_eq!(
         h.state().state.status.as_deref(),
@@ -66,12 +72,25 @@ fn shift_right_drag_adds_a_reroute_per_output_crossed() {
     let x = drag_between(&mut h, "geometry", "dot", Modifiers::SHIFT);
     assert_eq!(
         node_ids(&h),
-        ["geometry", "dot", "fresnel_schlick", "add", "reroute", "reroute_2"]
+        [
+            "geometry",
+            "dot",
+            "fresnel_schlick",
+            "add",
+            "reroute",
+            "reroute_2"
+        ]
     );
     // The line runs down: normal (the higher output pin) is crossed first.
-    assert_eq!(link(&h, "reroute", "input").as_deref(), Some("geometry.normal"));
+    assert_eq!(
+        link(&h, "reroute", "input").as_deref(),
+        Some("geometry.normal")
+    );
     assert_eq!(link(&h, "dot", "a").as_deref(), Some("reroute.output"));
-    assert_eq!(link(&h, "reroute_2", "input").as_deref(), Some("geometry.view"));
+    assert_eq!(
+        link(&h, "reroute_2", "input").as_deref(),
+        Some("geometry.view")
+    );
     assert_eq!(link(&h, "dot", "b").as_deref(), Some("reroute_2.output"));
     let doc = &h.state().state.doc;
     assert!(doc.errors().is_empty(), "{:?}", doc.errors());
@@ -84,7 +103,11 @@ fn shift_right_drag_adds_a_reroute_per_output_crossed() {
     // Each reroute sits on its wire: normal's above view's.
     let y = |id: &str| h.state().state.doc.node(id).unwrap().position.unwrap()[1];
     assert!(y("reroute") < y("reroute_2"));
-    assert_eq!(h.state().state.selection.ids(), [] as [String; 0], "two: none selected");
+    assert_eq!(
+        h.state().state.selection.ids(),
+        [] as [String; 0],
+        "two: none selected"
+    );
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.run();
     assert_eq!(node_ids(&h), ["geometry", "dot", "fresnel_schlick", "add"]);
@@ -111,7 +134,11 @@ fn the_wires_of_one_output_share_a_reroute_at_their_mean_crossing() {
     let x = drag_between(&mut h, "geometry", "sqrt", Modifiers::SHIFT);
     let doc = &h.state().state.doc;
     let ids: Vec<&str> = doc.doc().nodes.iter().map(|n| n.id.as_str()).collect();
-    assert_eq!(ids, ["geometry", "dot", "sqrt", "reroute", "reroute_2"], "one per output");
+    assert_eq!(
+        ids,
+        ["geometry", "dot", "sqrt", "reroute", "reroute_2"],
+        "one per output"
+    );
     assert_eq!(doc.link("reroute", "input"), Some("geometry.normal"));
     assert_eq!(doc.link("dot", "a"), Some("reroute.output"));
     assert_eq!(doc.link("dot", "b"), Some("reroute.output"));
@@ -142,7 +169,11 @@ fn the_classic_keymap_pans_where_blender_cuts_and_reroutes() {
         let mut h = in_keymap(Keymap::Classic);
         let before = h.state().to_screen();
         drag_between(&mut h, "geometry", "dot", m);
-        assert_eq!(node_ids(&h), ["geometry", "dot", "fresnel_schlick", "add"], "{m:?}");
+        assert_eq!(
+            node_ids(&h),
+            ["geometry", "dot", "fresnel_schlick", "add"],
+            "{m:?}"
+        );
         assert_eq!(link(&h, "dot", "a").as_deref(), Some("geometry.normal"));
         assert_eq!(link(&h, "dot", "b").as_deref(), Some("geometry.view"));
         assert!(!h.state().state.history.can_undo(), "{m:?}: no edit");
@@ -194,7 +225,11 @@ fn view_keymap_picks_the_keymap_and_the_settings_file_keeps_it() {
     let mut s = material();
     s.settings = Settings::load(&store);
     let mut h = harness(s);
-    assert_eq!(h.state().state.settings.keymap(), Keymap::Blender, "the default");
+    assert_eq!(
+        h.state().state.settings.keymap(),
+        Keymap::Blender,
+        "the default"
+    );
     let pick = |h: &mut H, label: &str| {
         h.get_by_label("View").click();
         h.run();
@@ -205,7 +240,11 @@ fn view_keymap_picks_the_keymap_and_the_settings_file_keeps_it() {
     };
     pick(&mut h, "matgraph classic");
     assert_eq!(h.state().state.settings.keymap(), Keymap::Classic);
-    assert_eq!(Settings::load(&store).keymap(), Keymap::Classic, "kept in the file");
+    assert_eq!(
+        Settings::load(&store).keymap(),
+        Keymap::Classic,
+        "kept in the file"
+    );
     let text = std::fs::read_to_string(&store).unwrap();
     assert!(text.contains("\"keymap\": \"classic\""), "{text}");
     let turn = |h: &mut H| {

@@ -63,13 +63,21 @@ fn m_mutes_each_selected_node_undo_restores_and_save_writes_muted() {
     let mut s = EditorState::new(doc, None, Registry::builtin());
     s.dialog = None;
     let path = saved_in("mute", &mut s);
-    assert_eq!(file_json(&path)["version"], 1, "a version-1 graph to start with");
+    assert_eq!(
+        file_json(&path)["version"],
+        1,
+        "a version-1 graph to start with"
+    );
     let mut h = harness(s);
     select(&mut h, &["dot", "add"]);
     h.key_press(Key::M);
     h.run();
     assert_eq!(muted(&h), ["dot", "add"]);
-    assert_eq!(h.query_all_by_label("muted").count(), 2, "both headers say so");
+    assert_eq!(
+        h.query_all_by_label("muted").count(),
+        2,
+        "both headers say so"
+    );
     select(&mut h, &["dot"]);
     h.key_press(Key::M);
     h.run();
@@ -95,7 +103,12 @@ fn m_mutes_each_selected_node_undo_restores_and_save_writes_muted() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|n| (n["id"].as_str().unwrap().to_owned(), n["muted"] == json!(true)))
+        .map(|n| {
+            (
+                n["id"].as_str().unwrap().to_owned(),
+                n["muted"] == json!(true),
+            )
+        })
         .collect();
     let expected: std::collections::BTreeMap<String, bool> = [
         ("geometry", true),
@@ -109,7 +122,12 @@ fn m_mutes_each_selected_node_undo_restores_and_save_writes_muted() {
     assert_eq!(flags, expected);
     // The saved file reads back muted.
     let back = GraphDocument::parse(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let back_muted: Vec<&str> = back.nodes.iter().filter(|n| n.muted).map(|n| n.id.as_str()).collect();
+    let back_muted: Vec<&str> = back
+        .nodes
+        .iter()
+        .filter(|n| n.muted)
+        .map(|n| n.id.as_str())
+        .collect();
     assert_eq!(back_muted, ["geometry", "add"]);
 }
 
@@ -164,7 +182,10 @@ fn muting_a_multiply_passes_its_first_input_on_and_a_dot_gives_zero_on_the_cpu()
         let dot: f64 = (0..3).map(|k| u[k] as f64 * v[k] as f64).sum();
         let (r, s) = evaluate(&h);
         assert_eq!(r, product, "unmuted: x·b ({a} × {b})");
-        assert!((s as f64 - dot).abs() <= 1e-6 * (1.0 + dot.abs()), "unmuted dot: {s} vs {dot}");
+        assert!(
+            (s as f64 - dot).abs() <= 1e-6 * (1.0 + dot.abs()),
+            "unmuted dot: {s} vs {dot}"
+        );
         select(&mut h, &["m", "d"]);
         h.key_press(Key::M);
         h.run();
@@ -203,7 +224,10 @@ fn the_preview_re_renders_when_a_node_is_muted() {
             std::thread::sleep(std::time::Duration::from_millis(20));
             h.step();
         }
-        assert!(h.state().state.preview.settled(), "the preview did not finish");
+        assert!(
+            h.state().state.preview.settled(),
+            "the preview did not finish"
+        );
     };
     settle(&mut h);
     let p = &h.state().state.preview;
@@ -214,7 +238,11 @@ fn the_preview_re_renders_when_a_node_is_muted() {
     settle(&mut h);
     let p = &h.state().state.preview;
     assert!(p.compiles() > compiles, "a new program");
-    assert_ne!(p.pixels().unwrap(), first.as_slice(), "the muted node passes c on: brighter");
+    assert_ne!(
+        p.pixels().unwrap(),
+        first.as_slice(),
+        "the muted node passes c on: brighter"
+    );
     h.key_press(Key::M);
     h.run();
     settle(&mut h);
@@ -240,8 +268,15 @@ fn h_collapses_by_blenders_rule_undo_restores_and_a_save_keeps_it() {
     assert!(h.state().state.is_collapsed("dot"));
     assert!(h.state().state.dirty(), "a collapse is an unsaved change");
     let closed = frame(&h, "dot").height();
-    assert!(closed < 40.0 && open_height > 80.0, "{closed} (was {open_height})");
-    assert_eq!(h.state().state.doc.link("dot", "a"), Some("geometry.normal"), "wires kept");
+    assert!(
+        closed < 40.0 && open_height > 80.0,
+        "{closed} (was {open_height})"
+    );
+    assert_eq!(
+        h.state().state.doc.link("dot", "a"),
+        Some("geometry.normal"),
+        "wires kept"
+    );
     // dot collapsed, geometry not: H collapses both; again: expands both.
     select(&mut h, &["dot", "geometry"]);
     h.key_press(Key::H);
@@ -304,11 +339,18 @@ fn ctrl_j_frames_the_selection_which_is_renamed_saved_and_removed_keeping_its_no
             .collect()
     };
     let two = vec!["geometry".to_owned(), "dot".to_owned()];
-    assert_eq!(frames(&h), [("frame".to_owned(), "Frame".to_owned(), two.clone())]);
+    assert_eq!(
+        frames(&h),
+        [("frame".to_owned(), "Frame".to_owned(), two.clone())]
+    );
     assert_eq!(h.state().state.focus.as_deref(), Some("@frame:frame"));
     h.get_by_label("Frame frame");
     // Renamed in the side panel.
-    let field = || By::new().role(egui::accesskit::Role::TextInput).value("Frame");
+    let field = || {
+        By::new()
+            .role(egui::accesskit::Role::TextInput)
+            .value("Frame")
+    };
     h.get(field()).focus();
     h.run();
     h.key_press_modifiers(Modifiers::COMMAND, Key::A);
