@@ -109,7 +109,7 @@ pub fn all() -> Vec<NodeType> {
         .hard_case("grey texel: no direction", &[("color", Value::color([0.5, 0.5, 0.5]))])
         .hard_case("strength 0", &[("color", Value::color([1.0, 0.0, 0.5])), ("strength", f(0.0))])
         .hard_case("strength 100", &[("color", Value::color([1.0, 0.5, 0.5])), ("strength", f(100.0))])
-        .hard_case("opposite normal cancels", &[("color", Value::color([0.5, 0.5, 0.0])), ("strength", f(0.5))])
+        .hard_case("the map opposite the normal, strength ¼", &[("color", Value::color([0.5, 0.5, 0.0])), ("strength", f(0.25))])
         .hard_case("tangent along the normal", &[("tangent", v3([0.0, 0.0, 1.0])), ("color", Value::color([1.0, 1.0, 1.0]))])
         .hard_case("zero normal and tangent", &[("normal", v3([0.0, 0.0, 0.0])), ("tangent", v3([0.0, 0.0, 0.0]))])
         .hard_case("world space, DirectX", &[("color", Value::color([0.0, 0.0, 1.0])), ("space", i(2)), ("convention", i(1))])
