@@ -642,6 +642,37 @@ mod tests {
     }
 
     #[test]
+    fn temporaries_are_told_by_target_and_writer() {
+        let t = |f: &str| temp_writer(f, "g.json");
+        assert_eq!(t(".g.json.4242.Ab3dEf.matgraph-tmp"), Some(Some(4242)));
+        assert_eq!(t(".g.json.Ab3dEf.matgraph-tmp"), Some(None));
+        // Another target's (g.json.bak), new and old style; other files.
+        assert_eq!(t(".g.json.bak.4242.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".g.json.bak.x.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".g.json..matgraph-tmp"), None);
+        assert_eq!(t(".g.json.4242.Ab3dEf"), None);
+        assert_eq!(t("g.json.4242.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".h.json.4242.Ab3dEf.matgraph-tmp"), None);
+    }
+
+    #[test]
+    fn identity_sees_through_links_and_plans_new_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a");
+        std::fs::write(&a, "x").unwrap();
+        std::fs::hard_link(&a, dir.path().join("h")).unwrap();
+        std::os::unix::fs::symlink("a", dir.path().join("s")).unwrap();
+        std::os::unix::fs::symlink("new", dir.path().join("dangling")).unwrap();
+        let id = |n: &str| file_identity(&dir.path().join(n));
+        assert_eq!(id("a"), id("h"));
+        assert_eq!(id("a"), id("s"));
+        assert_ne!(id("a"), id("new"));
+        assert_eq!(id("new"), id("sub/../new"));
+        assert_eq!(id("new"), id("dangling"));
+        assert!(matches!(id("new"), FileIdentity::Planned(_)));
+    }
+
+    #[test]
     fn missing_references_resolve_where_they_would_be() {
         let dir = tempfile::tempdir().unwrap();
         let root = std::fs::canonicalize(dir.path()).unwrap();

@@ -159,12 +159,18 @@ fn render_never_writes_over_a_file_the_graph_reads() {
 
 #[test]
 fn report_never_writes_over_the_family_graphs() {
-    // The skin family reads skin.json; its report files are skin.{md,json,svg,png}.
+    // The skin family reads skin.json and skin_dipole.json; its report files are
+    // skin.{md,json,svg,png}: `--out` the graphs' folder wrote skin.json over the graph.
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let skin = std::fs::read_to_string(root.join("graphs/skin.json")).unwrap();
     std::fs::write(d.join("skin.json"), &skin).unwrap();
+    std::fs::copy(
+        root.join("graphs/skin_dipole.json"),
+        d.join("skin_dipole.json"),
+    )
+    .unwrap();
     refused(
         d,
         &[
@@ -188,10 +194,12 @@ fn edit_screenshot_never_writes_over_its_graph() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let (graph, text) = glass_in(d, "g.json");
+    // A .png name that leads to the graph (the extension alone does not tell).
+    std::os::unix::fs::symlink("g.json", d.join("shot.png")).unwrap();
     refused(
         d,
-        &["edit", "g.json", "--screenshot", "g.json"],
-        &["g.json: the --screenshot output would overwrite the graph g.json"],
+        &["edit", "g.json", "--screenshot", "shot.png"],
+        &["shot.png: the --screenshot output would overwrite the graph g.json"],
     );
     assert_eq!(std::fs::read_to_string(&graph).unwrap(), text);
 }
