@@ -1,8 +1,10 @@
 //! matgraph's `noise_texture` against Blender's own Noise Texture: values Blender 4.2
 //! computed (tests/blender/noise_reference.py, through geometry nodes, which share the
 //! shader node's definition) at 64 points (round and seeded random) for 12 settings covering
-//! 1D–4D, the five noise types, normalisation, fractional detail and distortion. The node
-//! is evaluated through a graph on the CPU, and on the GPU where there is one.
+//! 1D–4D, the five noise types, normalisation, fractional detail and distortion; and the
+//! other Blender textures (white noise, gradient, Voronoi, wave, brick, magic) against their
+//! own reference files in tests/blender/. Each node is evaluated through a graph on the CPU,
+//! and on the GPU where there is one.
 
 use crate::common;
 
