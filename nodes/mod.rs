@@ -1,8 +1,11 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod blender_brick;
+pub mod blender_magic;
 pub mod blender_noise;
 pub mod blender_voronoi;
+pub mod blender_wave;
 pub mod bubble;
 pub mod ibl;
 pub mod image;
@@ -48,5 +51,8 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_voronoi::all());
     v.extend(mapping::all());
     v.extend(normal_map::all());
+    v.extend(blender_wave::all());
+    v.extend(blender_brick::all());
+    v.extend(blender_magic::all());
     v
 }
