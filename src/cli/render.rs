@@ -37,7 +37,7 @@ pub struct Args {
     /// Image size, WxH.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Scene: a preset (ball, water) or a scene JSON file; default: the graph's own scene,
+    /// Scene: a preset (ball, plane, water, bubble) or a scene JSON file; default: the graph's own scene,
     /// else ball.
     #[arg(long)]
     pub scene: Option<String>,

@@ -50,11 +50,12 @@ impl<'de> Deserialize<'de> for SceneKind {
         impl<'de> Visitor<'de> for KindVisitor {
             type Value = SceneKind;
             fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#""ball", "water", "bubble", or {"ball": {...}}, {"water": {...}}, {"bubble": {...}}"#)
+                f.write_str(r#""ball", "plane", "water", "bubble", or {"ball": {...}}, {"water": {...}}, {"bubble": {...}}"#)
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<SceneKind, E> {
                 match v {
                     "ball" => Ok(SceneKind::Ball(BallSetup::default())),
+                    "plane" => Ok(SceneKind::Ball(BallSetup::plane())),
                     "water" => Ok(SceneKind::Water(WaterSetup::default())),
                     "bubble" => Ok(SceneKind::Bubble(BubbleSetup::default())),
                     other => Err(E::unknown_variant(other, KINDS)),
@@ -82,16 +83,21 @@ impl<'de> Deserialize<'de> for SceneKind {
     }
 }
 
-/// The material ball: a UV sphere standing on a checkered floor before a back wall.
+/// The material ball: a UV sphere (or a flat square card, [`BallShape::Plane`]) standing on a
+/// checkered floor before a back wall.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct BallSetup {
-    /// Centre of the sphere, metres.
+    /// What carries the material: the sphere (default) or the card.
+    #[serde(skip_serializing_if = "BallShape::is_sphere")]
+    pub shape: BallShape,
+    /// Centre of the sphere (or of the card), metres.
     pub center: [f32; 3],
-    /// Radius of the sphere, metres (> 0).
+    /// Radius of the sphere (half the card's side), metres (> 0).
     pub radius: f32,
-    /// Tessellation of the sphere: `[segments around, rings pole to pole]`; the default
-    /// 256 × 128 keeps the silhouette smooth at 1024 px.
+    /// Tessellation: of the sphere `[segments around, rings pole to pole]`, the default
+    /// 256 × 128 keeping the silhouette smooth at 1024 px; of the card `[cells across,
+    /// cells up]`.
     pub segments: [u32; 2],
     /// The floor and back wall.
     pub backdrop: Backdrop,
@@ -100,11 +106,45 @@ pub struct BallSetup {
 impl Default for BallSetup {
     fn default() -> Self {
         BallSetup {
+            shape: BallShape::Sphere,
             center: [0.0, 1.0, 0.0],
             radius: 1.0,
             segments: [256, 128],
             backdrop: Backdrop::default(),
         }
+    }
+}
+
+impl BallSetup {
+    /// The `"plane"` preset: the ball's setup with a 2 m square card in place of the sphere,
+    /// standing on the floor and facing the camera (`+z`), in 32 × 32 cells.
+    pub fn plane() -> Self {
+        BallSetup {
+            shape: BallShape::Plane,
+            segments: [32, 32],
+            ..BallSetup::default()
+        }
+    }
+}
+
+/// The surface of a [`BallSetup`], as Blender's material preview offers a sphere and a flat
+/// plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BallShape {
+    /// The UV sphere.
+    #[default]
+    Sphere,
+    /// A vertical square card of side `2 · radius` centred on `center`, facing `+z`: uv
+    /// `(0, 0)` at its lower left, `u` along `+x`, `v` along `+y` (the sphere's convention,
+    /// `v` up), normal `+z`, tangent `+x`.
+    Plane,
+}
+
+impl BallShape {
+    /// Whether this is the sphere (the default, left out of saved scenes).
+    pub fn is_sphere(&self) -> bool {
+        *self == BallShape::Sphere
     }
 }
 

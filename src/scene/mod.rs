@@ -15,9 +15,9 @@
 //! }
 //! ```
 //!
-//! - `kind`: `"ball"`, `"water"` or `"bubble"`, or `{"ball": {...}}` / `{"water": {...}}` /
-//!   `{"bubble": {...}}` with the kind's parameters ([`BallSetup`], [`WaterSetup`],
-//!   [`BubbleSetup`]);
+//! - `kind`: `"ball"`, `"plane"` (the ball's setup with a flat card, [`BallShape::Plane`]),
+//!   `"water"` or `"bubble"`, or `{"ball": {...}}` / `{"water": {...}}` / `{"bubble": {...}}`
+//!   with the kind's parameters ([`BallSetup`], [`WaterSetup`], [`BubbleSetup`]);
 //! - `camera`: [`Camera`]; fields left out take the kind's default camera's;
 //! - `lights`: a list of [`Light`]s or preset names (`sunrise`, `day`, `sunset`, `night`);
 //!   left out, the kind's default lights ([`Scene::default_lights`]);
@@ -94,8 +94,8 @@ pub use error::SceneError;
 pub use gbuffer::{GBuffer, GBufferFrame, cpu_raster_frames};
 pub use image::SceneImage;
 pub use kind::{
-    Backdrop, BallSetup, BoxObject, BubbleSetup, PoleObject, SceneKind, Seabed, SphereObject,
-    WaterObject, WaterSetup,
+    Backdrop, BallSetup, BallShape, BoxObject, BubbleSetup, PoleObject, SceneKind, Seabed,
+    SphereObject, WaterObject, WaterSetup,
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
@@ -110,7 +110,7 @@ use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// The names of the scene presets.
-pub const SCENE_PRESETS: [&str; 3] = ["ball", "water", "bubble"];
+pub const SCENE_PRESETS: [&str; 4] = ["ball", "plane", "water", "bubble"];
 
 /// A scene: what is in it, seen by which camera, under which lights and sky, at what time.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -147,11 +147,13 @@ impl Scene {
         }
     }
 
-    /// The preset scene `"ball"`, `"water"` or `"bubble"` (every parameter at its default),
-    /// or `None`.
+    /// The preset scene `"ball"`, `"plane"` (the ball's setup with a flat card,
+    /// [`BallSetup::plane`]), `"water"` or `"bubble"` (every parameter at its default), or
+    /// `None`.
     pub fn preset(name: &str) -> Option<Scene> {
         match name {
             "ball" => Some(Scene::for_kind(SceneKind::Ball(BallSetup::default()))),
+            "plane" => Some(Scene::for_kind(SceneKind::Ball(BallSetup::plane()))),
             "water" => Some(Scene::for_kind(SceneKind::Water(WaterSetup::default()))),
             "bubble" => Some(Scene::for_kind(SceneKind::Bubble(BubbleSetup::default()))),
             _ => None,
@@ -236,15 +238,23 @@ impl Scene {
         format!("{kind}/{moving}")
     }
 
-    /// The mesh that carries the material: the ball's UV sphere (`segments`), the water
+    /// The mesh that carries the material: the ball's UV sphere (`segments`) or card, the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
     /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]), or
     /// the bubble's UV sphere at its centre at the scene's time ([`BubbleSetup::center_at`]).
     pub fn material_mesh(&self) -> Mesh {
         match &self.kind {
-            SceneKind::Ball(b) => {
-                Mesh::uv_sphere(Vec3::from(b.center), b.radius, b.segments[0], b.segments[1])
-            }
+            SceneKind::Ball(b) => match b.shape {
+                BallShape::Sphere => {
+                    Mesh::uv_sphere(Vec3::from(b.center), b.radius, b.segments[0], b.segments[1])
+                }
+                BallShape::Plane => Mesh::parallelogram(
+                    Vec3::from(b.center) - Vec3::new(b.radius, b.radius, 0.0),
+                    Vec3::new(2.0 * b.radius, 0.0, 0.0),
+                    Vec3::new(0.0, 2.0 * b.radius, 0.0),
+                    b.segments,
+                ),
+            },
             SceneKind::Water(w) => match &w.lod {
                 Some(lod) => lod.mesh(Vec2::from(w.size), Vec3::from(self.camera.position)),
                 None => Mesh::grid(Vec3::ZERO, Vec2::from(w.size), w.grid),

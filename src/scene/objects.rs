@@ -180,6 +180,23 @@ pub(crate) const BELOW_WATER: Vec4 = Vec4::new(0.0, -1.0, 0.0, 0.0);
 /// The world plane `y = 0` keeping `y ≥ 0` (above the water).
 pub(crate) const ABOVE_WATER: Vec4 = Vec4::new(0.0, 1.0, 0.0, 0.0);
 
+/// The ball's surface as a shadow caster: the sphere, or the card as a box 2 % of its side
+/// deep behind its face (so the floor and wall behind it are shadowed, and the face's own
+/// shadow rays, which leave forwards, miss it).
+fn ball_caster(ball: &super::BallSetup) -> Shape {
+    let (c, r) = (Vec3::from(ball.center), ball.radius);
+    match ball.shape {
+        super::BallShape::Sphere => Shape::Sphere {
+            center: c,
+            radius: r,
+        },
+        super::BallShape::Plane => Shape::Aabb {
+            min: c - Vec3::new(r, r, 0.04 * r),
+            max: c + Vec3::new(r, r, 0.0),
+        },
+    }
+}
+
 impl Scene {
     /// The scene's built-in meshes and shadow casters.
     pub(crate) fn geometry(&self) -> Geometry {
@@ -230,10 +247,7 @@ impl Scene {
                 Geometry {
                     objects,
                     casters: Vec::new(),
-                    material_caster: Some(Shape::Sphere {
-                        center: Vec3::from(ball.center),
-                        radius: ball.radius,
-                    }),
+                    material_caster: Some(ball_caster(ball)),
                 }
             }
             SceneKind::Bubble(bubble) => super::bubble::geometry(bubble, self.time),

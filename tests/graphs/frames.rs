@@ -282,11 +282,11 @@ fn bad_counts_and_rates_are_refused_before_anything_is_written() {
         ),
         (
             &["--frames", "3", "--fps", "NaN"],
-            "--fps NaN: the frame rate must be a number",
+            "invalid value 'NaN' for '--fps <FPS>': NaN is not a finite number",
         ),
         (
             &["--frames", "3", "--fps", "inf"],
-            "--fps inf: the frame rate must be a number",
+            "invalid value 'inf' for '--fps <FPS>': inf is not a finite number",
         ),
         (
             &["--frames", "3", "--fps", "1e6"],
@@ -311,7 +311,7 @@ fn bad_counts_and_rates_are_refused_before_anything_is_written() {
         ),
         (
             &["--frames", "3", "--time", "NaN"],
-            "--time NaN: the start time must be a finite number",
+            "invalid value 'NaN' for '--time <TIME>': NaN is not a finite number",
         ),
     ];
     for (args, message) in cases {

@@ -827,3 +827,85 @@ fn empty_frames_are_empty() {
     assert!(t.background.data.is_empty() && t.reflection.data.is_empty());
     assert_eq!(t.refraction.sample(Vec2::splat(0.5)), Vec3::ZERO);
 }
+
+// ---- The plane preset ---------------------------------------------------------------------
+
+#[test]
+fn the_plane_preset_is_a_card_facing_the_camera_with_the_spheres_uv_convention() {
+    let plane = Scene::preset("plane").unwrap();
+    assert_eq!(parse(r#"{"kind": "plane"}"#), plane);
+    assert_eq!(
+        parse(r#"{"kind": {"ball": {"shape": "plane", "segments": [32, 32]}}}"#),
+        plane
+    );
+    // The sphere is the default and is left out of saved scenes (their bytes are unchanged).
+    assert!(!Scene::preset("ball").unwrap().to_json().contains("shape"));
+    assert!(plane.to_json().contains("\"shape\": \"plane\""));
+    let field = match Scene::from_json(r#"{"kind": {"ball": {"shape": "cube"}}}"#) {
+        Err(SceneError::Json { message, .. }) => message,
+        other => panic!("expected a JSON error, got {other:?}"),
+    };
+    assert!(field.contains("cube") && field.contains("plane"), "{field}");
+
+    // A 2 m card centred at (0, 1, 0) in the plane z = 0: uv (0, 0) at its lower left
+    // corner, u along +x and v along +y; normal +z and tangent +x everywhere.
+    let mesh = plane.material_mesh();
+    assert_eq!(mesh.vertex_count(), 33 * 33);
+    assert_eq!(mesh.triangle_count(), 2 * 32 * 32);
+    let tangents = mesh.tangents();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        assert_eq!(p.z, 0.0);
+        assert!(p.x.abs() <= 1.0 && (p.y - 1.0).abs() <= 1.0, "{p}");
+        let uv = mesh.uvs[i];
+        assert!((uv.x - (p.x + 1.0) / 2.0).abs() < 1e-6, "{p} {uv}");
+        assert!((uv.y - p.y / 2.0).abs() < 1e-6, "{p} {uv}");
+        assert_eq!(mesh.normals[i], Vec3::Z);
+        assert!((tangents[i].truncate() - Vec3::X).length() < 1e-6);
+        assert_eq!(tangents[i].w, 1.0);
+    }
+    // Every triangle winds towards +z (front faces seen by the camera at z = 5).
+    for t in &mesh.indices {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        assert!((b - a).cross(c - a).z > 0.0);
+    }
+
+    // The G-buffer covers the card's projection: the f64 pinhole image of its four
+    // corners (shoelace area), within 1 %, and every sample's uv follows its position.
+    let (w, h) = (160u32, 120u32);
+    let g = plane.gbuffer(&mesh, w, h, 1);
+    let cam = &plane.camera;
+    let eye = Vec3::from(cam.position).as_dvec3();
+    let forward = (Vec3::from(cam.target).as_dvec3() - eye).normalize();
+    let right = forward.cross(glam::DVec3::Y).normalize();
+    let up = right.cross(forward);
+    let tan_half = (cam.fov_y_deg as f64 / 2.0).to_radians().tan();
+    let pixel = |p: glam::DVec3| {
+        let v = p - eye;
+        let (x, y, z) = (v.dot(right), v.dot(up), v.dot(forward));
+        let ndc = (x / z / (tan_half * w as f64 / h as f64), y / z / tan_half);
+        (
+            (ndc.0 + 1.0) * w as f64 / 2.0,
+            (1.0 - ndc.1) * h as f64 / 2.0,
+        )
+    };
+    let corners = [(-1.0, 0.0), (1.0, 0.0), (1.0, 2.0), (-1.0, 2.0)]
+        .map(|(x, y)| pixel(glam::DVec3::new(x, y, 0.0)));
+    let area = 0.5
+        * (0..4)
+            .map(|i| {
+                let (a, b) = (corners[i], corners[(i + 1) % 4]);
+                a.0 * b.1 - b.0 * a.1
+            })
+            .sum::<f64>()
+            .abs();
+    let found = g.samples.len() as f64;
+    assert!(
+        (found - area).abs() / area < 0.01,
+        "{found} samples for a projected area of {area:.1} px²"
+    );
+    for k in 0..g.samples.len() {
+        let (p, uv) = (at(&g, Attribute::Position, k), at(&g, Attribute::Uv, k));
+        assert!(p.z.abs() < 1e-5, "{p}");
+        assert!((uv.x - (p.x + 1.0) / 2.0).abs() < 1e-4 && (uv.y - p.y / 2.0).abs() < 1e-4);
+    }
+}
