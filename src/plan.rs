@@ -134,19 +134,24 @@ impl KernelRef {
     }
 }
 
-/// Conversion kernels: broadcast to vec2, vec3, vec4; Rec. 709 luminance.
-static CONVERSIONS: LazyLock<[Box<dyn TileKernel>; 4]> = LazyLock::new(|| {
+/// Conversion kernels: broadcast to vec2, vec3, vec4; Rec. 709 luminance; vec2 to
+/// `(x, y, 0)`; a vector's `(x, y)`.
+static CONVERSIONS: LazyLock<[Box<dyn TileKernel>; 6]> = LazyLock::new(|| {
     [
         kernel(|x: f32| Vec2::splat(x)),
         kernel(|x: f32| Vec3::splat(x)),
         kernel(|x: f32| Vec4::splat(x)),
         kernel(|c: Vec3| c.dot(Vec3::from_array(LUMA_709))),
+        kernel(|v: Vec2| v.extend(0.0)),
+        kernel(|v: Vec3| v.truncate()),
     ]
 });
 
 fn conversion_label(c: Conversion, to: SocketType) -> String {
     match c {
         Conversion::Luminance => "luminance (color → float)".into(),
+        Conversion::Extend => format!("extend (vec2 → {to}, z = 0)"),
+        Conversion::Truncate => "truncate (to vec2, the xy)".into(),
         _ => format!("broadcast (float → {to})"),
     }
 }
@@ -157,6 +162,8 @@ fn conversion_kernel(c: Conversion, to: SocketType) -> Option<usize> {
         (Conversion::Broadcast, 3) => Some(1),
         (Conversion::Broadcast, 4) => Some(2),
         (Conversion::Luminance, _) => Some(3),
+        (Conversion::Extend, _) => Some(4),
+        (Conversion::Truncate, _) => Some(5),
         _ => None,
     }
 }

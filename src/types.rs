@@ -3,18 +3,20 @@
 //! | from \ to      | float | vec2 | vec3 | vec4 | color | int | bool |
 //! |----------------|-------|------|------|------|-------|-----|------|
 //! | float          | =     | bcast| bcast| bcast| bcast | ✗   | ✗    |
-//! | vec2           | ✗     | =    | ✗    | ✗    | ✗     | ✗   | ✗    |
-//! | vec3           | ✗     | ✗    | =    | ✗    | id    | ✗   | ✗    |
+//! | vec2           | ✗     | =    | ext  | ✗    | ext   | ✗   | ✗    |
+//! | vec3           | ✗     | xy   | =    | ✗    | id    | ✗   | ✗    |
 //! | vec4           | ✗     | ✗    | ✗    | =    | ✗     | ✗   | ✗    |
-//! | color          | luma  | ✗    | id   | ✗    | =     | ✗   | ✗    |
+//! | color          | luma  | xy   | id   | ✗    | =     | ✗   | ✗    |
 //! | int            | exact | bcast| bcast| bcast| bcast | =   | ✗    |
 //! | bool           | 0 / 1 | bcast| bcast| bcast| bcast | ✗   | =    |
 //!
 //! `bcast` copies the scalar into every component; `id` reinterprets the three components;
-//! `luma` is Rec. 709 relative luminance `0.2126 r + 0.7152 g + 0.0722 b` (Blender's
-//! colour → float rule). A vector never narrows to a float implicitly: use `split`,
-//! `length` or `dot`, so the choice is visible in the graph. Every other pair is an error
-//! that names both ends of the link.
+//! `ext` appends `z = 0` and `xy` drops `z`: Blender's habit, where a uv is the vector
+//! `(u, v, 0)` and an image texture reads the `x` and `y` of the vector it is given, so
+//! `geometry.uv → mapping → image_texture.uv` wires as it does in Blender; `luma` is Rec. 709
+//! relative luminance `0.2126 r + 0.7152 g + 0.0722 b` (Blender's colour → float rule). A
+//! vector never narrows to a float implicitly: use `split`, `length` or `dot`, so the choice
+//! is visible in the graph. Every other pair is an error that names both ends of the link.
 
 use std::fmt;
 
@@ -91,6 +93,8 @@ impl SocketType {
             (Float | Int | Bool, Float) => Some(Conversion::Identity),
             (Float | Int | Bool, Vec2 | Vec3 | Vec4 | Color) => Some(Conversion::Broadcast),
             (Color, Float) => Some(Conversion::Luminance),
+            (Vec2, Vec3 | Color) => Some(Conversion::Extend),
+            (Vec3 | Color, Vec2) => Some(Conversion::Truncate),
             _ => None,
         }
     }
@@ -111,6 +115,10 @@ pub enum Conversion {
     Broadcast,
     /// Rec. 709 luminance of a colour.
     Luminance,
+    /// A vec2 as the vector `(x, y, 0)`.
+    Extend,
+    /// A three-component vector's `(x, y)`.
+    Truncate,
 }
 
 impl Conversion {
@@ -118,6 +126,7 @@ impl Conversion {
     pub fn apply(self, src: [f32; 4], to: SocketType) -> [f32; 4] {
         match self {
             Conversion::Identity => src,
+            Conversion::Extend | Conversion::Truncate => [src[0], src[1], 0.0, 0.0],
             Conversion::Broadcast => {
                 let mut out = [0.0; 4];
                 out[..to.width()].fill(src[0]);
@@ -145,6 +154,25 @@ mod tests {
         assert_eq!(
             SocketType::Color.conversion_to(SocketType::Float),
             Some(Conversion::Luminance)
+        );
+    }
+
+    #[test]
+    fn uvs_extend_with_a_zero_z_and_vectors_truncate_to_their_xy() {
+        use SocketType::*;
+        assert_eq!(Vec2.conversion_to(Vec3), Some(Conversion::Extend));
+        assert_eq!(Vec2.conversion_to(Color), Some(Conversion::Extend));
+        assert_eq!(Vec3.conversion_to(Vec2), Some(Conversion::Truncate));
+        assert_eq!(Color.conversion_to(Vec2), Some(Conversion::Truncate));
+        assert_eq!(Vec2.conversion_to(Vec4), None);
+        assert_eq!(Vec4.conversion_to(Vec2), None);
+        assert_eq!(
+            Conversion::Extend.apply([0.25, -3.0, 7.0, 9.0], Vec3),
+            [0.25, -3.0, 0.0, 0.0]
+        );
+        assert_eq!(
+            Conversion::Truncate.apply([0.25, -3.0, 7.0, 0.0], Vec2),
+            [0.25, -3.0, 0.0, 0.0]
         );
     }
 

@@ -198,6 +198,8 @@ pub(super) fn convert(e: &str, from: SocketType, to: SocketType) -> String {
             let [r, g, b] = LUMA_709.map(float_literal);
             format!("dot({e}, vec3<f32>({r}, {g}, {b}))")
         }
+        (Vec2, Vec3 | Color) => format!("vec3<f32>({e}, 0.0)"),
+        (Vec3 | Color, Vec2) => format!("({e}).xy"),
         _ => e.to_owned(),
     }
 }

@@ -618,9 +618,10 @@ fn thumbnails_are_box_filtered_and_decoded_once_per_file_version() {
 
 /// The Done-when's second test (issue 35): a textured material built from an empty graph
 /// through editor actions alone. The search adds `geometry` (Shift+A, typing, Enter); wires
-/// dropped from `geometry.uv` and from the new `mul`'s result add `mul` (the tiling: there
-/// is no Blender-style `mapping` node; `uv · tiling` is its scale part) and `image_texture`,
-/// connected; `mul.b` is set to (3, 2) and exposed as the parameter `tiling`; the image is
+/// dropped from `geometry.uv` and from the new `mapping`'s vector add `mapping` (Blender's
+/// Mapping: the uv enters as `(u, v, 0)`) and `image_texture` (which reads the vector's
+/// `xy`), connected; `mapping.scale` is set to (3, 2, 1) and exposed as the parameter
+/// `tiling`; the image is
 /// picked through the browser (keys); the Material Output node is added through the search
 /// and `image_texture.color` wired into its `color`. The saved file renders exactly as a
 /// hand-written equivalent (other ids' order and positions, written out below), and a
@@ -652,27 +653,27 @@ fn a_textured_material_built_from_an_empty_graph_renders_as_the_hand_written_fil
     h.run();
     search(&mut h, "geometry");
     // What the canvas does with a wire dropped in empty space (its search, filtered).
-    let drop_wire = |h: &mut Harness<'static, EditorApp>, node: &str, port: &str, at: [f32; 2]| {
+    let drop_wire = |h: &mut Harness<'static, EditorApp>,
+                     node: &str,
+                     port: &str,
+                     at: [f32; 2],
+                     ty: SocketType| {
         h.state_mut().state.search = Some(SearchState {
             query: String::new(),
             pos: at,
-            wire: Some((
-                node.into(),
-                port.into(),
-                WireFilter::InputAccepting(SocketType::Vec2),
-            )),
+            wire: Some((node.into(), port.into(), WireFilter::InputAccepting(ty))),
             selected: 0,
         });
         h.run();
     };
-    drop_wire(&mut h, "geometry", "uv", [260.0, 0.0]);
-    search(&mut h, "mul");
-    drop_wire(&mut h, "mul", "result", [520.0, 0.0]);
+    drop_wire(&mut h, "geometry", "uv", [260.0, 0.0], SocketType::Vec2);
+    search(&mut h, "mapping");
+    drop_wire(&mut h, "mapping", "vector", [520.0, 0.0], SocketType::Vec3);
     search(&mut h, "image_texture");
     {
         let s = &h.state().state;
-        assert_eq!(s.doc.link("mul", "a"), Some("geometry.uv"));
-        assert_eq!(s.doc.link("image_texture", "uv"), Some("mul.result"));
+        assert_eq!(s.doc.link("mapping", "vector"), Some("geometry.uv"));
+        assert_eq!(s.doc.link("image_texture", "uv"), Some("mapping.vector"));
     }
     // The image, through the picker (keys).
     h.get_by_label("pick an image…").click_accesskit();
@@ -680,14 +681,14 @@ fn a_textured_material_built_from_an_empty_graph_renders_as_the_hand_written_fil
     search(&mut h, "textures");
     search(&mut h, "checker");
     assert!(h.state().state.dialog.is_none());
-    // The tiling: a value edited on the node, then exposed (its right-click menu). Once
-    // the graph validates: while the image was missing the loader had not inferred
-    // `mul`'s T (vec2), and the parameter took a float.
+    // The tiling: a value edited on the node, then exposed (its right-click menu).
     h.state_mut()
         .state
-        .set_input("mul", "b", serde_json::json!([3.0, 2.0]), None);
+        .set_input("mapping", "scale", serde_json::json!([3.0, 2.0, 1.0]), None);
     assert_eq!(
-        h.state_mut().state.expose_input("mul", "b", Some("tiling")),
+        h.state_mut()
+            .state
+            .expose_input("mapping", "scale", Some("tiling")),
         Ok("tiling".into())
     );
     // The output: the Material Output node from the search, a color pin, the wire.
@@ -709,15 +710,15 @@ fn a_textured_material_built_from_an_empty_graph_renders_as_the_hand_written_fil
         saved_node(&file, "image_texture")["texture"],
         "textures/checker.png"
     );
-    let hand = |tiling: [f32; 2]| {
+    let hand = |tiling: [f32; 3]| {
         serde_json::json!({
             "version": 1,
             "name": "hand-written",
             "nodes": [
                 { "id": "tex", "type": "image_texture", "texture": "textures/checker.png",
-                  "inputs": { "uv": { "link": "scale.result" } } },
-                { "id": "scale", "type": "mul",
-                  "inputs": { "a": { "link": "g.uv" }, "b": { "link": "tile.value" } } },
+                  "inputs": { "uv": { "link": "map.vector" } } },
+                { "id": "map", "type": "mapping",
+                  "inputs": { "vector": { "link": "g.uv" }, "scale": { "link": "tile.value" } } },
                 { "id": "tile", "type": "parameter", "inputs": { "value": tiling } },
                 { "id": "g", "type": "geometry" }
             ],
@@ -733,12 +734,12 @@ fn a_textured_material_built_from_an_empty_graph_renders_as_the_hand_written_fil
     };
     let ours = pixels(&saved, &file);
     assert!(
-        ours == render(&hand([3.0, 2.0]), "hand.json"),
+        ours == render(&hand([3.0, 2.0, 1.0]), "hand.json"),
         "the same material: {}",
         std::fs::read_to_string(&file).unwrap()
     );
     assert!(
-        ours != render(&hand([1.0, 1.0]), "hand_untiled.json"),
+        ours != render(&hand([1.0, 1.0, 1.0]), "hand_untiled.json"),
         "the tiling shows"
     );
     let distinct: std::collections::BTreeSet<[u8; 3]> = ours.iter().copied().collect();
