@@ -177,16 +177,22 @@ mod tests {
     }
 
     #[test]
-    fn a_vec2_wire_only_offers_vec2_or_generic_inputs() {
-        // src/types.rs: a vec2 converts to nothing but itself.
+    fn a_vec2_wire_only_offers_vec2_vector_or_generic_inputs() {
+        // src/types.rs: a vec2 converts to itself, and to a vec3 or colour as (x, y, 0).
         let r = Registry::builtin();
         let f = WireFilter::InputAccepting(SocketType::Vec2);
         assert!(!search(r, "", Some(f)).is_empty());
-        for t in search(r, "", Some(f)) {
+        let offered = search(r, "", Some(f));
+        assert!(offered.iter().any(|t| t.name() == "mapping"));
+        assert!(!offered.iter().any(|t| t.name() == "hg_phase"));
+        for t in offered {
             let k = compatible_port(&t, f).unwrap();
             let ty = t.inputs()[k].ty;
             assert!(
-                matches!(ty, PortType::Fixed(SocketType::Vec2)) || ty == PortType::Generic,
+                matches!(
+                    ty,
+                    PortType::Fixed(SocketType::Vec2 | SocketType::Vec3 | SocketType::Color)
+                ) || ty == PortType::Generic,
                 "{} input {} is {ty}",
                 t.name(),
                 t.inputs()[k].name
