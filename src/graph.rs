@@ -1114,9 +1114,13 @@ impl Builder<'_> {
                 continue;
             }
             let Some((id, out_name)) = o.from.split_once('.') else {
+                let message = match o.from.is_empty() {
+                    true => "is not connected: wire a node's output into it (\"from\": \"node_id.output\")".into(),
+                    false => format!("'{}' must be written \"node_id.output\"", o.from),
+                };
                 self.errors.push(GraphError::BadOutput {
                     name: o.name.clone(),
-                    message: format!("'{}' must be written \"node_id.output\"", o.from),
+                    message,
                 });
                 continue;
             };

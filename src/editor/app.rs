@@ -767,6 +767,10 @@ impl EditorApp {
                     input,
                 } => {
                     if s.connect(&from, &output, &to, &input).is_ok() {
+                        let to = match to.as_str() {
+                            super::outputs::OUTPUT_NODE => super::outputs::OUTPUT_TITLE,
+                            node => node,
+                        };
                         s.status = Some(format!("linked {from}.{output} → {to}.{input}"));
                     }
                 }

@@ -109,11 +109,16 @@ pub fn state_for(file: Option<&Path>) -> Result<EditorState, EditorError> {
     let registry = crate::Registry::builtin();
     Ok(match file {
         Some(f) if f.exists() => EditorState::open(f, registry).map_err(EditorError::Open)?,
+        // A new file: an empty graph named after it (`brick.json` → "brick"), whose
+        // recovery file is the file's own (`brick.json.autosave`), not the untitled one.
         Some(f) => {
-            let mut s = EditorState::untitled(registry);
-            s.path = Some(f.to_owned());
-            s.doc.set_files(Some(model::EditorDoc::files_of(f)));
-            s
+            let name = f
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .filter(|s| !s.is_empty())
+                .unwrap_or_else(|| "untitled".to_owned());
+            let doc = model::EditorDoc::empty(&name, registry).doc().clone();
+            EditorState::new(doc, Some(f.to_owned()), registry)
         }
         None => EditorState::untitled(registry),
     })

@@ -753,16 +753,37 @@ impl Viewer<'_> {
             return;
         }
         let key = egui::Id::new("matgraph-expose").with(id).with(input);
-        let mut text = ui.data_mut(|d| {
-            d.get_temp::<String>(key)
-                .unwrap_or_else(|| params::unique_name(self.doc.doc(), input))
-        });
+        // The name typed so far, while the menu stays open (shown in the previous frame).
+        let frame = ui.ctx().cumulative_frame_nr();
+        let kept = ui
+            .data_mut(|d| d.get_temp::<(String, u64, bool)>(key))
+            .filter(|(_, shown, _)| shown + 1 >= frame);
+        // Until the field has had the focus once (a menu's first frame only measures it).
+        let opening = !kept.as_ref().is_some_and(|k| k.2);
+        let mut text = match kept {
+            Some((text, ..)) => text,
+            None => params::unique_name(self.doc.doc(), input),
+        };
+        let mut focused = !opening;
         ui.horizontal(|ui| {
-            let edit = ui.add(
-                egui::TextEdit::singleline(&mut text)
-                    .hint_text("name")
-                    .desired_width(110.0),
-            );
+            let output = egui::TextEdit::singleline(&mut text)
+                .hint_text("name")
+                .desired_width(110.0)
+                .show(ui);
+            let edit = output.response;
+            focused |= edit.has_focus();
+            if opening && !edit.has_focus() {
+                // The name is focused and selected as the menu opens, so typing replaces it
+                // and Enter exposes (an egui menu closes on any click, even in its fields).
+                edit.request_focus();
+                let mut state = output.state;
+                let all = egui::text::CCursorRange::two(
+                    egui::text::CCursor::new(0),
+                    egui::text::CCursor::new(text.chars().count()),
+                );
+                state.cursor.set_char_range(Some(all));
+                state.store(ui.ctx(), edit.id);
+            }
             let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
             if ui
                 .button("Expose as parameter")
@@ -780,12 +801,7 @@ impl Viewer<'_> {
                 ui.close();
             }
         });
-        match text.is_empty() {
-            true => ui.data_mut(|d| d.remove::<String>(key)),
-            false => ui.data_mut(|d| {
-                d.insert_temp(key, text);
-            }),
-        }
+        ui.data_mut(|d| d.insert_temp(key, (text, frame, focused)));
     }
 
     /// The Material Output node's menu: add a standard output or any name, remove one.

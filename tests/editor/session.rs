@@ -276,6 +276,33 @@ fn a_saved_graph_is_canonical_and_matches_the_expected_file() {
     assert_eq!(g.to_json(), text);
 }
 
+/// A graph file that does not exist yet opens as an empty graph named after it, whose
+/// recovery file is its own: found in a real window, where `matgraph edit brick.json` offered
+/// another run's untitled autosave and saved the graph as "untitled".
+#[test]
+fn a_new_file_is_named_after_itself_and_recovers_only_its_own_autosave() {
+    let dir = scratch("new-file");
+    let file = dir.join("brick.json");
+    let s = matgraph::editor::state_for(Some(&file)).unwrap();
+    assert_eq!(s.doc.doc().name, "brick");
+    assert_eq!(s.path.as_deref(), Some(file.as_path()));
+    assert!(!s.dirty());
+    if files::recovery_path(None).exists() {
+        assert!(
+            s.dialog.is_none(),
+            "the untitled graph's autosave is not this file's"
+        );
+    }
+    // Its own autosave is offered.
+    std::fs::write(
+        files::recovery_path(Some(&file)),
+        "{\n  \"version\": 1,\n  \"name\": \"brick\",\n  \"nodes\": [{ \"id\": \"g\", \"type\": \"geometry\" }]\n}\n",
+    )
+    .unwrap();
+    let s = matgraph::editor::state_for(Some(&file)).unwrap();
+    assert!(matches!(s.dialog, Some(Dialog::Recover { .. })));
+}
+
 #[test]
 fn an_autosave_is_offered_back_after_a_crash() {
     let dir = scratch("recover");
@@ -2442,6 +2469,39 @@ fn exposing_an_input_makes_a_linked_parameter_node_listed_in_parameters() {
     // The sliders list both.
     h.get_by_label("Parameters");
     assert!(h.query_all_by_label("ior_outside").count() >= 2);
+}
+
+/// The expose menu opens with its name focused and selected (an egui menu closes on any
+/// click, even in its own field: found in a real window under Xvfb), so typing a name and
+/// Enter exposes the input under that name, with no click.
+#[test]
+fn the_expose_menu_takes_a_typed_name_without_a_click() {
+    let mut h = harness(dielectric_material());
+    h.run();
+    let rect = h.get_by_label("ior_outside").rect();
+    let at = h.state().to_screen() * rect.center();
+    h.event(egui::Event::PointerMoved(at));
+    h.run();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::default(),
+        });
+    }
+    h.run();
+    h.get_by_label("Expose as parameter");
+    h.event(egui::Event::Text("eta_out".into()));
+    h.run();
+    h.key_press(Key::Enter);
+    h.run();
+    let s = &h.state().state;
+    assert_eq!(parameter_names(s), ["eta_out"]);
+    assert_eq!(
+        s.doc.link("fresnel_dielectric", "ior_outside"),
+        Some("eta_out.value")
+    );
 }
 
 /// Renaming, grouping, documenting and reordering write the saved `parameters` (and the

@@ -402,12 +402,14 @@ fn bad_graph_outputs() {
                 {"name": "n", "from": "geo.normal"},
                 {"name": "n", "from": "geo.view"},
                 {"name": "nodot", "from": "geo"},
+                {"name": "unwired", "from": ""},
                 {"name": "missing_node", "from": "gel.normal"},
                 {"name": "missing_output", "from": "geo.colour"}
             ]"#,
         ),
         "g.json: graph output 'n': duplicate output name\n\
          g.json: graph output 'nodot': 'geo' must be written \"node_id.output\"\n\
+         g.json: graph output 'unwired': is not connected: wire a node's output into it (\"from\": \"node_id.output\")\n\
          g.json: graph output 'missing_node': no node 'gel' (did you mean 'geo'?)\n\
          g.json: graph output 'missing_output': node 'geo' has no output 'colour'",
     );
