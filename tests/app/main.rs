@@ -13,5 +13,6 @@ mod cli_params;
 mod numeric_flags;
 mod output_paths;
 mod report;
+mod sandbox_race;
 mod stdout_errors;
 mod tangent_contract;
