@@ -13,6 +13,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Trials per surface.
 const TRIALS: usize = 10_000;
 
+/// The swapped link as referenced: `s/../` 400 times, then `link.EXT`. The long prefix makes
+/// each resolution of the path take a while (800 components), which widens the window
+/// between a check of the path and a later open of it: with the old check-then-open, about
+/// one read in five returned the outside file; without the prefix, often none in 10,000.
+fn reference(ext: &str) -> String {
+    format!("{}link.{ext}", "s/../".repeat(400))
+}
+
 /// `root/graph/` holding the graph, `inside.*` and the swapped link `link.*`, and
 /// `root/outside/secret.*`.
 struct Fixture {
@@ -29,7 +37,7 @@ fn fixture() -> Fixture {
     let root = tempfile::tempdir().unwrap();
     let graph_dir = root.path().join("graph");
     let outside = root.path().join("outside");
-    std::fs::create_dir_all(&graph_dir).unwrap();
+    std::fs::create_dir_all(graph_dir.join("s")).unwrap();
     std::fs::create_dir_all(&outside).unwrap();
     let save = |p: &Path, c: [f32; 4]| {
         matgraph::image_io::save_png(p, &Image::new(1, 1, vec![c]).unwrap()).unwrap()
@@ -45,8 +53,9 @@ fn fixture() -> Fixture {
         &graph,
         r#"{ "version": 1, "name": "t", "nodes": [
           { "id": "geo", "type": "geometry" },
-          { "id": "tex", "type": "image_texture", "texture": "link.png", "inputs": { "uv": { "link": "geo.uv" } } } ],
-          "outputs": [{ "name": "c", "from": "tex.color" }] }"#,
+          { "id": "tex", "type": "image_texture", "texture": "REFERENCE", "inputs": { "uv": { "link": "geo.uv" } } } ],
+          "outputs": [{ "name": "c", "from": "tex.color" }] }"#
+            .replace("REFERENCE", &reference("png")),
     )
     .unwrap();
     Fixture {
@@ -56,17 +65,30 @@ fn fixture() -> Fixture {
     }
 }
 
-/// Swaps `dir/link.EXT` between `inside.EXT` and `../outside/secret.EXT` (each swap an
-/// atomic rename of a fresh link, so the link always exists) until `stop`.
+/// Swaps `dir/link.EXT` between `inside.EXT` and `../outside/secret.EXT` until `stop`: the
+/// link and a second link `other.EXT` to the other target are exchanged atomically
+/// (`renameat2(RENAME_EXCHANGE)`, one system call per swap, so the link always exists and
+/// swaps come as fast as the kernel allows).
 fn swapper(dir: PathBuf, ext: &'static str, stop: Arc<AtomicBool>) -> std::thread::JoinHandle<u64> {
     std::thread::spawn(move || {
-        let (link, tmp) = (dir.join(format!("link.{ext}")), dir.join("swap.tmp"));
-        let targets = [format!("inside.{ext}"), format!("../outside/secret.{ext}")];
+        use std::os::unix::ffi::OsStrExt;
+        let other = dir.join(format!("other.{ext}"));
+        std::os::unix::fs::symlink(format!("../outside/secret.{ext}"), &other).unwrap();
+        let c = |p: PathBuf| std::ffi::CString::new(p.as_os_str().as_bytes()).unwrap();
+        let (a, b) = (c(dir.join(format!("link.{ext}"))), c(other));
         let mut swaps = 0u64;
         while !stop.load(Ordering::Relaxed) {
-            let _ = std::fs::remove_file(&tmp);
-            std::os::unix::fs::symlink(&targets[(swaps % 2) as usize], &tmp).unwrap();
-            std::fs::rename(&tmp, &link).unwrap();
+            // SAFETY: two valid NUL-terminated paths; the call only renames.
+            let r = unsafe {
+                libc::renameat2(
+                    libc::AT_FDCWD,
+                    a.as_ptr(),
+                    libc::AT_FDCWD,
+                    b.as_ptr(),
+                    libc::RENAME_EXCHANGE,
+                )
+            };
+            assert_eq!(r, 0, "renameat2: {}", std::io::Error::last_os_error());
             swaps += 1;
         }
         swaps
@@ -145,7 +167,7 @@ fn a_swapped_scene_file_link_never_reads_outside() {
         match matgraph::io::open_reference(
             &fx.graph,
             "scene",
-            "link.json",
+            &reference("json"),
             PathPolicy::InsideGraphFolder,
         ) {
             Ok(opened) => {
