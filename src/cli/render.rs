@@ -188,7 +188,7 @@ fn with_reserve(
             samples,
             needed: needed + reserve,
             what: format!(
-                "{what}, {} MiB output images, loaded images and scene meshes",
+                "{what}, {} MiB output and loaded images",
                 reserve.div_ceil(1 << 20)
             ),
             budget: limit,

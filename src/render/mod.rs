@@ -697,13 +697,32 @@ pub fn render_timed(
     // meshes first (computed from its parameters), then the frame in what is left.
     let budget = crate::budget::MemoryBudget::new(options.memory_budget);
     scene.reserve_meshes(&budget)?;
+    let meshes = budget.used();
     let plan = plan_memory(
         options.width,
         options.height,
         options.samples.max(1),
         uses_scene_textures(graph),
         budget.remaining(),
-    )?;
+    )
+    .map_err(|e| match e {
+        RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed,
+            what,
+            ..
+        } => RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed: needed + meshes,
+            what: format!("{what}, {} MiB scene meshes", meshes.div_ceil(1 << 20)),
+            budget: options.memory_budget,
+        },
+        e => e,
+    })?;
     // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
     let mut params = crate::gpu::default_parameters(
         graph,

@@ -8,15 +8,18 @@ use super::kind::SceneKind;
 use crate::budget::{MemoryBudget, MemoryError};
 use glam::{Vec2, Vec3};
 
-/// Bytes per mesh vertex at the peak of a render, an upper bound: the mesh (position,
-/// normal, uv: 32), its displaced copy (32), MikkTSpace tangents (16), the weld groups and
-/// normal adjacency of a displacement (32), the level-of-detail builder's vertex map and
-/// lattice set (48) or the rasteriser's packed copy, with headroom.
-pub const MESH_VERTEX_BYTES: u64 = 192;
+/// Bytes per mesh vertex at the peak of a render, an upper bound with
+/// [`MESH_TRIANGLE_BYTES`]: the mesh (position, normal, uv: 32), its displaced copy,
+/// MikkTSpace tangents, the weld groups and normal adjacency of a displacement, the
+/// level-of-detail builder's vertex map, the rasteriser's packed copy. Measured (debug
+/// build, peak resident size above a 257 × 129-vertex ball's, 16 × 16 render): a 2049 ×
+/// 1025-vertex ball (2.1 M vertices, 4.2 M triangles) takes 818 MiB on the CPU path and
+/// 802 MiB on the GPU path with a displacement output, 390 bytes per vertex and its two
+/// triangles; these constants give 448.
+pub const MESH_VERTEX_BYTES: u64 = 256;
 
-/// Bytes per mesh triangle at the peak of a render, an upper bound: its indices (12) in the
-/// mesh and the displaced copy, the adjacency lists (12) and the rasteriser's setup (24).
-pub const MESH_TRIANGLE_BYTES: u64 = 64;
+/// Bytes per mesh triangle at the peak of a render (see [`MESH_VERTEX_BYTES`]).
+pub const MESH_TRIANGLE_BYTES: u64 = 96;
 
 /// Bytes of the fixed meshes of the scenes (the room's walls and props, the water's skirts,
 /// the bubble's backdrop), an upper bound.
@@ -85,7 +88,7 @@ impl Scene {
                         let triangles = leaves * block * block * 2 + leaves * 4 * block * 6;
                         MeshCost {
                             what: format!(
-                                "kind.water.lod {{levels: {}, block: {}, split_distance: {}}}: a grid of {leaves} blocks, {vertices} vertices",
+                                "kind.water.lod {{levels: {}, block: {}, split_distance: {:?}}}: a grid of {leaves} blocks, {vertices} vertices",
                                 lod.levels, lod.block, lod.split_distance
                             ),
                             bytes: mesh_bytes(vertices, triangles),

@@ -10,6 +10,7 @@ mod app_contract;
 mod atomic_writes;
 mod cli;
 mod cli_params;
+mod memory_budget;
 mod numeric_flags;
 mod output_paths;
 mod report;
