@@ -110,7 +110,7 @@ pub enum TextureError {
     },
     /// A texel holds NaN, an infinity or a value beyond [`MAX_TEXEL`] ([`check_texels`]).
     #[error(
-        "texel ({x}, {y}) (from the top left) has {value} in its {channel} channel: image values must be finite and at most 2^64 (1.8e19) in magnitude"
+        "texel ({x}, {y}) (from the top left) has {value:e} in its {channel} channel: image values must be finite and at most 2^64 (1.8e19) in magnitude"
     )]
     BadTexel {
         /// Column, from the left.

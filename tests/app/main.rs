@@ -17,3 +17,4 @@ mod report;
 mod sandbox_race;
 mod stdout_errors;
 mod tangent_contract;
+mod texel_checks;
