@@ -13,9 +13,13 @@
 //! and deterministic (the same image gives the same bytes).
 //!
 //! Texture files are referenced from a graph by a path relative to the graph file, confined
-//! to its folder unless the caller allows any path ([`load_graph_textures_with`],
-//! [`crate::io::resolve_reference`]). Saved images are encoded by extension
-//! ([`SaveFormat`]). Every error names the file at fault.
+//! to its folder unless the caller allows any path ([`load_graph_textures_with`]): each is
+//! opened once, checked as opened ([`crate::io::open_reference`]) and decoded from that
+//! handle, never reopened by path. Loading reads an image's header first and reserves its
+//! memory in a [`MemoryBudget`] before decoding ([`load_opened_image`]); texels that are
+//! NaN, infinite or beyond [`crate::texture::MAX_TEXEL`] are refused, as are mip chains
+//! longer than [`crate::texture::MAX_MIP_LEVELS`] or than their image halves into. Saved
+//! images are encoded by extension ([`SaveFormat`]). Every error names the file at fault.
 
 use crate::budget::MemoryBudget;
 use crate::color_space::ColorSpace;
