@@ -617,10 +617,10 @@ fn opened_path(path: &Path, file: &std::fs::File) -> std::io::Result<PathBuf> {
     {
         use std::os::fd::AsRawFd;
         let link = format!("/proc/self/fd/{}", file.as_raw_fd());
-        if let Ok(real) = std::fs::read_link(link) {
-            if real.is_absolute() {
-                return Ok(real);
-            }
+        if let Ok(real) = std::fs::read_link(link)
+            && real.is_absolute()
+        {
+            return Ok(real);
         }
     }
     let canonical = std::fs::canonicalize(path)?;

@@ -311,7 +311,7 @@ pub const MAX_TEXEL: f32 = 18_446_744_073_709_551_616.0;
 pub fn check_texels(image: &Image) -> Result<(), TextureError> {
     let width = image.width.max(1) as usize;
     for (i, t) in image.data.iter().enumerate() {
-        if let Some(c) = t.iter().position(|v| !(v.abs() <= MAX_TEXEL)) {
+        if let Some(c) = t.iter().position(|v| v.is_nan() || v.abs() > MAX_TEXEL) {
             return Err(TextureError::BadTexel {
                 x: (i % width) as u32,
                 y: (i / width) as u32,
