@@ -634,7 +634,8 @@ fn opened_path(path: &Path, file: &std::fs::File) -> std::io::Result<PathBuf> {
 }
 
 /// Opens `path` for reading once, then checks what was opened: a regular file (a folder,
-/// FIFO or device is refused; the open does not block on a FIFO) and, when `root` is given
+/// FIFO or device is refused from its metadata before the open, and again from the opened
+/// file's; the open does not block on a FIFO swapped in between) and, when `root` is given
 /// (canonical), a file whose own canonical path ([`opened_path`]) lies inside `root`. A path
 /// that leads outside `root` before it is opened is refused without opening it (a missing
 /// file outside is reported as outside, not as missing).
@@ -646,9 +647,13 @@ fn open_checked(path: &Path, root: Option<&Path>) -> Result<std::fs::File, Refus
             return Err(Refusal::Outside(planned));
         }
     }
+    // A device, FIFO or folder is refused from its metadata without opening it, as
+    // before; the open itself neither blocks (a FIFO swapped in since) nor takes a
+    // terminal as the controlling one, and the file opened is checked again below.
+    check_regular(path).map_err(Refusal::Read)?;
     let file = std::fs::OpenOptions::new()
         .read(true)
-        .custom_flags(libc::O_NONBLOCK)
+        .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
         .open(path)
         .map_err(|e| Refusal::Read(open_error(path, e)))?;
     let meta = file.metadata().map_err(|e| {
