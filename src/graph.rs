@@ -1009,6 +1009,19 @@ impl Builder<'_> {
             _ => {}
         }
         if t.evaluation() == Evaluation::Texture
+            && let Some(crate::document::TextureSource::MipChain(levels)) = &n.texture
+            && levels.len() > crate::texture::MAX_MIP_LEVELS
+        {
+            self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!(
+                    "a mip chain of {} levels: a chain has at most {} (an image of 2^31 texels a side halves 31 times to 1×1)",
+                    levels.len(),
+                    crate::texture::MAX_MIP_LEVELS
+                ),
+            });
+        }
+        if t.evaluation() == Evaluation::Texture
             && let Some(src) = &n.texture
             && let Some(message) = crate::color_space::texture_key_conflict(src)
         {

@@ -13,10 +13,15 @@
 //! and deterministic (the same image gives the same bytes).
 //!
 //! Texture files are referenced from a graph by a path relative to the graph file, confined
-//! to its folder unless the caller allows any path ([`load_graph_textures_with`],
-//! [`crate::io::resolve_reference`]). Saved images are encoded by extension
-//! ([`SaveFormat`]). Every error names the file at fault.
+//! to its folder unless the caller allows any path ([`load_graph_textures_with`]): each is
+//! opened once, checked as opened ([`crate::io::open_reference`]) and decoded from that
+//! handle, never reopened by path. Loading reads an image's header first and reserves its
+//! memory in a [`MemoryBudget`] before decoding ([`load_opened_image`]); texels that are
+//! NaN, infinite or beyond [`crate::texture::MAX_TEXEL`] are refused, as are mip chains
+//! longer than [`crate::texture::MAX_MIP_LEVELS`] or than their image halves into. Saved
+//! images are encoded by extension ([`SaveFormat`]). Every error names the file at fault.
 
+use crate::budget::MemoryBudget;
 use crate::color_space::ColorSpace;
 use crate::texture::{Image, Texture, TextureError};
 use image::{ImageEncoder, ImageFormat};
@@ -74,10 +79,56 @@ pub fn load_image(path: &Path) -> Result<Image, TextureError> {
 /// Reads an image file as [`load_image`] does, its values read in `space`
 /// ([`crate::color_space`]): `srgb` decodes them from sRGB to linear light, `linear` and
 /// `data` keep them as stored; `None` takes the default of the file's type (recognised by
-/// content: sRGB for PNG and JPEG, linear for HDR and EXR).
+/// content: sRGB for PNG and JPEG, linear for HDR and EXR). Within a budget of its own of
+/// [`crate::budget::DEFAULT_MEMORY_BUDGET`] ([`load_opened_image`]).
 pub fn load_image_as(path: &Path, space: Option<ColorSpace>) -> Result<Image, TextureError> {
-    let reader = image::ImageReader::open(path)
-        .and_then(|r| r.with_guessed_format())
+    let file = std::fs::File::open(path)
+        .map_err(|e| file_error(path, format_args!("cannot read: {e}")))?;
+    load_opened_image(path, file, space, &MemoryBudget::default())
+}
+
+/// Bytes per texel a loaded image keeps: linear RGBA f32.
+pub const TEXEL_BYTES: u64 = 16;
+
+/// Bytes a `width × height` image holds at the peak of its loading: the decoder's buffer
+/// (`decoded` bytes, from the header) and two RGBA f32 copies (the decoder's conversion and
+/// the linear texels made from it; [`TEXEL_BYTES`] each).
+pub fn decode_peak_bytes(width: u32, height: u32, decoded: u64) -> u64 {
+    decoded.saturating_add(2 * TEXEL_BYTES * width as u64 * height as u64)
+}
+
+/// Bytes of the mip levels below a `width × height` level 0 ([`Texture::new`]'s box mips,
+/// down to 1 × 1), at [`TEXEL_BYTES`] per texel.
+pub fn mip_bytes(width: u32, height: u32) -> u64 {
+    let (mut w, mut h, mut total) = (width, height, 0u64);
+    while w > 1 || h > 1 {
+        (w, h) = crate::texture::mip_size(w, h);
+        total += TEXEL_BYTES * w as u64 * h as u64;
+    }
+    total
+}
+
+/// Reads the image in `file` (opened from `path`, which names it in errors and gives the
+/// format when the content does not), as [`load_image_as`] does, and never reopens `path`.
+///
+/// The header is read first: the image's peak ([`decode_peak_bytes`]) is reserved in
+/// `budget` before the decoder allocates anything, so an image that does not fit is refused
+/// naming its size and the budget; the [`TEXEL_BYTES`] per texel it keeps stay reserved.
+/// Texels that are NaN, infinite or beyond [`crate::texture::MAX_TEXEL`] are refused,
+/// naming the first one ([`crate::texture::check_texels`]).
+pub fn load_opened_image(
+    path: &Path,
+    file: std::fs::File,
+    space: Option<ColorSpace>,
+    budget: &MemoryBudget,
+) -> Result<Image, TextureError> {
+    use image::ImageDecoder;
+    let mut reader = image::ImageReader::new(std::io::BufReader::new(file));
+    if let Ok(format) = ImageFormat::from_path(path) {
+        reader.set_format(format);
+    }
+    let mut reader = reader
+        .with_guessed_format()
         .map_err(|e| file_error(path, format_args!("cannot read: {e}")))?;
     let default = match reader.format() {
         Some(ImageFormat::Png | ImageFormat::Jpeg) => ColorSpace::Srgb,
@@ -95,11 +146,38 @@ pub fn load_image_as(path: &Path, space: Option<ColorSpace>) -> Result<Image, Te
             ));
         }
     };
+    // The decoder's own allocation limit follows the budget (its default is 512 MiB).
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(budget.remaining());
+    reader.limits(limits);
     let srgb = space.unwrap_or(default).decodes_srgb();
-    let decoded = reader
-        .decode()
+    let decoder = reader
+        .into_decoder()
+        .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
+    let (width, height) = decoder.dimensions();
+    let peak = decode_peak_bytes(width, height, decoder.total_bytes());
+    budget
+        .reserve(|| format!("a {width}×{height} image"), peak)
+        .map_err(|e| file_error(path, e))?;
+    let kept = TEXEL_BYTES * width as u64 * height as u64;
+    let loaded = decode_reserved(path, decoder, srgb);
+    budget.release(match loaded {
+        Ok(_) => peak - kept,
+        Err(_) => peak,
+    });
+    loaded
+}
+
+/// The decoding part of [`load_opened_image`], its memory reserved.
+fn decode_reserved(
+    path: &Path,
+    decoder: impl image::ImageDecoder,
+    srgb: bool,
+) -> Result<Image, TextureError> {
+    let decoded = image::DynamicImage::from_decoder(decoder)
         .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
     let rgba = decoded.to_rgba32f();
+    drop(decoded);
     let (width, height) = rgba.dimensions();
     let data = rgba
         .pixels()
@@ -112,10 +190,14 @@ pub fn load_image_as(path: &Path, space: Option<ColorSpace>) -> Result<Image, Te
             }
         })
         .collect();
-    Image::new(width, height, data).map_err(|e| TextureError::InFile {
+    drop(rgba);
+    let in_file = |e| TextureError::InFile {
         path: path.to_owned(),
         source: Box::new(e),
-    })
+    };
+    let image = Image::new(width, height, data).map_err(in_file)?;
+    crate::texture::check_texels(&image).map_err(in_file)?;
+    Ok(image)
 }
 
 /// Reads a texture: one path gives that image, with generated mip levels when `mips` is
@@ -127,35 +209,87 @@ pub fn load_texture(paths: &[PathBuf], mips: bool) -> Result<Texture, TextureErr
 }
 
 /// Reads a texture as [`load_texture`] does, every level's values read in `space`
-/// ([`load_image_as`]).
+/// ([`load_image_as`]), within a budget of its own of [`crate::budget::DEFAULT_MEMORY_BUDGET`].
 pub fn load_texture_as(
     paths: &[PathBuf],
     mips: bool,
     space: Option<ColorSpace>,
 ) -> Result<Texture, TextureError> {
-    match paths {
-        [] => Err(TextureError::NoLevels),
-        [one] => {
-            let image = load_image_as(one, space)?;
+    check_chain_length(paths.len())?;
+    let files = paths
+        .iter()
+        .map(|p| {
+            std::fs::File::open(p)
+                .map(|file| crate::io::OpenedReference {
+                    path: p.clone(),
+                    file,
+                })
+                .map_err(|e| file_error(p, format_args!("cannot read: {e}")))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    load_opened_texture(files, mips, space, &MemoryBudget::default())
+}
+
+/// Refuses a custom mip chain of more than [`crate::texture::MAX_MIP_LEVELS`] files before
+/// any is opened.
+fn check_chain_length(levels: usize) -> Result<(), TextureError> {
+    let max = crate::texture::MAX_MIP_LEVELS;
+    if levels > max {
+        return Err(TextureError::File {
+            path: PathBuf::from("mip chain"),
+            message: format!("{levels} levels listed; a chain has at most {max}"),
+        });
+    }
+    Ok(())
+}
+
+/// Reads a texture as [`load_texture_as`] does from files already opened (and checked:
+/// [`crate::io::open_reference`]), never reopening their paths, every image and the
+/// generated mips reserved in `budget` before they are allocated ([`load_opened_image`],
+/// [`mip_bytes`]).
+pub fn load_opened_texture(
+    files: Vec<crate::io::OpenedReference>,
+    mips: bool,
+    space: Option<ColorSpace>,
+    budget: &MemoryBudget,
+) -> Result<Texture, TextureError> {
+    check_chain_length(files.len())?;
+    let mut files = files;
+    match files.len() {
+        0 => Err(TextureError::NoLevels),
+        1 => {
+            let one = files.remove(0);
+            let image = load_opened_image(&one.path, one.file, space, budget)?;
+            if mips {
+                let (w, h) = (image.width, image.height);
+                budget
+                    .reserve(
+                        || format!("the mip levels of a {w}×{h} image"),
+                        mip_bytes(w, h),
+                    )
+                    .map_err(|e| file_error(&one.path, e))?;
+            }
             Texture::new(image, mips).map_err(|e| TextureError::InFile {
-                path: one.clone(),
+                path: one.path.clone(),
                 source: Box::new(e),
             })
         }
-        several => {
-            let levels = several
-                .iter()
-                .map(|p| load_image_as(p, space))
+        _ => {
+            let paths: Vec<PathBuf> = files.iter().map(|f| f.path.clone()).collect();
+            let levels = files
+                .into_iter()
+                .map(|f| load_opened_image(&f.path, f.file, space, budget))
                 .collect::<Result<Vec<_>, _>>()?;
             Texture::from_levels(levels).map_err(|e| {
                 let at = match &e {
                     TextureError::LevelSize { level, .. } | TextureError::Level { level, .. } => {
                         *level
                     }
+                    TextureError::TooManyLevels { max, .. } => *max,
                     _ => 0,
                 };
                 TextureError::InFile {
-                    path: several[at.min(several.len() - 1)].clone(),
+                    path: paths[at.min(paths.len() - 1)].clone(),
                     source: Box::new(e),
                 }
             })
@@ -310,12 +444,24 @@ pub enum GraphTextureError {
 }
 
 /// Loads every image the graph's texture nodes name (paths relative to `graph_file`, each
-/// checked against `policy` before it is opened; custom mip chains as listed), keyed as the
-/// plan expects. Scene textures (`scene:…`) are left to the renderer.
+/// opened once and checked against `policy` as opened, [`crate::io::open_reference`]; custom
+/// mip chains as listed), keyed as the plan expects, within a budget of its own of
+/// [`crate::budget::DEFAULT_MEMORY_BUDGET`]. Scene textures (`scene:…`) are left to the renderer.
 pub fn load_graph_textures_with(
     graph: &crate::Graph,
     graph_file: &Path,
     policy: crate::io::PathPolicy,
+) -> Result<crate::texture::TextureSet, GraphTextureError> {
+    load_graph_textures_within(graph, graph_file, policy, &MemoryBudget::default())
+}
+
+/// [`load_graph_textures_with`] with every image and mip chain reserved in `budget` before
+/// it is allocated ([`load_opened_texture`]).
+pub fn load_graph_textures_within(
+    graph: &crate::Graph,
+    graph_file: &Path,
+    policy: crate::io::PathPolicy,
+    budget: &MemoryBudget,
 ) -> Result<crate::texture::TextureSet, GraphTextureError> {
     let mut set = crate::texture::TextureSet::new();
     for node in graph.nodes() {
@@ -327,17 +473,18 @@ pub fn load_graph_textures_with(
             continue;
         }
         let by = format!("node '{}'", node.id);
-        let paths = source
-            .files()
-            .iter()
-            .map(|f| crate::io::resolve_reference(graph_file, &by, f, policy))
-            .collect::<Result<Vec<PathBuf>, _>>()?;
         let wrap = |source| GraphTextureError::Texture {
             file: graph_file.to_owned(),
             node: node.id.clone(),
             source,
         };
-        let texture = load_texture_as(&paths, true, node.color_space).map_err(wrap)?;
+        let files = source.files();
+        check_chain_length(files.len()).map_err(wrap)?;
+        let opened = files
+            .iter()
+            .map(|f| crate::io::open_reference(graph_file, &by, f, policy))
+            .collect::<Result<Vec<_>, _>>()?;
+        let texture = load_opened_texture(opened, true, node.color_space, budget).map_err(wrap)?;
         set.insert(key, texture).map_err(wrap)?;
     }
     Ok(set)

@@ -15,9 +15,12 @@
 //!   same target once it is [`STALE_TEMP_AGE`] old and its process is gone.
 //! - **Identity** ([`file_identity`]): whether two paths name the same file, for commands
 //!   that refuse to write over their own inputs.
-//! - **Confinement** ([`resolve_reference`]): files a graph refers to (textures, a scene
-//!   file, an environment image) must lie inside the graph file's folder, after
-//!   canonicalisation (symlinks followed), unless the caller allows any path.
+//! - **Confinement** ([`open_reference`]): files a graph refers to (textures, a scene
+//!   file, an environment image, group files) must lie inside the graph file's folder,
+//!   after canonicalisation (symlinks followed), unless the caller allows any path. Each is
+//!   opened once and what was opened is checked (its own path, from the kernel); the
+//!   caller reads that handle, so swapping a symlink between check and read changes
+//!   nothing.
 
 use crate::error::{GraphError, GraphErrors};
 use crate::graph::Graph;
@@ -181,15 +184,21 @@ impl crate::group::GroupFiles for FileGroups {
             _ => PathBuf::from("."),
         };
         let joined = base.join(reference);
-        let resolved = canonical_or_planned(&joined);
-        if self.policy == PathPolicy::InsideGraphFolder && !resolved.starts_with(&self.root) {
-            return Err(format!(
-                "path '{reference}' resolves to {}, outside the graph's folder {} (pass --allow-outside-paths to read it)",
-                resolved.display(),
-                self.root.display()
-            ));
-        }
-        let text = read_text(&joined).map_err(|e| e.to_string())?;
+        let root = (self.policy == PathPolicy::InsideGraphFolder).then_some(self.root.as_path());
+        let opened = match open_checked(&joined, root) {
+            Ok(f) => f,
+            Err(Refusal::Outside(resolved)) => {
+                return Err(format!(
+                    "path '{reference}' resolves to {}, outside the graph's folder {} (pass --allow-outside-paths to read it)",
+                    resolved.display(),
+                    self.root.display()
+                ));
+            }
+            Err(Refusal::Read(e)) => return Err(e.to_string()),
+        };
+        let resolved =
+            opened_path(&joined, &opened).unwrap_or_else(|_| canonical_or_planned(&joined));
+        let text = read_opened_text(&joined, &opened).map_err(|e| e.to_string())?;
         let doc = crate::document::GraphDocument::parse(&text).map_err(|errors| {
             let shown: Vec<String> = errors.iter().take(3).map(|e| e.to_string()).collect();
             format!("{}: {}", joined.display(), shown.join("; "))
@@ -564,16 +573,143 @@ fn canonical_or_planned(path: &Path) -> PathBuf {
     path.to_owned()
 }
 
-/// The path of the file `reference` (as written in `file`, by `by`) names: relative
-/// references are taken from `file`'s folder. Under [`PathPolicy::InsideGraphFolder`] the
-/// canonical path (symlinks followed) must lie inside that folder's canonical path; this
-/// is checked, and the target checked to be a regular file, before anything is opened.
-pub fn resolve_reference(
+/// A file a graph (or scene) refers to, opened once and checked as opened
+/// ([`open_reference`]): read it from [`Self::file`], never by reopening [`Self::path`].
+#[derive(Debug)]
+pub struct OpenedReference {
+    /// The path it was opened by (the reference taken from the referring file's folder), for
+    /// messages.
+    pub path: PathBuf,
+    /// The open file: a regular file, inside the folder where the policy asks for that.
+    pub file: std::fs::File,
+}
+
+/// Why [`open_checked`] refused a path.
+enum Refusal {
+    /// What was opened (or would be) lies outside the root, at this canonical path.
+    Outside(PathBuf),
+    /// It could not be opened, or is not a regular file.
+    Read(ReadError),
+}
+
+/// The [`ReadError`] of an `open` of `path` that failed with `e`.
+fn open_error(path: &Path, e: std::io::Error) -> ReadError {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => ReadError::Missing {
+            path: path.to_owned(),
+        },
+        _ => ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        },
+    }
+}
+
+/// The canonical path of the file `file` (opened by `path`) is, as the kernel sees it now.
+///
+/// Linux: the link `/proc/self/fd/N` names the opened file itself, whatever happened to
+/// `path` since. Elsewhere (or without `/proc`): `path` is canonicalised again after the
+/// open and accepted only if the file it now names is the opened file (same device and
+/// inode): a file reachable at that canonical path.
+fn opened_path(path: &Path, file: &std::fs::File) -> std::io::Result<PathBuf> {
+    use std::os::unix::fs::MetadataExt;
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::fd::AsRawFd;
+        let link = format!("/proc/self/fd/{}", file.as_raw_fd());
+        if let Ok(real) = std::fs::read_link(link)
+            && real.is_absolute()
+        {
+            return Ok(real);
+        }
+    }
+    let canonical = std::fs::canonicalize(path)?;
+    let (now, opened) = (std::fs::metadata(&canonical)?, file.metadata()?);
+    if (now.dev(), now.ino()) != (opened.dev(), opened.ino()) {
+        return Err(std::io::Error::other(
+            "the file changed while it was being opened",
+        ));
+    }
+    Ok(canonical)
+}
+
+/// Opens `path` for reading once, then checks what was opened: a regular file (a folder,
+/// FIFO or device is refused from its metadata before the open, and again from the opened
+/// file's; the open does not block on a FIFO swapped in between) and, when `root` is given
+/// (canonical), a file whose own canonical path ([`opened_path`]) lies inside `root`. A path
+/// that leads outside `root` before it is opened is refused without opening it (a missing
+/// file outside is reported as outside, not as missing).
+fn open_checked(path: &Path, root: Option<&Path>) -> Result<std::fs::File, Refusal> {
+    use std::os::unix::fs::OpenOptionsExt;
+    if let Some(root) = root {
+        let planned = canonical_or_planned(path);
+        if !planned.starts_with(root) {
+            return Err(Refusal::Outside(planned));
+        }
+    }
+    // A device, FIFO or folder is refused from its metadata without opening it, as
+    // before; the open itself neither blocks (a FIFO swapped in since) nor takes a
+    // terminal as the controlling one, and the file opened is checked again below.
+    check_regular(path).map_err(Refusal::Read)?;
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NONBLOCK | libc::O_NOCTTY)
+        .open(path)
+        .map_err(|e| Refusal::Read(open_error(path, e)))?;
+    let meta = file.metadata().map_err(|e| {
+        Refusal::Read(ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        })
+    })?;
+    if let Some(root) = root {
+        let real = opened_path(path, &file).map_err(|e| {
+            Refusal::Read(ReadError::Io {
+                path: path.to_owned(),
+                source: e,
+            })
+        })?;
+        if !real.starts_with(root) {
+            return Err(Refusal::Outside(real));
+        }
+    }
+    if meta.is_dir() {
+        return Err(Refusal::Read(ReadError::Directory {
+            path: path.to_owned(),
+        }));
+    }
+    if !meta.is_file() {
+        return Err(Refusal::Read(ReadError::NotRegular {
+            path: path.to_owned(),
+            kind: file_kind(&meta),
+        }));
+    }
+    Ok(file)
+}
+
+/// Reads all of an opened file as UTF-8 text; errors name `path`.
+pub fn read_opened_text(path: &Path, mut file: &std::fs::File) -> Result<String, ReadError> {
+    use std::io::Read;
+    let mut text = String::new();
+    file.read_to_string(&mut text).map_err(|e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    })?;
+    Ok(text)
+}
+
+/// Opens the file `reference` (as written in `file`, by `by`) names, once: relative
+/// references are taken from `file`'s folder. What was opened is then checked
+/// ([`open_checked`]): a regular file and, under [`PathPolicy::InsideGraphFolder`], one whose
+/// own canonical path (symlinks followed) lies inside the canonical folder. So a symlink
+/// swapped between the check and the read cannot lead the read outside: the check is of
+/// the open file, and the caller reads that file.
+pub fn open_reference(
     file: &Path,
     by: &str,
     reference: &str,
     policy: PathPolicy,
-) -> Result<PathBuf, PathError> {
+) -> Result<OpenedReference, PathError> {
     let folder = match file.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
         _ => PathBuf::from("."),
@@ -585,26 +721,42 @@ pub fn resolve_reference(
         reference: reference.to_owned(),
         source,
     };
-    if policy == PathPolicy::InsideGraphFolder {
-        let canon_folder = std::fs::canonicalize(&folder).map_err(|e| {
+    let root = match policy {
+        PathPolicy::InsideGraphFolder => Some(std::fs::canonicalize(&folder).map_err(|e| {
             unreadable(ReadError::Io {
                 path: folder.clone(),
                 source: e,
             })
-        })?;
-        let resolved = canonical_or_planned(&joined);
-        if !resolved.starts_with(&canon_folder) {
-            return Err(PathError::Outside {
-                file: file.to_owned(),
-                by: by.to_owned(),
-                reference: reference.to_owned(),
-                resolved,
-                folder: canon_folder,
-            });
-        }
+        })?),
+        PathPolicy::Anywhere => None,
+    };
+    match open_checked(&joined, root.as_deref()) {
+        Ok(opened) => Ok(OpenedReference {
+            path: joined,
+            file: opened,
+        }),
+        Err(Refusal::Outside(resolved)) => Err(PathError::Outside {
+            file: file.to_owned(),
+            by: by.to_owned(),
+            reference: reference.to_owned(),
+            resolved,
+            folder: root.unwrap_or(folder),
+        }),
+        Err(Refusal::Read(e)) => Err(unreadable(e)),
     }
-    check_regular(&joined).map_err(unreadable)?;
-    Ok(joined)
+}
+
+/// The path of the file `reference` (as written in `file`, by `by`) names, checked as
+/// [`open_reference`] checks it (the file is opened and closed). For checks only (the
+/// editor's): a caller that reads the file must read [`open_reference`]'s handle, since the
+/// path may name another file by the time it is reopened.
+pub fn resolve_reference(
+    file: &Path,
+    by: &str,
+    reference: &str,
+    policy: PathPolicy,
+) -> Result<PathBuf, PathError> {
+    open_reference(file, by, reference, policy).map(|o| o.path)
 }
 
 #[cfg(test)]

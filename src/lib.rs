@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod budget;
 pub mod color_space;
 pub mod document;
 #[cfg(feature = "editor")]

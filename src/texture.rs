@@ -94,6 +94,34 @@ pub enum TextureError {
         /// The most that can be packed.
         max: u64,
     },
+    /// A custom mip chain has more levels than its level 0 halves into (down to 1 × 1).
+    #[error(
+        "a mip chain of {levels} levels: a {width}×{height} image has {max} (halved down to 1×1); remove the levels from {max} on"
+    )]
+    TooManyLevels {
+        /// Levels in the chain.
+        levels: usize,
+        /// Width of level 0.
+        width: u32,
+        /// Height of level 0.
+        height: u32,
+        /// The most it can have ([`mip_level_count`]).
+        max: usize,
+    },
+    /// A texel holds NaN, an infinity or a value beyond [`MAX_TEXEL`] ([`check_texels`]).
+    #[error(
+        "texel ({x}, {y}) (from the top left) has {value:e} in its {channel} channel: image values must be finite and at most 2^64 (1.8e19) in magnitude"
+    )]
+    BadTexel {
+        /// Column, from the left.
+        x: u32,
+        /// Row, from the top.
+        y: u32,
+        /// `red`, `green`, `blue` or `alpha`.
+        channel: &'static str,
+        /// The value.
+        value: f32,
+    },
     /// A file could not be read, decoded or written.
     #[error("{}: {message}", path.display())]
     File {
@@ -256,6 +284,45 @@ impl Filter {
     }
 }
 
+/// The most mip levels any chain may list: a side of up to 2^32 − 1 texels halves 31 times
+/// to 1, so 32 levels. Graphs listing more are refused at load.
+pub const MAX_MIP_LEVELS: usize = 32;
+
+/// The number of levels of the full mip chain of a `width × height` image: level 0 and each
+/// [`mip_size`] down to 1 × 1 (`⌊log2 max(width, height)⌋ + 1`; 1 for an empty size).
+pub const fn mip_level_count(width: u32, height: u32) -> usize {
+    let side = if width > height { width } else { height };
+    if side == 0 {
+        1
+    } else {
+        (u32::BITS - side.leading_zeros()) as usize
+    }
+}
+
+/// The largest magnitude a loaded texel may hold: 2^64 (1.8e19), so that its square (in a
+/// dot product, a length) stays finite in f32. NaN and infinities are refused, and so are
+/// the huge values that stand for them in formats without them: Radiance RGBE cannot hold
+/// NaN or infinity, and writers turn them into its largest exponent (up to 1.7e38). The
+/// cost: no texture can hold a value beyond 1.8e19 (the sun's disc is about 1.6e9 cd/m²).
+pub const MAX_TEXEL: f32 = 18_446_744_073_709_551_616.0;
+
+/// The first texel of `image` (row by row from the top left, channels in order) holding
+/// NaN, an infinity or a value beyond ±[`MAX_TEXEL`], as the error naming it.
+pub fn check_texels(image: &Image) -> Result<(), TextureError> {
+    let width = image.width.max(1) as usize;
+    for (i, t) in image.data.iter().enumerate() {
+        if let Some(c) = t.iter().position(|v| v.is_nan() || v.abs() > MAX_TEXEL) {
+            return Err(TextureError::BadTexel {
+                x: (i % width) as u32,
+                y: (i / width) as u32,
+                channel: ["red", "green", "blue", "alpha"][c],
+                value: t[c],
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The size of the mip level below a `width × height` one: each side halved, rounded down,
 /// at least 1.
 pub const fn mip_size(width: u32, height: u32) -> (u32, u32) {
@@ -342,10 +409,22 @@ impl Texture {
     }
 
     /// A texture of a custom mip chain (seed 002's black–white–black chain): every level
-    /// valid, each [`mip_size`] of the one before; the chain may stop before 1 × 1.
+    /// valid, each [`mip_size`] of the one before; the chain may stop before 1 × 1 but not go
+    /// on after it (at most [`mip_level_count`] levels: a second 1 × 1 level is refused,
+    /// where [`mip_size`] alone would accept it).
     pub fn from_levels(levels: Vec<Image>) -> Result<Texture, TextureError> {
         if levels.is_empty() {
             return Err(TextureError::NoLevels);
+        }
+        let (width, height) = (levels[0].width, levels[0].height);
+        let max = mip_level_count(width, height);
+        if levels.len() > max {
+            return Err(TextureError::TooManyLevels {
+                levels: levels.len(),
+                width,
+                height,
+                max,
+            });
         }
         for (k, level) in levels.iter().enumerate() {
             level.validate().map_err(|e| TextureError::Level {

@@ -45,6 +45,11 @@ pub struct Args {
     /// Read textures, scene files and environment images outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Memory the command may use for the images, environment and scene meshes it loads
+    /// and builds (bytes, or with a unit: 512MiB, 4GiB); each is refused before it is
+    /// allocated when it does not fit.
+    #[arg(long, value_name = "SIZE", default_value = "2GiB", value_parser = super::flags::memory_budget)]
+    pub memory_budget: u64,
 }
 
 /// Width and height of the frame whose scene textures `eval` binds (those of a default
@@ -216,12 +221,20 @@ pub fn run(args: &Args) -> CliResult {
         // Images the graph samples, inside its folder; the scene textures of its scene as a
         // default render binds them.
         let policy = super::path_policy(args.allow_outside_paths);
-        let mut textures = super::graph_textures(&graph, path, policy)?;
+        let budget = matgraph::budget::MemoryBudget::new(args.memory_budget);
+        let mut textures = super::graph_textures(&graph, path, policy, &budget)?;
         if matgraph::render::uses_scene_textures(&graph) {
-            let (scene, environment) = super::scene::resolve(&graph, path, None, policy)?;
+            let (scene, environment) = super::scene::resolve(&graph, path, None, policy, &budget)?;
             let (w, h) = SCENE_TEXTURE_FRAME;
-            let maps = matgraph::render::scene_texture_set(&graph, &scene, w, h, environment)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let maps = matgraph::render::scene_texture_set_within(
+                &graph,
+                &scene,
+                w,
+                h,
+                environment,
+                &budget,
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?;
             textures
                 .extend_shared(&maps)
                 .map_err(|e| format!("{}: {e}", path.display()))?;

@@ -89,3 +89,45 @@ pub fn set_value_hint(value: &serde_json::Value) -> String {
         _ => String::new(),
     }
 }
+
+/// Smallest `--memory-budget`: 16 MiB (the scenes' fixed meshes alone are reserved at
+/// [`matgraph::scene::FIXED_MESH_BYTES`]).
+pub const MIN_MEMORY_BUDGET: u64 = 16 << 20;
+
+/// Largest `--memory-budget`: 1 TiB (`u64` byte counts cannot overflow below it).
+pub const MAX_MEMORY_BUDGET: u64 = 1 << 40;
+
+/// `--memory-budget`: a byte count, a number with a binary unit (`512MiB`, `2GiB`, `1.5G`;
+/// `K`, `M`, `G`, `T` with or without `iB` are powers of 1024; `B` or none, bytes), from
+/// [`MIN_MEMORY_BUDGET`] to [`MAX_MEMORY_BUDGET`].
+pub fn memory_budget(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kib" | "kb" => 1 << 10,
+        "m" | "mib" | "mb" => 1 << 20,
+        "g" | "gib" | "gb" => 1 << 30,
+        "t" | "tib" | "tb" => 1 << 40,
+        other => {
+            return Err(format!(
+                "{text}: unknown unit '{other}' (use bytes or K, M, G, T: 512MiB, 2GiB)"
+            ));
+        }
+    };
+    let x: f64 = number
+        .parse()
+        .map_err(|_| format!("{text} is not a size (use bytes or K, M, G, T: 512MiB, 2GiB)"))?;
+    let bytes = x * scale as f64;
+    if !(bytes >= MIN_MEMORY_BUDGET as f64 && bytes <= MAX_MEMORY_BUDGET as f64) {
+        return Err(format!(
+            "{text}: the memory budget must be from {} to {}",
+            matgraph::budget::format_bytes(MIN_MEMORY_BUDGET),
+            matgraph::budget::format_bytes(MAX_MEMORY_BUDGET)
+        ));
+    }
+    Ok(bytes as u64)
+}

@@ -107,15 +107,17 @@ pub fn path_message(e: impl std::fmt::Display, outside: bool) -> String {
     }
 }
 
-/// The graph's images, each path checked against `policy` before it is opened.
+/// The graph's images, each path opened once and checked against `policy` as opened, each
+/// image and its mips reserved in `budget` before they are allocated.
 pub fn graph_textures(
     graph: &Graph,
     file: &Path,
     policy: PathPolicy,
+    budget: &matgraph::budget::MemoryBudget,
 ) -> Result<matgraph::texture::TextureSet, String> {
     use matgraph::image_io::GraphTextureError;
     use matgraph::io::PathError;
-    matgraph::image_io::load_graph_textures_with(graph, file, policy).map_err(|e| {
+    matgraph::image_io::load_graph_textures_within(graph, file, policy, budget).map_err(|e| {
         let outside = matches!(e, GraphTextureError::Path(PathError::Outside { .. }));
         path_message(e, outside)
     })

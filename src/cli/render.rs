@@ -3,7 +3,6 @@
 use super::{CliResult, count, graph_textures, load_graph_with, path_policy, split_set};
 use matgraph::Value;
 use matgraph::image_io::SaveFormat;
-use matgraph::render::MEMORY_BUDGET;
 use std::path::{Path, PathBuf};
 
 /// Bytes per pixel the command holds besides the render itself: the 8-bit image (3) and
@@ -93,6 +92,11 @@ pub struct Args {
     /// Read textures, scene files and environment images outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Memory each graph's render may use: its images, environment, scene meshes, frame
+    /// and output images (bytes, or with a unit: 512MiB, 4GiB); an input that does not fit
+    /// is refused before it is allocated, and the frame is rendered in bands that fit.
+    #[arg(long, value_name = "SIZE", default_value = "2GiB", value_parser = super::flags::memory_budget)]
+    pub memory_budget: u64,
     /// Compile each graph against its scene first and print the rewrites
     /// (docs/specialise.md): `exact` folds what the scene fixes; `approx` also applies the
     /// threshold rewrites (a thick film's incoherent limit).
@@ -161,9 +165,14 @@ fn delayed_progress() -> indicatif::ProgressBar {
     bar
 }
 
-/// A render's memory refusal restated against the whole budget, the command's own
-/// `reserve` (its output images) included.
-fn with_reserve(e: matgraph::render::RenderError, reserve: u64) -> matgraph::render::RenderError {
+/// A render's memory refusal restated against the whole budget `limit`, what the command
+/// already holds (`reserve`: its output images, the images and environment it loaded)
+/// included.
+fn with_reserve(
+    e: matgraph::render::RenderError,
+    reserve: u64,
+    limit: u64,
+) -> matgraph::render::RenderError {
     use matgraph::render::RenderError;
     match e {
         RenderError::Memory {
@@ -178,8 +187,11 @@ fn with_reserve(e: matgraph::render::RenderError, reserve: u64) -> matgraph::ren
             height,
             samples,
             needed: needed + reserve,
-            what: format!("{what}, {} MiB output images", reserve.div_ceil(1 << 20)),
-            budget: MEMORY_BUDGET,
+            what: format!(
+                "{what}, {} MiB output and loaded images",
+                reserve.div_ceil(1 << 20)
+            ),
+            budget: limit,
         },
         e => e,
     }
@@ -258,14 +270,14 @@ pub fn run(args: &Args) -> CliResult {
         // The 8-bit renders kept for the contact sheet, then the sheet and its file.
         reserve += w * h * 3 * args.files.len() as u64 + w * h * 6;
     }
-    if reserve >= MEMORY_BUDGET {
+    if reserve >= args.memory_budget {
         return Err(format!(
             "{}x{}: the output images alone need {} MiB, over the memory budget of {} MiB; \
              render a smaller size{}",
             args.size.0,
             args.size.1,
             reserve.div_ceil(1 << 20),
-            MEMORY_BUDGET >> 20,
+            args.memory_budget >> 20,
             if several {
                 " or fewer graphs at once"
             } else {
@@ -339,9 +351,16 @@ pub fn run(args: &Args) -> CliResult {
                 args.max_error,
                 policy,
             )?;
-            let textures = graph_textures(&graph, file, policy)?;
+            // One budget per graph: its output images, then what it loads, then the frame
+            // (and the scene's meshes, reserved by the render) in what is left.
+            let budget = matgraph::budget::MemoryBudget::new(args.memory_budget);
+            budget
+                .reserve(|| "the output images".to_owned(), reserve)
+                .map_err(|e| e.to_string())?;
+            let textures = graph_textures(&graph, file, policy, &budget)?;
             let forced = forced.as_ref().map(|(spec, s)| (*spec, s));
-            let (mut scene, environment) = super::scene::resolve(&graph, file, forced, policy)?;
+            let (mut scene, environment) =
+                super::scene::resolve(&graph, file, forced, policy, &budget)?;
             // The scene's own time-dependent parts (the bubble's motion, its backdrop) follow
             // --time as the material does.
             if let Some(t) = args.time {
@@ -367,7 +386,7 @@ pub fn run(args: &Args) -> CliResult {
                 parameters: parameters.clone(),
                 textures: Some(std::sync::Arc::new(textures)),
                 environment,
-                memory_budget: MEMORY_BUDGET - reserve,
+                memory_budget: budget.remaining(),
                 band_rows: None,
                 texture_mode: matgraph::wgsl::TextureMode::from_name(&args.textures)
                     .unwrap_or_default(),
@@ -397,7 +416,7 @@ pub fn run(args: &Args) -> CliResult {
                 }
                 let start = std::time::Instant::now();
                 let (hdr, timings) = render_timed(&graph, &scene, &options)
-                    .map_err(|e| with_reserve(e, reserve))
+                    .map_err(|e| with_reserve(e, budget.used(), budget.limit()))
                     .map_err(|e| format!("{}: {e}", file.display()))?;
                 if k == 0
                     && let Some(why) = &timings.fallback

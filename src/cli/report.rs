@@ -116,12 +116,14 @@ pub fn sample_textures(
     file: &Path,
     policy: PathPolicy,
 ) -> Result<Arc<TextureSet>, String> {
-    let mut textures = graph_textures(graph, file, policy)?;
+    let budget = matgraph::budget::MemoryBudget::default();
+    let mut textures = graph_textures(graph, file, policy, &budget)?;
     if matgraph::render::uses_scene_textures(graph) {
-        let (scene, environment) = super::scene::resolve(graph, file, None, policy)?;
+        let (scene, environment) = super::scene::resolve(graph, file, None, policy, &budget)?;
         let (w, h) = SCENE_TEXTURE_FRAME;
-        let maps = matgraph::render::scene_texture_set(graph, &scene, w, h, environment)
-            .map_err(|e| format!("{}: {e}", file.display()))?;
+        let maps =
+            matgraph::render::scene_texture_set_within(graph, &scene, w, h, environment, &budget)
+                .map_err(|e| format!("{}: {e}", file.display()))?;
         textures
             .extend_shared(&maps)
             .map_err(|e| format!("{}: {e}", file.display()))?;
@@ -240,8 +242,9 @@ fn measure(args: &Args, plan: &Plan, v: &VariantSpec) -> Result<Measured, String
         }
         None => None,
     };
-    let (scene, environment) = super::scene::resolve(&graph, &file, None, policy)?;
-    let images = graph_textures(&graph, &file, policy)?;
+    let budget = matgraph::budget::MemoryBudget::default();
+    let (scene, environment) = super::scene::resolve(&graph, &file, None, policy, &budget)?;
+    let images = graph_textures(&graph, &file, policy, &budget)?;
     let mut options = RenderOptions {
         width: plan.size.0,
         height: plan.size.1,

@@ -12,7 +12,12 @@ use std::sync::Arc;
 /// A scene file's text parsed; messages name the file.
 fn scene_file(path: &Path) -> Result<Scene, String> {
     let text = matgraph::io::read_text(path).map_err(|e| e.to_string())?;
-    Scene::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))
+    scene_text(path, &text)
+}
+
+/// A scene's text (read from `path`) parsed; messages name the file.
+fn scene_text(path: &Path, text: &str) -> Result<Scene, String> {
+    Scene::from_json(text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The scene named by `--scene` on the command line: a preset name or a scene file (the
@@ -40,20 +45,26 @@ fn path_error(e: PathError) -> String {
 /// The scene of `graph` (read from `file`): `forced` (from `--scene SPEC`) when given, else
 /// the scene the graph names (a preset, an inline scene or a scene file inside the graph's
 /// folder), else the ball; and its environment image, resolved inside the folder of the
-/// file that names it. Paths are checked against `policy` before anything is opened.
+/// file that names it. Each file is opened once and checked against `policy` as opened
+/// ([`matgraph::io::open_reference`]), then read from that handle; the environment image is
+/// reserved in `budget` before it is decoded.
 pub fn resolve(
     graph: &Graph,
     file: &Path,
     forced: Option<(&str, &Scene)>,
     policy: PathPolicy,
+    budget: &matgraph::budget::MemoryBudget,
 ) -> Result<(Scene, Option<Arc<Texture>>), String> {
     let (scene, base): (Scene, PathBuf) = match (forced, &graph.scene) {
         (Some((spec, s)), _) => (s.clone(), PathBuf::from(spec)),
         (None, Some(serde_json::Value::String(name))) if Scene::preset(name).is_none() => {
-            let path =
-                matgraph::io::resolve_reference(file, "scene", name, policy).map_err(path_error)?;
-            let scene = scene_file(&path).map_err(|e| format!("{}: scene: {e}", file.display()))?;
-            (scene, path)
+            let opened =
+                matgraph::io::open_reference(file, "scene", name, policy).map_err(path_error)?;
+            let scene = matgraph::io::read_opened_text(&opened.path, &opened.file)
+                .map_err(|e| e.to_string())
+                .and_then(|text| scene_text(&opened.path, &text))
+                .map_err(|e| format!("{}: scene: {e}", file.display()))?;
+            (scene, opened.path)
         }
         (None, _) => (
             matgraph::render::graph_scene(graph)
@@ -65,9 +76,9 @@ pub fn resolve(
     let Environment::Image(img) = &scene.environment else {
         return Ok((scene, None));
     };
-    let path = matgraph::io::resolve_reference(&base, "environment image", &img.path, policy)
+    let opened = matgraph::io::open_reference(&base, "environment image", &img.path, policy)
         .map_err(path_error)?;
-    let texture = image_io::load_texture_as(&[path], false, img.color_space)
+    let texture = image_io::load_opened_texture(vec![opened], false, img.color_space, budget)
         .map_err(|e| format!("{}: environment: {e}", file.display()))?;
     Ok((scene, Some(Arc::new(texture))))
 }

@@ -48,6 +48,10 @@ pub struct Args {
     #[arg(long, value_name = "MODE", num_args = 0..=1, default_missing_value = "exact",
           value_parser = ["exact", "approx"])]
     pub specialise: Option<String>,
+    /// Memory the command may use for the images it loads to bind (bytes, or with a unit:
+    /// 512MiB, 4GiB); each is refused before it is allocated when it does not fit.
+    #[arg(long, value_name = "SIZE", default_value = "2GiB", value_parser = super::flags::memory_budget)]
+    pub memory_budget: u64,
 }
 
 /// `graph` (loaded from `file`), specialised for its own scene when `mode` is set.
@@ -59,7 +63,8 @@ pub fn specialised(
     let Some(mode) = mode else {
         return Ok(graph);
     };
-    let (scene, _) = super::scene::resolve(&graph, file, None, super::path_policy(false))?;
+    let budget = matgraph::budget::MemoryBudget::default();
+    let (scene, _) = super::scene::resolve(&graph, file, None, super::path_policy(false), &budget)?;
     let s = matgraph::specialise::for_scene(&graph, &scene, Some(scene.time), mode == "approx")
         .map_err(|e| format!("{}: {e}", file.display()))?;
     err!("{}", s.listing());
@@ -111,8 +116,17 @@ pub fn run(args: &Args) -> CliResult {
         )?;
         files.graph_inputs(&graph, file)?;
         let graph = specialised(graph, file, args.specialise.as_deref())?;
-        let textures =
-            matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
+        let budget = matgraph::budget::MemoryBudget::new(args.memory_budget);
+        let textures = matgraph::image_io::load_graph_textures_within(
+            &graph,
+            file,
+            super::path_policy(false),
+            &budget,
+        )
+        .map_err(|e| match e {
+            matgraph::image_io::GraphTextureError::Texture { source, .. } => source.to_string(),
+            e => format!("{}: {e}", file.display()),
+        })?;
         let mut material = Material::new(&graph, &options).map_err(|e| at(&e))?;
         material.bind_textures(&textures);
         if let Some(path) = &args.contract {

@@ -78,6 +78,9 @@ pub enum RenderError {
         /// The budget in bytes.
         budget: u64,
     },
+    /// A mesh of the scene (or another input) does not fit the memory budget.
+    #[error(transparent)]
+    Budget(#[from] crate::budget::MemoryError),
     /// An output the renderer reads has a type it cannot use.
     #[error("output '{name}' is a {ty}; the renderer needs {expected}")]
     OutputType {
@@ -139,9 +142,11 @@ impl Default for RenderOptions {
     }
 }
 
-/// The memory a render may use by default: 2 GiB. The frame is rendered in bands of rows
-/// sized so that the whole render stays within it ([`plan_memory`]).
-pub const MEMORY_BUDGET: u64 = 2 << 30;
+/// The memory a render may use by default: [`crate::budget::DEFAULT_MEMORY_BUDGET`], 2 GiB.
+/// The scene's meshes are reserved first ([`Scene::reserve_meshes`]); the frame is then
+/// rendered in bands of rows sized so that the whole render stays within what is left
+/// ([`plan_memory`]).
+pub const MEMORY_BUDGET: u64 = crate::budget::DEFAULT_MEMORY_BUDGET;
 
 /// Bytes per sample of a band, an upper bound: two fragment buffers (40), the background
 /// (12) and, when every sample sees the material, its index (4), 20 attribute floats (80),
@@ -587,6 +592,22 @@ pub fn scene_texture_set(
     height: u32,
     environment: Option<Arc<Texture>>,
 ) -> Result<TextureSet, RenderError> {
+    let budget = crate::budget::MemoryBudget::default();
+    scene_texture_set_within(graph, scene, width, height, environment, &budget)
+}
+
+/// [`scene_texture_set`] with the scene's meshes reserved in `budget` first
+/// ([`Scene::reserve_meshes`]): a scene whose meshes do not fit is refused before any is
+/// built.
+pub fn scene_texture_set_within(
+    graph: &Graph,
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    environment: Option<Arc<Texture>>,
+    budget: &crate::budget::MemoryBudget,
+) -> Result<TextureSet, RenderError> {
+    scene.reserve_meshes(budget)?;
     // The image rides in the options too: the environment's memo is keyed by it.
     let lookup = environment.clone().map(environment_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
@@ -672,14 +693,36 @@ pub fn render_timed(
     let Some(first) = roles.color.as_ref().or(roles.emission.as_ref()) else {
         return Err(EvalError::NoOutputs.into());
     };
-    // Refused before anything is compiled or allocated when it cannot fit.
+    // Refused before anything is compiled or allocated when it cannot fit: the scene's
+    // meshes first (computed from its parameters), then the frame in what is left.
+    let budget = crate::budget::MemoryBudget::new(options.memory_budget);
+    scene.reserve_meshes(&budget)?;
+    let meshes = budget.used();
     let plan = plan_memory(
         options.width,
         options.height,
         options.samples.max(1),
         uses_scene_textures(graph),
-        options.memory_budget,
-    )?;
+        budget.remaining(),
+    )
+    .map_err(|e| match e {
+        RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed,
+            what,
+            ..
+        } => RenderError::Memory {
+            width,
+            height,
+            samples,
+            needed: needed + meshes,
+            what: format!("{what}, {} MiB scene meshes", meshes.div_ceil(1 << 20)),
+            budget: options.memory_budget,
+        },
+        e => e,
+    })?;
     // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
     let mut params = crate::gpu::default_parameters(
         graph,

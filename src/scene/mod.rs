@@ -74,6 +74,7 @@ mod json;
 mod kind;
 mod light;
 mod lod;
+mod memory;
 mod mesh;
 mod objects;
 mod packed;
@@ -99,6 +100,7 @@ pub use kind::{
 };
 pub use light::{DirectionalLight, LIGHT_PRESETS, Light, PointLight, sun_direction};
 pub use lod::{Leaf, WaterLod};
+pub use memory::{FIXED_MESH_BYTES, MESH_TRIANGLE_BYTES, MESH_VERTEX_BYTES, MeshCost};
 pub use mesh::Mesh;
 pub(crate) use packed::{PackedScene, SceneFeatures, ScenePass, Viewport};
 pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
