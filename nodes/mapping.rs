@@ -120,7 +120,7 @@ pub fn all() -> Vec<NodeType> {
         )
         .input(In::vec3("vector", [0.0, 0.0, 0.0]).range(-2.0, 2.0).hard(-1e18, 1e18).doc("The vector mapped (link uv, geometry.position or a normal)."))
         .input(In::vec3("location", [0.0, 0.0, 0.0]).range(-2.0, 2.0).hard(-1e18, 1e18).unit("m").doc("Translation t (point and texture types only)."))
-        .input(In::vec3("rotation", [0.0, 0.0, 0.0]).range(-3.1415927, 3.1415927).hard(-1e4, 1e4).unit("rad").doc("Euler XYZ angles: x is turned first, then y, then z."))
+        .input(In::vec3("rotation", [0.0, 0.0, 0.0]).range(-std::f32::consts::PI, std::f32::consts::PI).hard(-1e4, 1e4).unit("rad").doc("Euler XYZ angles: x is turned first, then y, then z."))
         .input(In::vec3("scale", [1.0, 1.0, 1.0]).range(-4.0, 4.0).hard(-1e18, 1e18).doc("Scale s per axis (the texture type divides by it)."))
         .input(In::choice("type", MAPPING_TYPES, 0).doc("What the vector is: a point, a texture coordinate, a direction or a normal."))
         .output(Out::vec3("vector").doc("The mapped vector."))
