@@ -24,6 +24,7 @@ pub mod texture;
 pub mod thin_film;
 pub mod toon_water;
 pub mod transmission;
+pub mod triplanar;
 
 use crate::node::NodeType;
 
@@ -54,5 +55,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_wave::all());
     v.extend(blender_brick::all());
     v.extend(blender_magic::all());
+    v.extend(triplanar::all());
     v
 }

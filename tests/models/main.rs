@@ -25,3 +25,4 @@ mod tangents;
 mod thin_film;
 mod toon_water;
 mod transmission;
+mod triplanar;
