@@ -21,6 +21,7 @@ pub mod precise;
 pub mod skin;
 pub mod sunshine;
 pub mod texture;
+pub mod texture_coordinate;
 pub mod thin_film;
 pub mod toon_water;
 pub mod transmission;
@@ -56,5 +57,6 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_brick::all());
     v.extend(blender_magic::all());
     v.extend(triplanar::all());
+    v.extend(texture_coordinate::all());
     v
 }
