@@ -39,7 +39,7 @@ pub fn triplanar_weights(normal: Vec3, blend: f32) -> Vec3 {
 }
 
 /// The triplanar colour `wx · x + wy · y + wz · z` with the weights of [`triplanar_weights`].
-pub fn triplanar(x: Vec3, y: Vec3, z: Vec3, normal: Vec3, blend: f32) -> Vec3 {
+pub fn triplanar(normal: Vec3, x: Vec3, y: Vec3, z: Vec3, blend: f32) -> Vec3 {
     let w = triplanar_weights(normal, blend);
     x * w.x + y * w.y + z * w.z
 }
@@ -68,7 +68,7 @@ fn mg_triplanar_weights(normal: vec3<f32>, blend: f32) -> vec3<f32> {
 
 /// WGSL of [`triplanar`].
 const TRIPLANAR_WGSL: &str = r#"
-fn $fn(x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, normal: vec3<f32>, blend: f32) -> vec3<f32> {
+fn $fn(normal: vec3<f32>, x: vec3<f32>, y: vec3<f32>, z: vec3<f32>, blend: f32) -> vec3<f32> {
     let w = mg_triplanar_weights(normal, blend);
     return x * w.x + y * w.y + z * w.z;
 }
@@ -100,6 +100,11 @@ pub fn all() -> Vec<NodeType> {
              (the same on every GPU).",
         )
         .input(
+            In::vec3("normal", [0.0, 0.0, 1.0])
+                .range(-1.0, 1.0)
+                .doc("The surface normal (link geometry.normal); need not be unit."),
+        )
+        .input(
             In::color("x", [1.0, 0.0, 0.0])
                 .range(0.0, 1.0)
                 .doc("The colour seen along ±x (the projection onto the yz plane)."),
@@ -113,11 +118,6 @@ pub fn all() -> Vec<NodeType> {
             In::color("z", [0.0, 0.0, 1.0])
                 .range(0.0, 1.0)
                 .doc("The colour seen along ±z (the projection onto the xy plane)."),
-        )
-        .input(
-            In::vec3("normal", [0.0, 0.0, 1.0])
-                .range(-1.0, 1.0)
-                .doc("The surface normal (link geometry.normal); need not be unit."),
         )
         .input(
             In::float("blend", 4.0)
