@@ -59,8 +59,14 @@ fn main() {
     scene.camera.position = [1.3, 0.9, 2.6];
     let swatches = [
         ("tc_generated", coordinate("generated", [1.0; 3], [0.0; 3])),
-        ("tc_camera", coordinate("camera", [0.4, 0.4, 0.15], [0.5, 0.5, 0.0])),
-        ("tc_reflection", coordinate("reflection", [0.5; 3], [0.5; 3])),
+        (
+            "tc_camera",
+            coordinate("camera", [0.4, 0.4, 0.15], [0.5, 0.5, 0.0]),
+        ),
+        (
+            "tc_reflection",
+            coordinate("reflection", [0.5; 3], [0.5; 3]),
+        ),
         ("tc_window", coordinate("window", [1.0; 3], [0.0; 3])),
         ("triplanar_blend1", triplanar_checkers(1.0)),
         ("triplanar_blend8", triplanar_checkers(8.0)),

@@ -251,13 +251,12 @@ impl Scene {
             ),
         };
         let blender = |h: f32| {
-            if h == 0.0 {
-                1.0
-            } else {
-                h.max(1e-5)
-            }
+            if h == 0.0 { 1.0 } else { h.max(1e-5) }
         };
-        (center, Vec3::new(blender(half.x), blender(half.y), blender(half.z)))
+        (
+            center,
+            Vec3::new(blender(half.x), blender(half.y), blender(half.z)),
+        )
     }
 
     /// The generated texture coordinate of `p` in the box of [`Scene::texture_space`]:

@@ -369,7 +369,9 @@ impl Scene {
         let slots = [if packed.features.backdrop { 6u32 } else { 0 }, 0, 0, 0];
         w.extend(slots.map(f32::from_bits));
         let (center, half) = self.texture_space();
-        w.extend([center.x, center.y, center.z, 0.0, half.x, half.y, half.z, 0.0]);
+        w.extend([
+            center.x, center.y, center.z, 0.0, half.x, half.y, half.z, 0.0,
+        ]);
         debug_assert_eq!(w.len(), 120);
         bytemuck::cast_slice(&w).to_vec()
     }

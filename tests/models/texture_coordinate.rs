@@ -91,7 +91,10 @@ fn the_gbuffer_supplies_blenders_coordinates() {
     assert!(worst_proj < 1e-5, "projection {worst_proj}");
     assert!(worst_ref < 1e-6, "reflection {worst_ref}");
     // The visible part of the sphere reaches near its box's faces towards the camera.
-    assert!(hi.max_element() > 0.95 && lo.min_element() < 0.2, "{lo} {hi}");
+    assert!(
+        hi.max_element() > 0.95 && lo.min_element() < 0.2,
+        "{lo} {hi}"
+    );
 }
 
 /// The texture space is the built mesh's bounding box (the sphere's, and the water plane's
