@@ -21,9 +21,11 @@ pub mod precise;
 pub mod skin;
 pub mod sunshine;
 pub mod texture;
+pub mod texture_coordinate;
 pub mod thin_film;
 pub mod toon_water;
 pub mod transmission;
+pub mod triplanar;
 
 use crate::node::NodeType;
 
@@ -54,5 +56,7 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_wave::all());
     v.extend(blender_brick::all());
     v.extend(blender_magic::all());
+    v.extend(triplanar::all());
+    v.extend(texture_coordinate::all());
     v
 }

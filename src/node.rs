@@ -357,10 +357,26 @@ pub enum Attribute {
     /// The bitangent sign s (±1): the direction in which v grows is `s · (N × T)` (−1 where
     /// the uvs are mirrored). 1 when the caller supplies none.
     BitangentSign,
+    /// Blender's generated texture coordinate: the position in the material surface's
+    /// axis-aligned bounding box, `0.5 + (p − centre) / (2 · half_size)` per axis, so the box
+    /// spans [0, 1]³ (an axis of zero extent gives 0.5, as Blender's texture space of size 1
+    /// there). (0.5, 0.5, 0.5) when the caller supplies none.
+    Generated,
+    /// The view direction mirrored about the normal, `2 (N · V) N − V` (Cycles'
+    /// `svm_node_tex_coord` reflection, world space). (0, 0, 1) when the caller supplies none.
+    Reflection,
+    /// The screen position with Blender's window convention: (0, 0) bottom left to (1, 1) top
+    /// right, z = 0; i.e. `(screen_uv.x, 1 − screen_uv.y, 0)`. (0.5, 0.5, 0) when the caller
+    /// supplies none.
+    Window,
+    /// The position in camera space (Cycles' convention): x to the right of the screen, y up
+    /// it, z along the viewing direction (positive in front of the camera), in metres from the
+    /// eye. (0, 0, 1) when the caller supplies none.
+    Camera,
 }
 
 /// Every attribute, in declaration order.
-pub const ALL_ATTRIBUTES: [Attribute; 13] = [
+pub const ALL_ATTRIBUTES: [Attribute; 17] = [
     Attribute::Position,
     Attribute::Normal,
     Attribute::View,
@@ -374,6 +390,10 @@ pub const ALL_ATTRIBUTES: [Attribute; 13] = [
     Attribute::UvDy,
     Attribute::Tangent,
     Attribute::BitangentSign,
+    Attribute::Generated,
+    Attribute::Reflection,
+    Attribute::Window,
+    Attribute::Camera,
 ];
 
 impl Attribute {
@@ -393,6 +413,10 @@ impl Attribute {
             Attribute::UvDy => "uv_dy",
             Attribute::Tangent => "tangent",
             Attribute::BitangentSign => "bitangent_sign",
+            Attribute::Generated => "generated",
+            Attribute::Reflection => "reflection",
+            Attribute::Window => "window",
+            Attribute::Camera => "camera",
         }
     }
     /// Parses a name written by [`Attribute::name`].
@@ -417,7 +441,9 @@ impl Attribute {
     /// The value used when the caller supplies none: the origin, a +z normal, view and
     /// light straight above (normal incidence), uv and screen uv (0.5, 0.5), white light,
     /// depth 0, time 0, uv derivatives (0, 0), tangent +x with sign 1 (the frame of the +z
-    /// normal whose u grows along x and v along y).
+    /// normal whose u grows along x and v along y), generated (½, ½, ½) (the box's centre),
+    /// reflection +z (of the view +z about the normal +z), window (½, ½, 0) (the screen's
+    /// centre) and camera (0, 0, 1) (a point a metre in front of the eye).
     pub const fn default_value(self) -> Value {
         match self {
             Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
@@ -428,6 +454,10 @@ impl Attribute {
             Attribute::UvDx | Attribute::UvDy => Value::vec2([0.0, 0.0]),
             Attribute::Tangent => Value::vec3([1.0, 0.0, 0.0]),
             Attribute::BitangentSign => Value::float(1.0),
+            Attribute::Generated => Value::vec3([0.5, 0.5, 0.5]),
+            Attribute::Reflection => Value::vec3([0.0, 0.0, 1.0]),
+            Attribute::Window => Value::vec3([0.5, 0.5, 0.0]),
+            Attribute::Camera => Value::vec3([0.0, 0.0, 1.0]),
         }
     }
 }

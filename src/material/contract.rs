@@ -511,6 +511,11 @@ pub(super) fn build(m: &Material) -> Contract {
             samplers: counts.samplers,
         },
         normal_step: NORMAL_STEP,
-        hooks: vec!["mg_light_visibility".into(), "mg_surface_depth".into()],
+        hooks: vec![
+            "mg_light_visibility".into(),
+            "mg_surface_depth".into(),
+            "mg_generated".into(),
+            "mg_camera".into(),
+        ],
     }
 }

@@ -148,8 +148,10 @@ pub struct GBuffer {
     /// distance from the point down to the seabed, ≥ 0; ball: 0), `light` and `light_color`
     /// of the scene's first light (with shadows of the non-material objects; `+y` and black
     /// when the scene has no light), `uv_dx` and `uv_dy` (∂uv per pixel along x and y: the
-    /// pixel's 2 × 2 quad differences on the triangle's plane, as `dpdxFine`/`dpdyFine`) and
-    /// `time`.
+    /// pixel's 2 × 2 quad differences on the triangle's plane, as `dpdxFine`/`dpdyFine`),
+    /// `generated` ([`Scene::generated`]), `reflection` (`2 (N · V) N − V`), `window`
+    /// (`(screen_uv.x, 1 − screen_uv.y, 0)`), `camera` (the position in the camera's right,
+    /// up, forward frame) and `time`.
     pub batch: SampleBatch,
     /// Linear radiance of every sample of the grid with the material surface removed
     /// (built-in shading of the backdrop, seabed and objects, and the environment).
@@ -416,7 +418,12 @@ impl GBufferFrame<'_> {
             Attribute::LightColor,
             Attribute::UvDx,
             Attribute::UvDy,
+            Attribute::Generated,
+            Attribute::Reflection,
+            Attribute::Window,
+            Attribute::Camera,
         ];
+        let (tex_center, tex_half) = scene.texture_space();
         let tangents = self.tangents.as_deref();
         if tangents.is_some() {
             attrs.extend([Attribute::Tangent, Attribute::BitangentSign]);
@@ -461,6 +468,10 @@ impl GBufferFrame<'_> {
                         Some(t) => tangent_at(mesh, t, f.tri, f.b, n),
                         None => (Vec3::X, 1.0),
                     };
+                    let generated = Vec3::splat(0.5) + (p - tex_center) / (2.0 * tex_half);
+                    let reflection = 2.0 * n.dot(view) * n - view;
+                    let d = p - cam.origin;
+                    let camera = Vec3::new(d.dot(cam.right), d.dot(cam.up), d.dot(cam.forward));
 
                     let values = [
                         p.x,
@@ -487,6 +498,18 @@ impl GBufferFrame<'_> {
                         uv_dx.y,
                         uv_dy.x,
                         uv_dy.y,
+                        generated.x,
+                        generated.y,
+                        generated.z,
+                        reflection.x,
+                        reflection.y,
+                        reflection.z,
+                        su,
+                        1.0 - sv,
+                        0.0,
+                        camera.x,
+                        camera.y,
+                        camera.z,
                         tangent.x,
                         tangent.y,
                         tangent.z,

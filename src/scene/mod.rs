@@ -240,6 +240,44 @@ impl Scene {
         format!("{kind}/{moving}")
     }
 
+    /// The texture space of the material surface, Blender's generated coordinates' box: its
+    /// centre and half size per axis, from the surface as built (undisplaced): the ball's and
+    /// the bubble's sphere `centre ± radius` (the card's `centre ± (radius, radius, 0)`), the
+    /// water plane's `size` about the origin. A
+    /// half size of 0 (the plane's height) is 1 and one below 10⁻⁵ is 10⁻⁵, as Blender's
+    /// `BKE_mesh_texspace_calc`, so that the generated coordinate is 0.5 across a flat axis.
+    pub fn texture_space(&self) -> (Vec3, Vec3) {
+        let (center, half) = match &self.kind {
+            SceneKind::Ball(b) => {
+                let r = b.radius.abs();
+                let half = match b.shape {
+                    BallShape::Sphere => Vec3::splat(r),
+                    BallShape::Plane => Vec3::new(r, r, 0.0),
+                };
+                (Vec3::from(b.center), half)
+            }
+            SceneKind::Bubble(b) => (b.center_at(self.time), Vec3::splat(b.radius.abs())),
+            SceneKind::Water(w) => (
+                Vec3::ZERO,
+                Vec3::new(0.5 * w.size[0].abs(), 0.0, 0.5 * w.size[1].abs()),
+            ),
+        };
+        let blender = |h: f32| {
+            if h == 0.0 { 1.0 } else { h.max(1e-5) }
+        };
+        (
+            center,
+            Vec3::new(blender(half.x), blender(half.y), blender(half.z)),
+        )
+    }
+
+    /// The generated texture coordinate of `p` in the box of [`Scene::texture_space`]:
+    /// `0.5 + (p − centre) / (2 · half)` per axis, the box spanning [0, 1]³.
+    pub fn generated(&self, p: Vec3) -> Vec3 {
+        let (center, half) = self.texture_space();
+        Vec3::splat(0.5) + (p - center) / (2.0 * half)
+    }
+
     /// The mesh that carries the material: the ball's UV sphere (`segments`) or card, the water
     /// plane at `y = 0` as a grid of `size` and `grid` cells (uv 0..1, `u` along `+x`, `v`
     /// along `-z`), or with `lod` the quadtree grid for the camera ([`WaterLod::mesh`]), or

@@ -277,9 +277,10 @@ impl Scene {
         packed
     }
 
-    /// The `MgrFrame` uniform (448 bytes) of a `width × height` pass: the camera, the sky,
+    /// The `MgrFrame` uniform (480 bytes) of a `width × height` pass: the camera, the sky,
     /// the ambient cube, the counts, for `pass` the mirror and the clip plane, the tile and
-    /// jitter of `view`, the environment and the scene texture slots.
+    /// jitter of `view`, the environment, the scene texture slots and the material surface's
+    /// texture space.
     pub(crate) fn frame_uniform(
         &self,
         packed: &PackedScene,
@@ -367,7 +368,11 @@ impl Scene {
         w.extend([mode, cos, sin, intensity]);
         let slots = [if packed.features.backdrop { 6u32 } else { 0 }, 0, 0, 0];
         w.extend(slots.map(f32::from_bits));
-        debug_assert_eq!(w.len(), 112);
+        let (center, half) = self.texture_space();
+        w.extend([
+            center.x, center.y, center.z, 0.0, half.x, half.y, half.z, 0.0,
+        ]);
+        debug_assert_eq!(w.len(), 120);
         bytemuck::cast_slice(&w).to_vec()
     }
 }

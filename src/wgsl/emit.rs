@@ -1665,5 +1665,9 @@ pub fn fragment_location(a: Attribute) -> u32 {
         Attribute::UvDy => 10,
         Attribute::Tangent => 11,
         Attribute::BitangentSign => 12,
+        Attribute::Generated => 13,
+        Attribute::Reflection => 14,
+        Attribute::Window => 15,
+        Attribute::Camera => 16,
     }
 }

@@ -62,8 +62,10 @@ struct MgLight {
 }
 ";
 
-/// The default hooks: a module may replace this text with its own definitions of the two
-/// functions (same signatures), e.g. shadows and the water depth of a scene.
+/// The default hooks: a module may replace this text with its own definitions of the four
+/// functions (same signatures), e.g. shadows and the water depth of a scene, and the
+/// `generated` and `camera` attributes (the surface's texture space, the camera's frame),
+/// which the defaults leave at the attributes' defaults.
 pub const DEFAULT_HOOKS_WGSL: &str = "\
 // mg-hooks: begin
 fn mg_light_visibility(index: u32, position: vec3<f32>, to_light: vec3<f32>, distance: f32) -> f32 {
@@ -73,7 +75,36 @@ fn mg_light_visibility(index: u32, position: vec3<f32>, to_light: vec3<f32>, dis
 fn mg_surface_depth(position: vec3<f32>) -> f32 {
     return 0.0;
 }
+
+fn mg_generated(position: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.5);
+}
+
+fn mg_camera(position: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(0.0, 0.0, 1.0);
+}
 // mg-hooks: end
+";
+
+/// The unit direction from the surface to the eye (the `view` attribute), `n` where the eye
+/// is on the surface.
+const VIEW_WGSL: &str = "select(n, normalize(mg_frame.camera_position - v.position), \
+     dot(mg_frame.camera_position - v.position, mg_frame.camera_position - v.position) > 0.0)";
+
+/// The `reflection` attribute: the view mirrored about the normal (Cycles' tex_coord).
+const REFLECTION_WGSL: &str = "\
+fn mg_reflection(n: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    return 2.0 * dot(n, view) * n - view;
+}
+
+";
+
+/// The `window` attribute from the screen position: Blender's window, (0, 0) bottom left.
+const WINDOW_WGSL: &str = "\
+fn mg_window(s: vec2<f32>) -> vec3<f32> {
+    return vec3<f32>(s.x, 1.0 - s.y, 0.0);
+}
+
 ";
 
 /// `MgVertexOut`, the varyings of `mg_vertex` → `mg_fragment`: interpolated at the pixel
@@ -385,6 +416,13 @@ pub(super) fn emit_entries(
         super::emit::float_literal(LIGHT_MIN_DISTANCE)
     );
 
+    if has(Attribute::Reflection) {
+        out.push_str(REFLECTION_WGSL);
+    }
+    if has(Attribute::Window) {
+        out.push_str(WINDOW_WGSL);
+    }
+
     // The fragment entry.
     out.push_str(
         "@fragment\nfn mg_fragment(v: MgVertexOut) -> @location(0) vec4<f32> {\n\
@@ -399,11 +437,7 @@ pub(super) fn emit_entries(
         let e = match a {
             Attribute::Position => "v.position".to_owned(),
             Attribute::Normal => "n".to_owned(),
-            Attribute::View => {
-                "select(n, normalize(mg_frame.camera_position - v.position), \
-                 dot(mg_frame.camera_position - v.position, mg_frame.camera_position - v.position) > 0.0)"
-                    .to_owned()
-            }
+            Attribute::View => VIEW_WGSL.to_owned(),
             // Without lights: towards +y, no radiance (the CPU G-buffer's convention).
             Attribute::Light => "vec3<f32>(0.0, 1.0, 0.0)".to_owned(),
             Attribute::LightColor => "vec3<f32>(0.0)".to_owned(),
@@ -417,6 +451,13 @@ pub(super) fn emit_entries(
             Attribute::UvDy => "dpdyFine(v.uv)".to_owned(),
             Attribute::Tangent => "mg_tangent(n, v.tangent.xyz)".to_owned(),
             Attribute::BitangentSign => "select(-1.0, 1.0, v.tangent.w >= 0.0)".to_owned(),
+            // Cycles' svm_node_tex_coord: 2 (N · V) N − V.
+            Attribute::Reflection => format!("mg_reflection(n, {VIEW_WGSL})"),
+            // Blender's window: (0, 0) bottom left; through the screen position's expression
+            // (which the rasteriser replaces with the frame's).
+            Attribute::Window => "mg_window(v.clip.xy / mg_frame.viewport)".to_owned(),
+            Attribute::Generated => "mg_generated(v.position)".to_owned(),
+            Attribute::Camera => "mg_camera(v.position)".to_owned(),
             Attribute::Time => continue,
         };
         let _ = writeln!(out, "    g.{} = {e};", a.name());

@@ -733,3 +733,47 @@ fn the_tangent_frame_draws_alike_on_the_gpu_rasteriser() {
         );
     }
 }
+
+/// A graph whose emission is `texture_coordinate.{output}` · `scale` + `offset`.
+fn texture_coordinate_graph(output: &str, scale: [f32; 3], offset: [f32; 3]) -> Graph {
+    let text = serde_json::json!({
+        "version": 1, "name": format!("tc_{output}"),
+        "nodes": [
+            { "id": "tc", "type": "texture_coordinate" },
+            { "id": "s", "type": "mul", "inputs": { "a": { "link": format!("tc.{output}") }, "b": scale } },
+            { "id": "o", "type": "add", "inputs": { "a": { "link": "s.result" }, "b": offset } }
+        ],
+        "outputs": [ { "name": "emission", "from": "o.result" } ]
+    });
+    Graph::from_json(&text.to_string(), Registry::builtin()).unwrap()
+}
+
+/// texture_coordinate's scene-derived outputs (generated from the texture space in
+/// `MgrFrame`, camera from its frame, reflection from N and V, window from the frame's
+/// screen position) draw alike on the GPU rasteriser at 1 and 4 samples, mapped into [0, 1].
+#[test]
+fn texture_coordinates_draw_alike_on_the_gpu_rasteriser() {
+    if gpu_context("texture_coordinates_draw_alike_on_the_gpu_rasteriser").is_none() {
+        return;
+    }
+    let mut scene = Scene::preset("ball").unwrap();
+    scene.camera.position = [1.3, 0.9, 2.6];
+    let mask = edge_mask(&scene, &scene.material_mesh());
+    let cases = [
+        ("generated", [1.0; 3], [0.0; 3]),
+        ("camera", [0.4, 0.4, 0.15], [0.5, 0.5, 0.0]),
+        ("reflection", [0.5; 3], [0.5; 3]),
+        ("window", [1.0; 3], [0.0; 3]),
+    ];
+    for (output, scale, offset) in cases {
+        let graph = texture_coordinate_graph(output, scale, offset);
+        for spp in [1, 4] {
+            let (cpu, _) =
+                render_timed(&graph, &scene, &options(&graph, None, spp, Backend::Cpu)).unwrap();
+            let (gpu, t) =
+                render_timed(&graph, &scene, &options(&graph, None, spp, Backend::Gpu)).unwrap();
+            assert_eq!(t.fallback, None);
+            assert_parity(output, spp, &cpu, &gpu, &mask);
+        }
+    }
+}

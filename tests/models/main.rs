@@ -22,6 +22,8 @@ mod registry_stability;
 mod skin;
 mod sunshine;
 mod tangents;
+mod texture_coordinate;
 mod thin_film;
 mod toon_water;
 mod transmission;
+mod triplanar;

@@ -14,7 +14,9 @@ use glam::{Mat4, Vec4};
 
 /// The scene's definitions of the contract's hooks, with `scene.wgsl` (group 1) that they
 /// read: a light is visible where none of the scene's own casters stands between
-/// (columns.rs light_at), and the `depth` attribute is the water depth; for a scene with
+/// (columns.rs light_at), the `depth` attribute is the water depth, `generated` the
+/// position in the surface's texture space (`Scene::generated`) and `camera` in the camera's
+/// frame (as the CPU G-buffer); for a scene with
 /// `features`.
 pub(super) fn hooks(features: &crate::scene::SceneFeatures) -> String {
     format!(
@@ -28,6 +30,13 @@ pub(super) fn hooks(features: &crate::scene::SceneFeatures) -> String {
          }}\n\n\
          fn mg_surface_depth(position: vec3<f32>) -> f32 {{\n\
          \x20   return mgr_water_depth(position);\n\
+         }}\n\n\
+         fn mg_generated(position: vec3<f32>) -> vec3<f32> {{\n\
+         \x20   return vec3<f32>(0.5) + (position - mgr_frame.tex_center.xyz) / (2.0 * mgr_frame.tex_half.xyz);\n\
+         }}\n\n\
+         fn mg_camera(position: vec3<f32>) -> vec3<f32> {{\n\
+         \x20   let d = position - mgr_frame.origin;\n\
+         \x20   return vec3<f32>(dot(d, mgr_frame.right), dot(d, mgr_frame.up), dot(d, mgr_frame.forward));\n\
          }}\n",
         super::scene_source(features)
     )

@@ -51,6 +51,9 @@ struct MgrFrame {
     env: vec4<f32>,
     // Scene texture slots: x the environment image, y the bubble backdrop's first map.
     slots: vec4<u32>,
+    // The material surface's texture space (Scene::texture_space): centre and half size.
+    tex_center: vec4<f32>,
+    tex_half: vec4<f32>,
 }
 
 // Prepared light (src/scene/shade.rs Prepared): kind.x 0 directional, 1 point;
