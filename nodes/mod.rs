@@ -46,3 +46,10 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_voronoi::all());
     v
 }
+
+// Blender's Color Ramp, Float Curve and RGB Curves (issue 36 item 5), and the kernel adapter
+// their 35–70 inputs need. Not in `all()` yet: the CPU executor runs at most 16 inputs a node
+// (src/exec.rs), and these nodes have more.
+pub mod color_ramp;
+pub mod curves;
+pub mod wide;

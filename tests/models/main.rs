@@ -16,6 +16,7 @@ mod optics_reference;
 mod param_ranges;
 mod pbr;
 mod physics_pointwise;
+mod ramps;
 mod registry_stability;
 mod skin;
 mod sunshine;
