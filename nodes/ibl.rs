@@ -149,7 +149,7 @@ fn ggx_half_vector(u: Vec2, a2: f32) -> (Vec3, f32) {
 /// An orthonormal frame `(t, b)` completing unit `n` (Duff et al. 2017, "Building an
 /// Orthonormal Basis, Revisited", JCGT 6(1); the f32 twin of `scene::ibl`'s).
 #[inline]
-fn frame(n: Vec3) -> (Vec3, Vec3) {
+pub fn frame(n: Vec3) -> (Vec3, Vec3) {
     let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;

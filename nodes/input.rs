@@ -101,8 +101,24 @@ fn geometry() -> NodeType {
             .unit("m")
             .doc("Depth below the water surface (0 above it)."),
     )
+    .output(
+        Out::vec3("tangent").doc("Unit tangent T: where u grows (MikkTSpace), orthogonal to N."),
+    )
+    .output(
+        Out::float("bitangent_sign")
+            .doc("±1: v grows along bitangent_sign · (N × T); −1 where uvs are mirrored."),
+    )
     .attributes(&[
-        Position, Normal, View, Light, Uv, LightColor, ScreenUv, Depth,
+        Position,
+        Normal,
+        View,
+        Light,
+        Uv,
+        LightColor,
+        ScreenUv,
+        Depth,
+        Tangent,
+        BitangentSign,
     ])
     .compute(|| {
         (
@@ -114,6 +130,8 @@ fn geometry() -> NodeType {
             Vec3::ONE,
             Vec2::splat(0.5),
             0.0f32,
+            Vec3::X,
+            1.0f32,
         )
     })
 }

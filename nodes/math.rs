@@ -377,6 +377,23 @@ fn $fn(v0: $T) -> $T {
 }
 "#;
 
+/// [`normalize`] of a vec3 as a WGSL helper, `mg_normalize3`, for nodes that normalise inside
+/// their own function (the same rescaling and zero rule as the `normalize` node).
+pub const NORMALIZE3_WGSL: &str = r#"
+fn mg_normalize3(v0: vec3<f32>) -> vec3<f32> {
+    let s = dot(abs(v0), vec3<f32>(0.25));
+    var v = v0;
+    if (s > 1e18 || (s < 1e-18 && s > 0.0)) {
+        v = v0 / s;
+    }
+    let l = sqrt(dot(v, v));
+    if (l > 0.0 && l <= 0x1.fffffep+127f) {
+        return v * (1.0 / l);
+    }
+    return vec3<f32>(0.0);
+}
+"#;
+
 /// WGSL of [`length`], rescaled like the Rust.
 const LENGTH_WGSL: &str = r#"
 fn $fn(v: $T) -> f32 {

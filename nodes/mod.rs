@@ -1,15 +1,20 @@
 //! The node library, one module per family. Each node type keeps its declaration, CPU
 //! compute and hard cases together; [`all()`](crate::nodes::all) lists them for the registry.
 
+pub mod blender_brick;
+pub mod blender_magic;
 pub mod blender_noise;
 pub mod blender_voronoi;
+pub mod blender_wave;
 pub mod bubble;
 pub mod ibl;
 pub mod image;
 pub mod input;
+pub mod mapping;
 pub mod math;
 pub mod math_scalar;
 pub mod math_vector;
+pub mod normal_map;
 pub mod optics;
 pub mod pbr;
 pub mod precise;
@@ -44,6 +49,11 @@ pub fn all() -> Vec<NodeType> {
     // so types added at the end leave every earlier type's samples where they were.
     v.extend(blender_noise::all());
     v.extend(blender_voronoi::all());
+    v.extend(mapping::all());
+    v.extend(normal_map::all());
+    v.extend(blender_wave::all());
+    v.extend(blender_brick::all());
+    v.extend(blender_magic::all());
     v
 }
 

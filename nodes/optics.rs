@@ -500,7 +500,7 @@ pub fn all() -> Vec<NodeType> {
                  grazing, F = 1, where the polynomial would exceed 1.",
             )
             .input(In::float("cos_theta", 1.0).range(0.0, 1.0).doc("Cosine of the angle of incidence (use cosθt from the dense side)."))
-            .input(In::generic("f0", 0.04).range(0.0, 1.0).doc("Reflectance at normal incidence."))
+            .input(In::generic("f0", 0.04).range(0.0, 1.0).hard(0.0, 1.0).doc("Reflectance at normal incidence: a fraction (per channel for a colour)."))
             .output(Out::generic("reflectance").doc("Approximate reflectance."))
             .wgsl(SCHLICK_WGSL)
             .hard_case("grazing", &grazing("cos_theta"))

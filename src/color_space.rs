@@ -18,6 +18,13 @@
 //! when the image is read in its file type's default space, else the path and `#` and the
 //! space (`textures/brick_height.png#data`), so that one file read in two spaces is two
 //! textures.
+//!
+//! Keys are unambiguous because the image paths that would make them ambiguous are refused
+//! when a graph is loaded ([`texture_key_conflict`]): a path with `|` (a file `a.png|b.png`
+//! would have the key of the mip chain `["a.png", "b.png"]`), a path ending in `#` and a
+//! space's name (a file `a.png#data` would have the key of `a.png` read as data), and a mip
+//! level named `scene:…` (a one-level chain `["scene:refraction"]` would have the key of the
+//! scene texture).
 
 use serde::{Deserialize, Serialize};
 
@@ -86,6 +93,40 @@ impl ColorSpace {
             None => (key, Self::default_for(key)),
         }
     }
+}
+
+/// Why the image paths of `source` would give a texture key that another source also has
+/// (see the module doc), in words for the user; `None` where its key is its own.
+pub fn texture_key_conflict(source: &crate::document::TextureSource) -> Option<String> {
+    use crate::document::TextureSource;
+    let chain = matches!(source, TextureSource::MipChain(_));
+    source.files().into_iter().find_map(|path| {
+        if path.contains('|') {
+            let levels: Vec<String> = path.split('|').map(|l| format!("\"{l}\"")).collect();
+            Some(format!(
+                "texture '{path}': an image path may not contain '|', which joins the levels of \
+                 a mip chain in texture keys (the file would share its key with the chain [{}]): \
+                 rename the file",
+                levels.join(", ")
+            ))
+        } else if let Some((head, space)) = path.rsplit_once('#')
+            && ColorSpace::parse(space).is_some()
+        {
+            Some(format!(
+                "texture '{path}': an image path may not end in '#{space}', which marks the \
+                 colour space in texture keys (the file would share its key with '{head}' read \
+                 with \"color_space\": \"{space}\"): rename the file"
+            ))
+        } else if chain && path.starts_with(TextureSource::SCENE) {
+            Some(format!(
+                "texture level '{path}': a mip level may not start with '{}', which names the \
+                 renderer's scene textures: rename the file",
+                TextureSource::SCENE
+            ))
+        } else {
+            None
+        }
+    })
 }
 
 impl std::fmt::Display for ColorSpace {

@@ -1008,6 +1008,15 @@ impl Builder<'_> {
             }),
             _ => {}
         }
+        if t.evaluation() == Evaluation::Texture
+            && let Some(src) = &n.texture
+            && let Some(message) = crate::color_space::texture_key_conflict(src)
+        {
+            self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message,
+            });
+        }
         match (&n.texture, n.color_space) {
             (None, Some(_)) if t.evaluation() != Evaluation::Texture => self.errors.push(GraphError::BadTexture {
                 node: n.id.clone(),

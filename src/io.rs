@@ -6,11 +6,15 @@
 //!   a FIFO never blocks.
 //! - **Writing** ([`write_atomic`]) replaces the target atomically and keeps what it
 //!   replaces intact: through symlinks (the link's target is written, the link stays),
-//!   never over a non-regular file (a device, a FIFO, a folder: refused), keeping the
-//!   replaced file's mode and, where allowed, its owner. The temporary file lives in the
-//!   target's folder as `.NAME.XXXXXX.matgraph-tmp`; it is removed on every error path,
-//!   and one left behind by a killed process is removed by the next write to the same
-//!   target once it is [`STALE_TEMP_AGE`] old.
+//!   never over a non-regular file (a device, a FIFO, a folder: refused) nor over one the
+//!   user could not write (no write bit, or not writable by this user: refused), keeping
+//!   the replaced file's mode and owner; a file with several hard links, or whose owner
+//!   cannot be kept, is written in place instead. The temporary file lives in the
+//!   target's folder as `.NAME.PID.XXXXXX.matgraph-tmp`; it is removed on every error
+//!   path, and one left behind by a killed process is removed by the next write to the
+//!   same target once it is [`STALE_TEMP_AGE`] old and its process is gone.
+//! - **Identity** ([`file_identity`]): whether two paths name the same file, for commands
+//!   that refuse to write over their own inputs.
 //! - **Confinement** ([`resolve_reference`]): files a graph refers to (textures, a scene
 //!   file, an environment image) must lie inside the graph file's folder, after
 //!   canonicalisation (symlinks followed), unless the caller allows any path.
@@ -218,9 +222,11 @@ impl crate::group::GroupFiles for FileGroups {
     }
 }
 
-/// Age after which a temporary file left by a killed write is removed by the next write
-/// to the same target.
-pub const STALE_TEMP_AGE: Duration = Duration::from_secs(3600);
+/// Age after which a temporary file of [`write_atomic`] whose writer is gone is removed by
+/// the next write to (or [`sweep_stale_temps`] of) the same target. A writer writes its
+/// temporary from bytes it holds, so a live write refreshes the file's modification time
+/// far more often than this.
+pub const STALE_TEMP_AGE: Duration = Duration::from_secs(60);
 
 /// Suffix of the temporary files of [`write_atomic`].
 const TEMP_SUFFIX: &str = ".matgraph-tmp";
@@ -244,20 +250,61 @@ fn write_target(path: &Path) -> std::io::Result<PathBuf> {
     Err(std::io::Error::other("too many levels of symbolic links"))
 }
 
-/// Removes temporaries of `name` in `dir` older than [`STALE_TEMP_AGE`].
+/// The folder and file name a write to `target` (symlinks resolved) works in.
+fn folder_and_name(target: &Path) -> (&Path, String) {
+    let dir = target
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = target
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("file")
+        .to_owned();
+    (dir, name)
+}
+
+/// The id of the process that made temporary `file_name` of target `name`, `Some(None)`
+/// for one made before temporaries carried it (`.NAME.XXXXXX.matgraph-tmp`), `None` for a
+/// file that is not a temporary of `name` (`.NAME.PID.XXXXXX.matgraph-tmp`; the random
+/// part has no dot, so another target's temporaries, `.NAME.bak.…`, never match).
+fn temp_writer(file_name: &str, name: &str) -> Option<Option<u32>> {
+    let rest = file_name
+        .strip_prefix('.')?
+        .strip_prefix(name)?
+        .strip_prefix('.')?
+        .strip_suffix(TEMP_SUFFIX)?;
+    match rest.split_once('.') {
+        None if !rest.is_empty() => Some(None),
+        Some((pid, random))
+            if !random.is_empty()
+                && !random.contains('.')
+                && !pid.is_empty()
+                && pid.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            Some(pid.parse().ok())
+        }
+        _ => None,
+    }
+}
+
+/// Whether process `pid` is alive, as far as `/proc` tells (where there is no `/proc`,
+/// every writer counts as gone and the age alone decides).
+fn process_alive(pid: u32) -> bool {
+    Path::new("/proc/self").exists() && Path::new("/proc").join(pid.to_string()).exists()
+}
+
+/// Removes the temporaries of `name` in `dir` that are stale: at least [`STALE_TEMP_AGE`]
+/// old and not made by a process that is still alive.
 fn remove_stale_temps(dir: &Path, name: &str) {
-    let prefix = format!(".{name}.");
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
     for entry in entries.flatten() {
         let file_name = entry.file_name();
-        let Some(n) = file_name.to_str() else {
+        let Some(writer) = file_name.to_str().and_then(|n| temp_writer(n, name)) else {
             continue;
         };
-        if !(n.starts_with(&prefix) && n.ends_with(TEMP_SUFFIX)) {
-            continue;
-        }
         let old = entry
             .metadata()
             .ok()
@@ -265,17 +312,74 @@ fn remove_stale_temps(dir: &Path, name: &str) {
             .and_then(|m| m.modified().ok())
             .and_then(|t| t.elapsed().ok())
             .is_some_and(|age| age >= STALE_TEMP_AGE);
-        if old {
+        let held = writer.is_some_and(|pid| pid != std::process::id() && process_alive(pid));
+        if old && !held {
             let _ = std::fs::remove_file(entry.path());
         }
     }
 }
 
-/// Writes `contents` to `path` atomically (a temporary file in the target's folder,
-/// synced, then renamed over it), so a crash never leaves a half-written file. A symlink
-/// is written through (its target is replaced, the link kept); a non-regular target (a
-/// device, a FIFO, a folder) is refused; the replaced file's mode, and its owner where the
-/// process may set it, are kept. See the module doc for the temporary files.
+/// Removes the stale temporaries a killed write to `path` left (see [`write_atomic`])
+/// without writing it: what `matgraph fmt` does for a file that is already canonical.
+pub fn sweep_stale_temps(path: &Path) {
+    if let Ok(target) = write_target(path) {
+        let (dir, name) = folder_and_name(&target);
+        remove_stale_temps(dir, &name);
+    }
+}
+
+/// Refuses to replace `target` (described by `meta`) where the user could not write it in
+/// place: a file without any write permission bit (refused even for root, as `cp -i` and
+/// `rm` ask first), or one this process cannot open for writing (owned by another user).
+fn check_writable(target: &Path, meta: &std::fs::Metadata) -> std::io::Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let mode = meta.mode() & 0o7777;
+    if mode & 0o222 == 0 {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            format!(
+                "{} is read-only (mode {mode:04o}); refusing to replace it (make it writable first: chmod u+w)",
+                target.display()
+            ),
+        ));
+    }
+    // The kernel's own access check: open for writing, without truncating or creating.
+    match std::fs::OpenOptions::new().write(true).open(target) {
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied => Err(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            format!(
+                "{} is not writable by this user (owner uid {}, mode {mode:04o}); refusing to replace it",
+                target.display(),
+                meta.uid()
+            ),
+        )),
+        Err(e) => Err(std::io::Error::new(
+            e.kind(),
+            format!("cannot write {}: {e}", target.display()),
+        )),
+    }
+}
+
+/// Writes `contents` to `path`, so a crash never leaves a half-written file where that can
+/// be kept together with what the file is:
+///
+/// - **Replaced atomically** (the usual case): a temporary file in the target's folder,
+///   synced, then renamed over it; the replaced file's mode and owner are kept.
+/// - **Written in place** where a rename would change what the file is: a target with more
+///   than one hard link (a rename would cut it from the other names), or one whose owner
+///   and group this process cannot give the new file (another user's file it may write).
+///   The contents are first written and synced to the temporary file, then copied over the
+///   target (not truncated first: the file is cut to the new length after the copy) and
+///   synced, as vim's `backupcopy=auto` does. A crash during the copy can leave the target
+///   part new, part old; the full contents are then in the temporary file.
+/// - **Refused**: a non-regular target (a device, a FIFO, a folder); a target without any
+///   write permission bit (even for root); a target this process cannot open for writing.
+///
+/// A symlink is written through (its target is written, the link kept). Temporary files are
+/// `.NAME.PID.XXXXXX.matgraph-tmp`; one is removed on every error path, and one left by a
+/// killed process is removed by the next write to the same target (or
+/// [`sweep_stale_temps`]) once it is [`STALE_TEMP_AGE`] old and its process is gone.
 pub fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> std::io::Result<()> {
     use std::io::Write;
     write_atomic_with(path, |f| f.write_all(contents.as_ref()))
@@ -293,30 +397,23 @@ fn write_atomic_with(
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         Err(e) => return Err(e),
     };
-    if let Some(m) = &existing
-        && !m.is_file()
-    {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!(
-                "{} is {}, not a regular file; refusing to replace it",
-                target.display(),
-                file_kind(m)
-            ),
-        ));
+    if let Some(m) = &existing {
+        if !m.is_file() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!(
+                    "{} is {}, not a regular file; refusing to replace it",
+                    target.display(),
+                    file_kind(m)
+                ),
+            ));
+        }
+        check_writable(&target, m)?;
     }
-    let dir = target
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = target
-        .file_name()
-        .and_then(|n| n.to_str())
-        .unwrap_or("file")
-        .to_owned();
+    let (dir, name) = folder_and_name(&target);
     remove_stale_temps(dir, &name);
     // New files get 0666 less the umask, as `File::create` would.
-    let prefix = format!(".{name}.");
+    let prefix = format!(".{name}.{}.", std::process::id());
     let mut tmp = tempfile::Builder::new()
         .prefix(&prefix)
         .suffix(TEMP_SUFFIX)
@@ -324,18 +421,67 @@ fn write_atomic_with(
         .tempfile_in(dir)?;
     // From here on, dropping `tmp` on an error removes it.
     write(tmp.as_file_mut())?;
+    let mut in_place = false;
     if let Some(m) = &existing {
         let file = tmp.as_file();
         file.set_permissions(std::fs::Permissions::from_mode(m.mode() & 0o7777))?;
-        // Keeping the owner needs privileges; without them the file is the writer's.
+        // Keeping the owner needs privileges (or only the group changes, to one of ours).
         let _ = std::os::unix::fs::fchown(file, Some(m.uid()), Some(m.gid()));
+        let made = file.metadata()?;
+        in_place = m.nlink() > 1 || (made.uid(), made.gid()) != (m.uid(), m.gid());
     }
     tmp.as_file().sync_all()?;
+    if in_place {
+        copy_in_place(tmp.as_file_mut(), &target)?;
+        return Ok(());
+    }
     tmp.persist(&target).map_err(|e| e.error)?;
     if let Ok(d) = std::fs::File::open(dir) {
         let _ = d.sync_all();
     }
     Ok(())
+}
+
+/// Copies all of `from` (rewound) over the start of `target`, cuts `target` to that length
+/// and syncs it: the in-place write of [`write_atomic`].
+fn copy_in_place(from: &mut std::fs::File, target: &Path) -> std::io::Result<()> {
+    use std::io::Seek;
+    from.seek(std::io::SeekFrom::Start(0))?;
+    let mut out = std::fs::OpenOptions::new().write(true).open(target)?;
+    let n = std::io::copy(from, &mut out)?;
+    out.set_len(n)?;
+    out.sync_all()
+}
+
+/// What a path names, to tell whether two paths are the same file: an existing file's
+/// device and inode (so symlinks and hard links to one file are one), else where it would
+/// be created (symlinks followed, the folders that exist canonicalised).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum FileIdentity {
+    /// An existing file.
+    Existing {
+        /// The device it is on.
+        device: u64,
+        /// Its inode.
+        inode: u64,
+    },
+    /// A file yet to be written, by its planned canonical path.
+    Planned(PathBuf),
+}
+
+/// The [`FileIdentity`] of `path`.
+pub fn file_identity(path: &Path) -> FileIdentity {
+    use std::os::unix::fs::MetadataExt;
+    match std::fs::metadata(path) {
+        Ok(m) => FileIdentity::Existing {
+            device: m.dev(),
+            inode: m.ino(),
+        },
+        Err(_) => {
+            let target = write_target(path).unwrap_or_else(|_| path.to_owned());
+            FileIdentity::Planned(canonical_or_planned(&target))
+        }
+    }
 }
 
 /// Saves a graph as pretty, deterministic JSON, atomically.
@@ -493,6 +639,37 @@ mod tests {
         write_atomic(&target, "new").unwrap();
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
         assert_eq!(names(dir.path()), ["g.json"]);
+    }
+
+    #[test]
+    fn temporaries_are_told_by_target_and_writer() {
+        let t = |f: &str| temp_writer(f, "g.json");
+        assert_eq!(t(".g.json.4242.Ab3dEf.matgraph-tmp"), Some(Some(4242)));
+        assert_eq!(t(".g.json.Ab3dEf.matgraph-tmp"), Some(None));
+        // Another target's (g.json.bak), new and old style; other files.
+        assert_eq!(t(".g.json.bak.4242.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".g.json.bak.x.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".g.json..matgraph-tmp"), None);
+        assert_eq!(t(".g.json.4242.Ab3dEf"), None);
+        assert_eq!(t("g.json.4242.Ab3dEf.matgraph-tmp"), None);
+        assert_eq!(t(".h.json.4242.Ab3dEf.matgraph-tmp"), None);
+    }
+
+    #[test]
+    fn identity_sees_through_links_and_plans_new_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a");
+        std::fs::write(&a, "x").unwrap();
+        std::fs::hard_link(&a, dir.path().join("h")).unwrap();
+        std::os::unix::fs::symlink("a", dir.path().join("s")).unwrap();
+        std::os::unix::fs::symlink("new", dir.path().join("dangling")).unwrap();
+        let id = |n: &str| file_identity(&dir.path().join(n));
+        assert_eq!(id("a"), id("h"));
+        assert_eq!(id("a"), id("s"));
+        assert_ne!(id("a"), id("new"));
+        assert_eq!(id("new"), id("sub/../new"));
+        assert_eq!(id("new"), id("dangling"));
+        assert!(matches!(id("new"), FileIdentity::Planned(_)));
     }
 
     #[test]

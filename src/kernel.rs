@@ -210,6 +210,8 @@ impl_outputs_tuple!(5; A 0, B 1, C 2, D 3, E 4);
 impl_outputs_tuple!(6; A 0, B 1, C 2, D 3, E 4, F 5);
 impl_outputs_tuple!(7; A 0, B 1, C 2, D 3, E 4, F 5, G 6);
 impl_outputs_tuple!(8; A 0, B 1, C 2, D 3, E 4, F 5, G 6, H 7);
+impl_outputs_tuple!(9; A 0, B 1, C 2, D 3, E 4, F 5, G 6, H 7, I 8);
+impl_outputs_tuple!(10; A 0, B 1, C 2, D 3, E 4, F 5, G 6, H 7, I 8, J 9);
 
 /// A whole-tile kernel: what the executor calls once per node per tile.
 pub trait TileKernel: Send + Sync {

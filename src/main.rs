@@ -62,11 +62,16 @@ fn main() -> ExitCode {
         #[cfg(feature = "editor")]
         Command::Edit(args) => cli::edit::run(&args),
     };
+    // What is still buffered; a full disk or closed pipe shows here at the latest.
+    let result = result.and_then(|()| cli::out::flush_stdout());
+    if cli::out::stdout_closed() {
+        return ExitCode::from(cli::out::BROKEN_PIPE_STATUS);
+    }
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             if !message.is_empty() {
-                eprintln!("{message}");
+                cli::out::stderr_fmt(format_args!("{message}\n"));
             }
             ExitCode::FAILURE
         }

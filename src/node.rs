@@ -349,10 +349,18 @@ pub enum Attribute {
     /// `y₀ = y & !1`, on the triangle's plane. On the water plane seen from above (v along −z, the
     /// far side at the top of the image) `∂v/∂y < 0`. (0, 0) when the caller supplies none.
     UvDy,
+    /// Unit surface tangent T, the direction in which u grows, orthogonal to
+    /// [`Attribute::Normal`]: the mesh's MikkTSpace tangent (Mikkelsen 2008) interpolated and
+    /// made orthogonal to the shading normal (`scene::orthonormal_tangent`). (1, 0, 0) when
+    /// the caller supplies none.
+    Tangent,
+    /// The bitangent sign s (±1): the direction in which v grows is `s · (N × T)` (−1 where
+    /// the uvs are mirrored). 1 when the caller supplies none.
+    BitangentSign,
 }
 
 /// Every attribute, in declaration order.
-pub const ALL_ATTRIBUTES: [Attribute; 11] = [
+pub const ALL_ATTRIBUTES: [Attribute; 13] = [
     Attribute::Position,
     Attribute::Normal,
     Attribute::View,
@@ -364,6 +372,8 @@ pub const ALL_ATTRIBUTES: [Attribute; 11] = [
     Attribute::Time,
     Attribute::UvDx,
     Attribute::UvDy,
+    Attribute::Tangent,
+    Attribute::BitangentSign,
 ];
 
 impl Attribute {
@@ -381,6 +391,8 @@ impl Attribute {
             Attribute::Time => "time",
             Attribute::UvDx => "uv_dx",
             Attribute::UvDy => "uv_dy",
+            Attribute::Tangent => "tangent",
+            Attribute::BitangentSign => "bitangent_sign",
         }
     }
     /// Parses a name written by [`Attribute::name`].
@@ -394,7 +406,7 @@ impl Attribute {
                 SocketType::Vec2
             }
             Attribute::LightColor => SocketType::Color,
-            Attribute::Time | Attribute::Depth => SocketType::Float,
+            Attribute::Time | Attribute::Depth | Attribute::BitangentSign => SocketType::Float,
             _ => SocketType::Vec3,
         }
     }
@@ -404,7 +416,8 @@ impl Attribute {
     }
     /// The value used when the caller supplies none: the origin, a +z normal, view and
     /// light straight above (normal incidence), uv and screen uv (0.5, 0.5), white light,
-    /// depth 0, time 0, uv derivatives (0, 0).
+    /// depth 0, time 0, uv derivatives (0, 0), tangent +x with sign 1 (the frame of the +z
+    /// normal whose u grows along x and v along y).
     pub const fn default_value(self) -> Value {
         match self {
             Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
@@ -413,6 +426,8 @@ impl Attribute {
             Attribute::LightColor => Value::color([1.0, 1.0, 1.0]),
             Attribute::Depth | Attribute::Time => Value::float(0.0),
             Attribute::UvDx | Attribute::UvDy => Value::vec2([0.0, 0.0]),
+            Attribute::Tangent => Value::vec3([1.0, 0.0, 0.0]),
+            Attribute::BitangentSign => Value::float(1.0),
         }
     }
 }

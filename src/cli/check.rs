@@ -23,8 +23,8 @@ pub fn run(args: &Args) -> CliResult {
             Ok(t) => t,
             Err(e) => {
                 failed += 1;
-                println!("{}: 1 error", f.display());
-                eprintln!("{e}");
+                outln!("{}: 1 error", f.display())?;
+                errln!("{e}");
                 continue;
             }
         };
@@ -42,42 +42,42 @@ pub fn run(args: &Args) -> CliResult {
         match result {
             Ok((g, errors)) if !errors.is_empty() => {
                 failed += 1;
-                println!("{}: {}", f.display(), count(errors.len(), "error"));
+                outln!("{}: {}", f.display(), count(errors.len(), "error"))?;
                 let _ = g;
                 for e in errors {
-                    eprintln!("{}: {e}", f.display());
+                    errln!("{}: {e}", f.display());
                 }
             }
             Ok((g, _)) if g.outputs().is_empty() && g.nodes().is_empty() && library.is_some() => {
                 let groups = library.as_ref().map_or(0, |d| d.groups.len());
-                println!(
+                outln!(
                     "{}: ok (a library of {})",
                     f.display(),
                     count(groups, "group")
-                );
+                )?;
             }
             Ok((g, _)) if g.outputs().is_empty() => {
                 failed += 1;
-                println!("{}: 1 error", f.display());
-                eprintln!(
+                outln!("{}: 1 error", f.display())?;
+                errln!(
                     "{}: the graph has no outputs: add one to \"outputs\" (render and eval need one)",
                     f.display()
                 );
             }
-            Ok((g, _)) => println!(
+            Ok((g, _)) => outln!(
                 "{}: ok ({}, {})",
                 f.display(),
                 count(g.nodes().len(), "node"),
                 count(g.outputs().len(), "output")
-            ),
+            )?,
             Err(errors) => {
                 failed += 1;
                 let e = GraphErrors {
                     source: f.clone(),
                     errors,
                 };
-                println!("{}: {}", f.display(), count(e.errors.len(), "error"));
-                eprintln!("{e}");
+                outln!("{}: {}", f.display(), count(e.errors.len(), "error"))?;
+                errln!("{e}");
             }
         }
     }

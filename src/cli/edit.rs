@@ -61,16 +61,21 @@ pub fn run(args: &Args) -> CliResult {
             },
         )?;
         editor::files::save(file, &graph.to_json())?;
-        println!(
+        outln!(
             "{}: arranged {} nodes",
             file.display(),
             doc.doc().nodes.len()
-        );
+        )?;
         return Ok(());
     }
     let Some(out) = &args.screenshot else {
         return editor::run_window(args.file.as_deref()).map_err(|e| e.to_string());
     };
+    let mut files = super::outputs::Files::default();
+    if let Some(file) = &args.file {
+        files.input(file, format!("the graph {}", file.display()))?;
+    }
+    files.output(out, "--screenshot output")?;
     let mut state = editor::state_for(args.file.as_deref()).map_err(|e| e.to_string())?;
     // A screenshot shows the file as it is: no recovery prompt.
     state.dialog = None;
@@ -83,12 +88,12 @@ pub fn run(args: &Args) -> CliResult {
         .map_err(|e| format!("matgraph edit --screenshot: {e}"))?;
     let rgb: Vec<[u8; 3]> = rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect();
     matgraph::image_io::save_rgb8(out, w, h, &rgb).map_err(|e| e.to_string())?;
-    println!(
+    outln!(
         "{} -> {} ({w}x{h})",
         args.file
             .as_ref()
             .map_or("untitled".into(), |f| f.display().to_string()),
         out.display()
-    );
+    )?;
     Ok(())
 }

@@ -30,7 +30,7 @@ pub struct Args {
     pub variants: Vec<String>,
     /// For each variant set, pick the cheapest choice whose node-space max abs error against
     /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E")]
+    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
     pub max_error: Option<f64>,
     /// Outputs to print (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
@@ -142,8 +142,13 @@ pub fn run(args: &Args) -> CliResult {
                     })?;
                 n.inputs.insert(input.to_owned(), value);
             } else if let Some(a) = Attribute::from_name(name) {
-                let v = Value::from_json(a.ty(), &value)
-                    .ok_or_else(|| format!("--set {name}: expected a {} value", a.ty()))?;
+                let v = Value::from_json(a.ty(), &value).ok_or_else(|| {
+                    format!(
+                        "--set {name}: expected a {} value{}",
+                        a.ty(),
+                        super::flags::set_value_hint(&value)
+                    )
+                })?;
                 attrs.push((a, v));
             } else {
                 params.push((name.to_owned(), value));
@@ -172,7 +177,7 @@ pub fn run(args: &Args) -> CliResult {
     };
     let plan = Plan::compile(&graph, &options).map_err(|e| format!("{}: {e}", source.display()))?;
     if args.explain {
-        eprint!("{}", plan.listing());
+        err!("{}", plan.listing());
     }
     let mut values = plan.default_parameters();
     for (name, json) in &params {
@@ -192,8 +197,13 @@ pub fn run(args: &Args) -> CliResult {
                     source.display()
                 )
             })?;
-        let v = Value::from_json(ty, json)
-            .ok_or_else(|| format!("{}: --set {name}: expected a {ty} value", source.display()))?;
+        let v = Value::from_json(ty, json).ok_or_else(|| {
+            format!(
+                "{}: --set {name}: expected a {ty} value{}",
+                source.display(),
+                super::flags::set_value_hint(json)
+            )
+        })?;
         values
             .set(name, v)
             .map_err(|e| format!("{}: {e}", source.display()))?;
@@ -221,22 +231,23 @@ pub fn run(args: &Args) -> CliResult {
     let out = plan
         .execute(&batch, &values)
         .map_err(|e| format!("{}: {e}", source.display()))?;
-    print_outputs(&out, json);
-    Ok(())
+    print_outputs(&out, json)
 }
 
-fn print_outputs(out: &OutputBatch, json: bool) {
+/// Prints the outputs of sample 0, as text or one JSON object.
+fn print_outputs(out: &OutputBatch, json: bool) -> CliResult {
     if json {
         let mut map = serde_json::Map::new();
         for (k, name) in out.names().iter().enumerate() {
             map.insert(name.clone(), json_value(&out.value(k, 0), out.ty(k)));
         }
-        println!("{}", serde_json::Value::Object(map));
+        outln!("{}", serde_json::Value::Object(map))
     } else {
         let width = out.names().iter().map(|n| n.len()).max().unwrap_or(0);
         for (k, name) in out.names().iter().enumerate() {
-            println!("{name:<width$} = {}  ({})", out.value(k, 0), out.ty(k));
+            outln!("{name:<width$} = {}  ({})", out.value(k, 0), out.ty(k))?;
         }
+        Ok(())
     }
 }
 

@@ -20,8 +20,9 @@ pub struct Args {
 }
 
 /// Rewrites (or, with `--check`, reports) every file that is not canonical; without
-/// `--check` every file gets a line saying what was done. A symlinked graph is rewritten
-/// through the link (its target changes, the link stays).
+/// `--check` every file gets a line saying what was done, and a canonical one still loses
+/// the stale temporaries a killed write left beside it ([`matgraph::io::sweep_stale_temps`]).
+/// A symlinked graph is rewritten through the link (its target changes, the link stays).
 pub fn run(args: &Args) -> CliResult {
     let (files, check_only) = (&args.files, args.check);
     let mut differing = 0;
@@ -44,16 +45,18 @@ pub fn run(args: &Args) -> CliResult {
         };
         if canonical == current {
             if !check_only {
-                println!("{}: already canonical", f.display());
+                // A killed write's stale temporaries go, as a rewrite would remove them.
+                matgraph::io::sweep_stale_temps(f);
+                outln!("{}: already canonical", f.display())?;
             }
         } else {
             differing += 1;
             if check_only {
-                println!("{}: not canonical", f.display());
+                outln!("{}: not canonical", f.display())?;
             } else {
                 matgraph::io::write_atomic(f, &canonical)
                     .map_err(|e| format!("{}: {e}", f.display()))?;
-                println!("{}: rewritten", f.display());
+                outln!("{}: rewritten", f.display())?;
             }
         }
     }

@@ -1,12 +1,17 @@
 //! The commands of the `matgraph` binary, one file each, and what they share.
 
+#[macro_use]
+pub mod out;
+
 pub mod check;
 #[cfg(feature = "editor")]
 pub mod edit;
 pub mod env;
 pub mod eval;
+pub mod flags;
 pub mod fmt;
 pub mod nodes;
+pub mod outputs;
 pub mod render;
 pub mod report;
 pub mod scene;

@@ -17,18 +17,18 @@ pub fn run(args: &Args) -> CliResult {
     let types = registry().types();
     if json {
         let list: Vec<serde_json::Value> = types.iter().map(|t| node_json(t)).collect();
-        print!(
+        out!(
             "{}",
             matgraph::pretty::to_string(&serde_json::Value::Array(list))
-        );
+        )?;
         return Ok(());
     }
     for t in types {
-        println!("{} [{}] — {}", t.name(), t.category(), t.summary());
-        println!("    {}", t.source_doc());
+        outln!("{} [{}] — {}", t.name(), t.category(), t.summary())?;
+        outln!("    {}", t.source_doc())?;
         if t.is_generic() {
             let ts: Vec<&str> = t.generic_types().iter().map(|t| t.name()).collect();
-            println!("    T ∈ {{{}}}", ts.join(", "));
+            outln!("    T ∈ {{{}}}", ts.join(", "))?;
         }
         for i in t.inputs() {
             let mut extra = String::new();
@@ -44,13 +44,13 @@ pub fn run(args: &Args) -> CliResult {
             if !i.choices.is_empty() {
                 extra += &format!(" choices: {}", i.choices.join(", "));
             }
-            println!(
+            outln!(
                 "    in  {:<14} {:<6} = {:<18}{extra} — {}",
                 i.name,
                 i.ty.to_string(),
                 i.default.to_string(),
                 i.doc
-            );
+            )?;
         }
         for o in t.outputs() {
             let unit = if o.unit.is_empty() {
@@ -58,15 +58,15 @@ pub fn run(args: &Args) -> CliResult {
             } else {
                 format!(" ({})", o.unit)
             };
-            println!(
+            outln!(
                 "    out {:<14} {:<6}{unit} — {}",
                 o.name,
                 o.ty.to_string(),
                 o.doc
-            );
+            )?;
         }
-        println!("    muted: {}", t.muted_rule());
-        println!();
+        outln!("    muted: {}", t.muted_rule())?;
+        outln!()?;
     }
     Ok(())
 }

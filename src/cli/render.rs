@@ -4,7 +4,7 @@ use super::{CliResult, count, graph_textures, load_graph_with, path_policy, spli
 use matgraph::Value;
 use matgraph::image_io::SaveFormat;
 use matgraph::render::MEMORY_BUDGET;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Bytes per pixel the command holds besides the render itself: the 8-bit image (3) and
 /// its encoded file (3, an upper bound for PNG and JPEG of rendered images); with EXR, the
@@ -41,8 +41,8 @@ pub struct Args {
     /// else ball.
     #[arg(long)]
     pub scene: Option<String>,
-    /// Scene time in seconds (the scene's own time by default).
-    #[arg(long)]
+    /// Scene time in seconds (the scene's own time by default); a finite number.
+    #[arg(long, value_parser = super::flags::finite_f32, allow_negative_numbers = true)]
     pub time: Option<f32>,
     /// Samples per pixel (stratified, box-filtered).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
@@ -63,8 +63,9 @@ pub struct Args {
     /// Also write the linear HDR image as OpenEXR next to each PNG.
     #[arg(long)]
     pub exr: bool,
-    /// Exposure in stops applied before tone mapping.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Exposure in stops applied before tone mapping, -64 to 64.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true,
+          value_parser = super::flags::exposure)]
     pub exposure: f32,
     /// Override a parameter: NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
@@ -74,7 +75,7 @@ pub struct Args {
     pub variants: Vec<String>,
     /// For each variant set, pick the cheapest choice whose node-space max abs error against
     /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E")]
+    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
     pub max_error: Option<f64>,
     /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
     /// an animated PNG (APNG) of all of them.
@@ -85,7 +86,8 @@ pub struct Args {
         long,
         value_name = "FPS",
         requires = "frames",
-        allow_negative_numbers = true
+        allow_negative_numbers = true,
+        value_parser = super::flags::finite_f32
     )]
     pub fps: Option<f32>,
     /// Read textures, scene files and environment images outside the graph's folder.
@@ -109,6 +111,35 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("{w}x{h}: each side must be 1 to 16384"));
     }
     Ok((w, h))
+}
+
+/// Every file the render of one graph to `target` writes: the image (or, with `frames`,
+/// the numbered stills and the animation), and with `exr` (or an `.exr` target) the EXR
+/// beside each still.
+fn written_files(
+    target: &Path,
+    frames: Option<&matgraph::render::frames::Frames>,
+    exr: bool,
+) -> Result<Vec<PathBuf>, String> {
+    use matgraph::render::frames::Frames;
+    let stills: Vec<PathBuf> = match frames {
+        Some(f) => (0..f.count).map(|k| Frames::numbered(target, k)).collect(),
+        None => vec![target.to_owned()],
+    };
+    let mut out = Vec::new();
+    for still in stills {
+        let format = SaveFormat::from_path(&still).map_err(|e| e.to_string())?;
+        if format != SaveFormat::Exr {
+            out.push(still.clone());
+        }
+        if exr || format == SaveFormat::Exr {
+            out.push(still.with_extension("exr"));
+        }
+    }
+    if frames.is_some() {
+        out.push(target.to_owned());
+    }
+    Ok(out)
 }
 
 /// A progress spinner on stderr that appears only once the work has taken a second.
@@ -168,7 +199,10 @@ pub fn run(args: &Args) -> CliResult {
     for s in &args.sets {
         let (name, json) = split_set(s)?;
         let v = Value::infer_json(&json).ok_or_else(|| {
-            format!("--set {s}: expected a number, an array of 2-4 numbers or a bool")
+            format!(
+                "--set {s}: expected a number, an array of 2-4 numbers or a bool{}",
+                super::flags::set_value_hint(&json)
+            )
         })?;
         parameters.push((name.to_owned(), v));
     }
@@ -239,6 +273,46 @@ pub fn run(args: &Args) -> CliResult {
             }
         ));
     }
+    // Where each graph's image goes, and nothing written over an input or written twice.
+    let targets: Vec<Option<PathBuf>> = args
+        .files
+        .iter()
+        .map(|file| {
+            let stem = file.file_stem().and_then(|s| s.to_str()).unwrap_or("graph");
+            let single = if several { None } else { sheet_path.clone() };
+            single.or_else(|| out_dir.as_ref().map(|d| d.join(format!("{stem}.png"))))
+        })
+        .collect();
+    let mut files = super::outputs::Files::default();
+    for file in &args.files {
+        files.input(file, format!("the input graph {}", file.display()))?;
+    }
+    if let Some((spec, scene)) = &forced
+        && matgraph::scene::Scene::preset(spec).is_none()
+    {
+        files.input(Path::new(spec), format!("the --scene file {spec}"))?;
+        if let matgraph::scene::Environment::Image(img) = &scene.environment {
+            let path = matgraph::image_io::resolve_relative(Path::new(spec), Path::new(&img.path));
+            files.input(
+                &path,
+                format!("the environment image {} of {spec}", img.path),
+            )?;
+        }
+    }
+    for (file, target) in args.files.iter().zip(&targets) {
+        let Some(target) = target else { continue };
+        for p in written_files(target, frames.as_ref(), args.exr)? {
+            let what = if args.out.is_some() && &p == target {
+                "-o output".to_owned()
+            } else {
+                format!("output of {}", file.display())
+            };
+            files.output(&p, what)?;
+        }
+    }
+    if several && let Some(sheet) = &sheet_path {
+        files.output(sheet, "contact sheet")?;
+    }
     if let Some(d) = &out_dir {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
@@ -253,10 +327,11 @@ pub fn run(args: &Args) -> CliResult {
     progress.set_length(args.files.len() as u64 * frame_count as u64);
     let mut tiles = Vec::new();
     let mut failures = Vec::new();
-    for file in &args.files {
+    for (file, target) in args.files.iter().zip(&targets) {
         progress.set_message(file.display().to_string());
         let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
             let graph = load_graph_with(file, &args.variants)?;
+            files.graph_inputs(&graph, file)?;
             let graph = super::report::apply_max_error(
                 graph,
                 file,
@@ -279,7 +354,7 @@ pub fn run(args: &Args) -> CliResult {
                     let time = frames.is_none().then(|| args.time.unwrap_or(scene.time));
                     let s = matgraph::specialise::for_scene(&graph, &scene, time, mode == "approx")
                         .map_err(|e| format!("{}: {e}", file.display()))?;
-                    progress.suspend(|| eprint!("{}", s.listing()));
+                    progress.suspend(|| err!("{}", s.listing()));
                     s.graph
                 }
             };
@@ -307,13 +382,7 @@ pub fn run(args: &Args) -> CliResult {
                     .map(Some)
                     .collect(),
             };
-            let stem = file
-                .file_stem()
-                .and_then(|s| s.to_str())
-                .unwrap_or("graph")
-                .to_owned();
-            let single = if several { None } else { sheet_path.clone() };
-            let target = single.or_else(|| out_dir.as_ref().map(|d| d.join(format!("{stem}.png"))));
+            let target = target.clone();
             let mut animation = match (&frames, &target) {
                 (Some(f), Some(_)) => {
                     Some(Apng::new(args.size.0, args.size.1, f).map_err(|e| e.to_string())?)
@@ -333,7 +402,7 @@ pub fn run(args: &Args) -> CliResult {
                 if k == 0
                     && let Some(why) = &timings.fallback
                 {
-                    progress.suspend(|| eprintln!("note: {}: {why}", file.display()));
+                    progress.suspend(|| errln!("note: {}: {why}", file.display()));
                 }
                 let elapsed = start.elapsed();
                 let image = hdr.to_srgb8(args.exposure);
@@ -368,7 +437,7 @@ pub fn run(args: &Args) -> CliResult {
                         .map(|t| format!(", t = {t} s"))
                         .filter(|_| frames.is_some());
                     progress.suspend(|| {
-                        println!(
+                        outln!(
                             "{} -> {} ({}x{}, {} spp, {}, {:.2} s{})",
                             file.display(),
                             names.join(" + "),
@@ -383,7 +452,7 @@ pub fn run(args: &Args) -> CliResult {
                             elapsed.as_secs_f64(),
                             at.unwrap_or_default()
                         )
-                    });
+                    })?;
                 }
                 if let Some(a) = &mut animation {
                     a.push(&image).map_err(|e| e.to_string())?;
@@ -400,22 +469,27 @@ pub fn run(args: &Args) -> CliResult {
                 matgraph::io::write_atomic(out, &bytes)
                     .map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
                 progress.suspend(|| {
-                    println!(
+                    outln!(
                         "{} -> {} (animated PNG, {}, {} fps)",
                         file.display(),
                         out.display(),
                         count(f.count as usize, "frame"),
                         f.fps
                     )
-                });
+                })?;
             }
             let image = first.ok_or("no frame rendered")?;
             Ok((graph.name.clone(), image))
         })();
         match result {
             Ok(tile) => tiles.push(tile),
+            // Standard output failed (closed, full): stop, with its message only (see `out`).
+            Err(e) if super::out::stdout_failed() => {
+                progress.finish_and_clear();
+                return Err(e);
+            }
             Err(e) => {
-                progress.suspend(|| eprintln!("{e}"));
+                progress.suspend(|| errln!("{e}"));
                 failures.push(file.display().to_string());
             }
         }
@@ -431,11 +505,11 @@ pub fn run(args: &Args) -> CliResult {
         let sheet = sheet::contact_sheet(&tiles);
         matgraph::image_io::save_rgb8(path, sheet.width, sheet.height, &sheet.pixels)
             .map_err(|e| e.to_string())?;
-        println!(
+        outln!(
             "contact sheet of {} -> {}",
             count(tiles.len(), "graph"),
             path.display()
-        );
+        )?;
     }
     if failures.is_empty() {
         Ok(())

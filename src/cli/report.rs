@@ -10,7 +10,9 @@ use matgraph::report::measure::{
     abs_error, cpu_ns_per_sample, expression_count, image_error, node_samples, radiance,
     radiance_plan,
 };
-use matgraph::report::{FamilyReport, Settings, VariantRow, index, markdown, plot};
+use matgraph::report::{
+    FamilyReport, Settings, VariantRow, index as markdown_index, markdown, plot,
+};
 use matgraph::texture::TextureSet;
 use matgraph::{Graph, GraphDocument, GraphErrors};
 use std::path::{Path, PathBuf};
@@ -50,11 +52,11 @@ pub struct Args {
     /// Render size, WxH [default: 192x192; 32x32 with --quick].
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Node-space samples [default: 16384; 1024 with --quick].
-    #[arg(long)]
-    pub samples: Option<usize>,
-    /// Timing repeats, the best taken [default: 7; 2 with --quick].
-    #[arg(long)]
+    /// Node-space samples, 1 to 262144 [default: 16384; 1024 with --quick].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=super::flags::MAX_REPORT_SAMPLES))]
+    pub samples: Option<u64>,
+    /// Timing repeats, the best taken, 1 to 1000 [default: 7; 2 with --quick].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=super::flags::MAX_REPORT_REPEATS as i64))]
     pub repeats: Option<u32>,
 }
 
@@ -147,7 +149,7 @@ pub fn apply_max_error(
         .map(|s| super::split_variant(s))
         .collect::<Result<Vec<_>, _>>()?;
     if graph.variants().is_empty() {
-        eprintln!(
+        errln!(
             "{}: --max-error: the graph declares no variants; nothing to pick",
             file.display()
         );
@@ -158,7 +160,7 @@ pub fn apply_max_error(
         matgraph::report::pick::pick_variants(&graph, registry(), &selection, e, Some(textures))
             .map_err(|e| at(&e))?;
     for p in &picks {
-        eprintln!("{}: {}", file.display(), p.explain(e));
+        errln!("{}: {}", file.display(), p.explain(e));
         selection.push((p.variant.clone(), p.choice.clone()));
     }
     graph.select(registry(), &selection).map_err(|errors| {
@@ -289,7 +291,7 @@ fn family_report(
     let mut measured = Vec::new();
     for v in f.variants {
         let m = measure(args, plan, v)?;
-        println!(
+        outln!(
             "{}/{}: {} expressions{}{}",
             f.name,
             v.name,
@@ -300,7 +302,7 @@ fn family_report(
             m.gpu_ms
                 .map(|t| format!(", {t:.2} ms/frame GPU"))
                 .unwrap_or_default()
-        );
+        )?;
         measured.push(m);
     }
     let reference = measured
@@ -383,8 +385,7 @@ pub fn run(args: &Args) -> CliResult {
             .unwrap_or(if args.quick { (32, 32) } else { (192, 192) }),
         samples: args
             .samples
-            .unwrap_or(if args.quick { 1024 } else { 16384 })
-            .max(1),
+            .map_or(if args.quick { 1024 } else { 16384 }, |n| n as usize),
         repeats: timed.then(|| args.repeats.unwrap_or(if args.quick { 2 } else { 7 })),
         gpu,
     };
@@ -397,6 +398,25 @@ pub fn run(args: &Args) -> CliResult {
         machine: timed.then(machine),
         gpu: gpu.map(gpu_label),
     };
+    // Nothing is written over a graph the families read, nor twice.
+    let mut files = super::outputs::Files::default();
+    for f in &families {
+        for v in f.variants {
+            let graph = args.graphs.join(v.graph);
+            files.input(&graph, format!("the graph {}", graph.display()))?;
+        }
+    }
+    let index = args.families.is_empty() || !args.out.join("README.md").exists();
+    for f in &families {
+        for ext in ["md", "json", "svg", "png"] {
+            let path = args.out.join(format!("{}.{ext}", f.name));
+            files.output(&path, format!("report file {}", path.display()))?;
+        }
+    }
+    if index {
+        let path = args.out.join("README.md");
+        files.output(&path, format!("report index {}", path.display()))?;
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let mut reports = Vec::new();
     for f in families {
@@ -416,16 +436,16 @@ pub fn run(args: &Args) -> CliResult {
         let rgb: Vec<[u8; 3]> = rgb.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
         matgraph::image_io::save_rgb8(&png, PLOT_SIZE.0, PLOT_SIZE.1, &rgb)
             .map_err(|e| e.to_string())?;
-        println!(
+        outln!(
             "{} -> {}/{}.md, .json, .svg, .png",
             r.name,
             args.out.display(),
             r.name
-        );
+        )?;
         reports.push(r);
     }
-    if args.families.is_empty() || !args.out.join("README.md").exists() {
-        write(&args.out, "README.md", index(&reports).as_bytes())?;
+    if index {
+        write(&args.out, "README.md", markdown_index(&reports).as_bytes())?;
     }
     Ok(())
 }

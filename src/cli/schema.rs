@@ -19,8 +19,7 @@ pub fn run(args: &Args) -> CliResult {
             matgraph::io::write_atomic(p, &text).map_err(|e| format!("{}: {e}", p.display()))
         }
         None => {
-            print!("{text}");
-            Ok(())
+            out!("{text}")
         }
     }
 }

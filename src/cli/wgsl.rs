@@ -30,7 +30,7 @@ pub struct Args {
     pub variants: Vec<String>,
     /// For each variant set, pick the cheapest choice whose node-space max abs error against
     /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E")]
+    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
     pub max_error: Option<f64>,
     /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
     #[arg(long = "output", value_name = "NODE.OUTPUT")]
@@ -62,7 +62,7 @@ pub fn specialised(
     let (scene, _) = super::scene::resolve(&graph, file, None, super::path_policy(false))?;
     let s = matgraph::specialise::for_scene(&graph, &scene, Some(scene.time), mode == "approx")
         .map_err(|e| format!("{}: {e}", file.display()))?;
-    eprint!("{}", s.listing());
+    err!("{}", s.listing());
     Ok(s.graph)
 }
 
@@ -82,6 +82,15 @@ pub fn run(args: &Args) -> CliResult {
     };
     let target = Target::from_name(&args.target)
         .ok_or_else(|| format!("unknown target '{}'", args.target))?;
+    // Nothing is written over the graph, the files it names, or the other output.
+    let mut files = super::outputs::Files::default();
+    files.input(file, format!("the input graph {}", file.display()))?;
+    if let Some(p) = &args.out {
+        files.output(p, "-o output")?;
+    }
+    if let Some(p) = &args.contract {
+        files.output(p, "--contract output")?;
+    }
     let bytes = if let Entry::Render(_) = entry {
         if args.bake || !args.outputs.is_empty() {
             return Err(at(
@@ -100,6 +109,7 @@ pub fn run(args: &Args) -> CliResult {
             args.max_error,
             super::path_policy(false),
         )?;
+        files.graph_inputs(&graph, file)?;
         let graph = specialised(graph, file, args.specialise.as_deref())?;
         let textures =
             matgraph::image_io::load_graph_textures(&graph, file).map_err(|e| e.to_string())?;
@@ -127,6 +137,7 @@ pub fn run(args: &Args) -> CliResult {
             args.max_error,
             super::path_policy(false),
         )?;
+        files.graph_inputs(&graph, file)?;
         let graph = specialised(graph, file, args.specialise.as_deref())?;
         let options = WgslOptions {
             plan: PlanOptions {
@@ -142,11 +153,6 @@ pub fn run(args: &Args) -> CliResult {
         Some(p) => {
             matgraph::io::write_atomic(p, &bytes).map_err(|e| format!("{}: {e}", p.display()))
         }
-        None => {
-            use std::io::Write;
-            std::io::stdout()
-                .write_all(&bytes)
-                .map_err(|e| e.to_string())
-        }
+        None => super::out::stdout_bytes(&bytes),
     }
 }

@@ -66,6 +66,9 @@ pub struct EditorApp {
     /// The instances entered when the last frame was drawn: a change shows the new
     /// level's nodes afresh.
     level: Vec<String>,
+    /// Lines drawn with the right button: cutting wires, adding reroutes
+    /// ([`super::line_tool`]).
+    line: super::line_tool::LineGesture,
 }
 
 impl EditorApp {
@@ -91,6 +94,7 @@ impl EditorApp {
             crisp: Default::default(),
             rejections: Default::default(),
             level: Vec::new(),
+            line: Default::default(),
         }
     }
 
@@ -317,6 +321,18 @@ impl EditorApp {
         self.level = level;
         self.prune_selection();
         let held = self.select.held_view(ui.ctx(), self.to_screen);
+        // The Blender keymap's right-drag lines and wheel zoom (super::keymap).
+        let busy = self.select.grabbing() || held.is_some();
+        let line = (self.line).begin(
+            ui.ctx(),
+            &mut self.state,
+            self.to_screen,
+            self.canvas_rect,
+            busy,
+        );
+        let keymap = self.state.settings.keymap();
+        let tool_view = line
+            .or_else(|| super::wheel::zoomed(ui.ctx(), keymap, self.to_screen, self.canvas_rect));
         let n = self.state.doc.doc().nodes.len();
         if self.revealed < n {
             // egui-snarl's node frame is the window frame (its shadow).
@@ -355,6 +371,8 @@ impl EditorApp {
             restore: None,
             pin_rows: Default::default(),
             rejections: &self.rejections,
+            pins: Default::default(),
+            collapsed: &self.state.collapsed,
         };
         let fit = if self.frame_in == 1 && self.revealed >= n && self.nodes_measured {
             let fit = match self.fit_whole {
@@ -389,7 +407,7 @@ impl EditorApp {
             self.zoom_to = None;
         }
         // While a box is drawn the view holds (egui-snarl's background drag pans).
-        viewer.set_transform = fit.or(held);
+        viewer.set_transform = fit.or(held).or(tool_view);
         let canvas = ui.max_rect();
         let style = SnarlStyle {
             collapsible: Some(false),
@@ -414,7 +432,8 @@ impl EditorApp {
                     i.pointer.latest_pos(),
                 )
             });
-            let next = handoff::predict(self.to_screen, zoom, scroll, pointer, canvas);
+            let next = tool_view
+                .unwrap_or_else(|| handoff::predict(self.to_screen, zoom, scroll, pointer, canvas));
             let mut keep = viewer.hand_over(next, &selected, pointer);
             // The Material Output node is no document node: in the overview it is handed
             // over only while selected (egui-snarl drawing it beside the stand-ins made
@@ -434,6 +453,7 @@ impl EditorApp {
             .as_ref()
             .map(|keep| keep.iter().filter(|&&k| k).count());
         let shown = part.as_mut().unwrap_or(&mut self.state.snarl);
+        super::collapse::apply(shown, &self.state.doc, &self.state.collapsed);
         // egui-snarl must not see Shift (its own selection stays empty, super::select_ui);
         // the viewer gives it back before any node is drawn.
         let hidden = SelectTool::hide_shift(ui.ctx());
@@ -493,6 +513,8 @@ impl EditorApp {
         {
             self.to_screen = t;
         }
+        let wire_slot = viewer.wires;
+        let pins = viewer.pins.pins();
         let mut actions = viewer.actions;
         // Clicks, a box selection, the selection dragged along, copies following the
         // pointer: before the moves below are written.
@@ -515,6 +537,17 @@ impl EditorApp {
             actions.retain(|a| !matches!(a, Action::Search { .. }));
             egui::Popup::close_all(ui.ctx());
         }
+        let lined = super::line_tool::Drawn {
+            wires: wire_slot,
+            pins: &pins,
+            canvas,
+        };
+        if self.line.after_canvas(ui.ctx(), &mut self.state, lined) {
+            // The line's release is no right-click: no menu.
+            actions.retain(|a| !matches!(a, Action::Search { .. }));
+            egui::Popup::close_all(ui.ctx());
+        }
+        super::frames_ui::click(ui.ctx(), &mut self.state, &drawn, self.to_screen, canvas);
         // Node moves (a drag is one undo step). While a file's nodes are being revealed the
         // laid-out places of nodes without a position wait for the last one: written one
         // per frame, each revalidated the document and regenerated its code (a 300-node
@@ -723,6 +756,7 @@ impl EditorApp {
 
     fn apply(&mut self, actions: Vec<Action>, ctx: &egui::Context) {
         let mut grouping = false;
+        let mut commands = Vec::new();
         let s = &mut self.state;
         for a in actions {
             match a {
@@ -787,7 +821,12 @@ impl EditorApp {
                 Action::GroupSelected => {
                     grouping = true;
                 }
+                Action::Command(c, id) => commands.push((c, id)),
             }
+        }
+        for (c, id) in commands {
+            let ids = super::node_commands::targets(&self.state, &id);
+            self.state.run_node_command(c, &ids);
         }
         if grouping {
             self.group_selected(ctx);
@@ -840,6 +879,11 @@ impl EditorApp {
         if self.select.grabbing() {
             // Escape and clicks end it (super::select_ui); nothing else meanwhile.
             return;
+        }
+        // M, H, Ctrl+J, Alt+P on the selection (super::keymap).
+        for c in super::keymap::node_commands(ctx) {
+            let ids = self.selected(ctx);
+            self.state.run_node_command(c, &ids);
         }
         let (search, tab, delete, duplicate) = ctx.input_mut(|i| {
             (
@@ -999,6 +1043,7 @@ impl EditorApp {
                 });
                 let instance = self.selected_instance(ui.ctx());
                 let mut asked = None;
+                let mut command = None;
                 ui.menu_button("Edit", |ui| {
                     if ui
                         .add_enabled(
@@ -1044,10 +1089,16 @@ impl EditorApp {
                     }
                     ui.separator();
                     asked = super::group_ui::menu(ui, &self.state, instance.as_deref());
+                    ui.separator();
+                    command = super::node_commands::menu(ui, &self.state);
                 });
                 if let Some(c) = asked {
                     let ctx = ui.ctx().clone();
                     self.group_command(c, &ctx);
+                }
+                if let Some(c) = command {
+                    let ids = self.state.selection.ids().to_vec();
+                    self.state.run_node_command(c, &ids);
                 }
                 ui.menu_button("View", |ui| {
                     if ui.button("Frame all  (Home)").clicked() {
@@ -1066,6 +1117,7 @@ impl EditorApp {
                     }
                     ui.checkbox(&mut self.state.code.open, "Generated code");
                     ui.checkbox(&mut self.state.preview.enabled, "Preview");
+                    super::node_commands::keymap_menu(ui, &mut self.state);
                 });
                 ui.separator();
                 ui.label(self.title());
@@ -1165,6 +1217,10 @@ impl EditorApp {
             ui.weak("Click a node's title to see its documentation.");
             return;
         };
+        if let Some(frame) = super::frames::focused(&id) {
+            super::frames_ui::panel(ui, &mut self.state, frame);
+            return;
+        }
         if id == OUTPUT_NODE {
             self.outputs_inspector(ui);
             return;

@@ -12,7 +12,12 @@
 //! type's, or a group instance's interface), [`undo`], [`state`] (every edit,
 //! files, autosave), [`view`], [`viewer`], [`pin_tips`] (pin placement and tooltips), [`cull`] and [`overview`] (the canvas), [`widgets`] (value editors), [`fields`] (their fixed-size number fields) and [`entry`] (typed values checked),
 //! [`selection`] and [`select_ui`] (the selection, by node id, and picking, box-selecting
-//! and moving nodes with the pointer), [`clipboard`] (copy and paste as graph JSON),
+//! and moving nodes with the pointer), [`keymap`] (the Blender and matgraph classic
+//! keymaps), [`node_commands`] (mute, collapse and frame commands, their menus),
+//! [`mute`], [`collapse`], [`frames`] and [`frames_ui`] (muted, collapsed and framed nodes),
+//! [`wheel`] (the wheel's zoom), [`line_tool`], [`wires`] and [`link_edits`] (cutting wires
+//! and adding reroutes with a line), [`settings`] (the editor's settings file),
+//! [`clipboard`] (copy and paste as graph JSON),
 //! [`layout`] (automatic node layout), [`search`] and [`search_ui`] (add-node search), [`code`] (generated code), [`crisp_text`] (the canvas' text rasterised at its zoom), [`preview`]
 //! (the live GPU preview) and [`preview_ui`] (its panel, the parameters panel), [`files`], [`first_view`] (where the canvas looks as a graph opens), [`glyphs`] (characters the fonts lack), [`app`] (the frame) and [`headless`] (screenshots).
 
@@ -20,12 +25,15 @@ pub mod app;
 pub mod browser;
 pub mod clipboard;
 pub mod code;
+pub mod collapse;
 pub mod crisp_text;
 pub mod cull;
 pub mod entry;
 pub mod fields;
 pub mod files;
 pub mod first_view;
+pub mod frames;
+pub mod frames_ui;
 pub mod glyphs;
 pub mod group_state;
 pub mod group_ui;
@@ -33,8 +41,13 @@ pub mod grouping;
 pub mod handoff;
 pub mod headless;
 pub mod interface;
+pub mod keymap;
 pub mod layout;
+pub mod line_tool;
+pub mod link_edits;
 pub mod model;
+pub mod mute;
+pub mod node_commands;
 pub mod outputs;
 pub mod overview;
 pub mod params;
@@ -47,6 +60,7 @@ pub mod search;
 pub mod search_ui;
 pub mod select_ui;
 pub mod selection;
+pub mod settings;
 pub mod stand_in;
 pub mod state;
 pub mod textures;
@@ -57,8 +71,10 @@ pub mod variants;
 pub mod variants_ui;
 pub mod view;
 pub mod viewer;
+pub mod wheel;
 pub mod widgets;
 pub mod wire_order;
+pub mod wires;
 
 pub use app::EditorApp;
 pub use state::EditorState;
@@ -167,6 +183,7 @@ pub fn run_window(file: Option<&Path>) -> Result<(), EditorError> {
         let _ = recent.push(f);
     }
     state.recent = Some(recent);
+    state.use_settings(settings::Settings::load(&settings::settings_path()));
     let app = EditorApp::new(state);
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default().with_inner_size([1400.0, 900.0]),

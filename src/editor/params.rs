@@ -13,7 +13,7 @@ use super::model::{EditorDoc, link_json, link_of};
 use super::outputs::{OUTPUT_NODE, valid_name};
 use super::widgets::current_lanes;
 use crate::document::{GraphDocument, NodeDocument, ParameterDocument};
-use crate::node::Attribute;
+use crate::node::{Attribute, PortType};
 use crate::types::SocketType;
 use crate::value::Value;
 use std::collections::BTreeMap;
@@ -125,7 +125,17 @@ pub fn exposable(doc: &EditorDoc, node: &str, input: &str) -> Result<Value, Stri
             "'{node}.{input}' is linked: disconnect it to expose its value"
         ));
     }
-    let generic = doc.generic(node).unwrap_or(SocketType::Float);
+    // A generic node's type comes from the compiled graph; while the graph does not compile
+    // (no outputs yet, say), from the literal written on this input, so that its value is
+    // kept (a colour f0 stays a colour).
+    let written = n.inputs.get(input);
+    let generic = doc
+        .generic(node)
+        .or_else(|| match decl.ty {
+            PortType::Generic => written.and_then(Value::infer_json).map(|v| v.ty()),
+            PortType::Fixed(_) => None,
+        })
+        .unwrap_or(SocketType::Float);
     let ty = decl.ty.resolve(generic);
     if !TYPES.contains(&ty) {
         return Err(format!(
@@ -133,7 +143,7 @@ pub fn exposable(doc: &EditorDoc, node: &str, input: &str) -> Result<Value, Stri
         ));
     }
     let default = decl.default_for(generic);
-    let lanes = current_lanes(decl, ty, n.inputs.get(input), &default);
+    let lanes = current_lanes(decl, ty, written, &default);
     Ok(Value::from_lanes(ty, &lanes))
 }
 

@@ -104,6 +104,11 @@ pub struct EditorState {
     /// Inside a group ([`super::scope`], Tab): the whole document and the levels entered;
     /// [`EditorState::doc`] is then the group's body.
     pub scope: Option<super::scope::Scope>,
+    /// The collapsed nodes (H, [`super::collapse`]): view state, undone with the document.
+    pub collapsed: super::collapse::Collapsed,
+    /// The editor's settings: the keymap, the collapsed nodes of each file
+    /// ([`super::settings`]; the window reads them from its file, tests keep theirs).
+    pub settings: super::settings::Settings,
 }
 
 /// Seconds between checks of the file for changes on disk.
@@ -140,6 +145,8 @@ impl EditorState {
             disk_time: None,
             checked_at: f64::NEG_INFINITY,
             scope: None,
+            collapsed: Default::default(),
+            settings: Default::default(),
         };
         state.offer_recovery();
         state
@@ -383,7 +390,7 @@ impl EditorState {
 
     /// Whether the document differs from the file.
     pub fn dirty(&self) -> bool {
-        self.root().canonical() != self.saved
+        self.root().canonical() != self.saved || self.collapsed.unsaved()
     }
 
     /// Applies `f` to the document as one undo step (`key`: consecutive edits with the same
@@ -407,6 +414,11 @@ impl EditorState {
         }
         match &result {
             Ok(_) if self.root().doc() != &before => {
+                let collapsed = self.collapsed.keys().clone();
+                let before = super::undo::Snapshot {
+                    doc: before,
+                    collapsed,
+                };
                 self.history.record(before, key);
                 if structural {
                     self.snarl = build_snarl(&self.doc);
@@ -500,9 +512,10 @@ impl EditorState {
 
     /// Undoes the last step.
     pub fn undo(&mut self) {
-        let current = self.root().doc().clone();
-        if let Some(doc) = self.history.undo(&current) {
-            self.replace_root(doc);
+        let current = self.snapshot();
+        if let Some(s) = self.history.undo(current) {
+            self.replace_root(s.doc);
+            self.collapsed.set_keys(s.collapsed);
             self.snarl = build_snarl(&self.doc);
             self.changed();
             self.status = Some("undone".into());
@@ -511,12 +524,21 @@ impl EditorState {
 
     /// Redoes the last undone step.
     pub fn redo(&mut self) {
-        let current = self.root().doc().clone();
-        if let Some(doc) = self.history.redo(&current) {
-            self.replace_root(doc);
+        let current = self.snapshot();
+        if let Some(s) = self.history.redo(current) {
+            self.replace_root(s.doc);
+            self.collapsed.set_keys(s.collapsed);
             self.snarl = build_snarl(&self.doc);
             self.changed();
             self.status = Some("redone".into());
+        }
+    }
+
+    /// The whole document and the collapsed nodes, as an undo step keeps them.
+    fn snapshot(&self) -> super::undo::Snapshot {
+        super::undo::Snapshot {
+            doc: self.root().doc().clone(),
+            collapsed: self.collapsed.keys().clone(),
         }
     }
 
@@ -554,6 +576,7 @@ impl EditorState {
                 self.disk_time = files::modified(path);
                 self.status = Some(format!("saved {}", path.display()));
                 self.remember(path);
+                self.save_collapsed(path);
             }
             Err(e) => self.status = Some(e.clone()),
         }
@@ -625,17 +648,20 @@ impl EditorState {
     }
 
     /// Becomes `s`, keeping the session: the preview (whether it is on, CPU only, its
-    /// worker; the variant choices it shows only for the same file, reloaded) and the
-    /// recent files.
+    /// worker; the variant choices it shows only for the same file, reloaded), the recent
+    /// files and the settings (the new file's collapsed nodes read from them).
     fn replace_keeping_session(&mut self, s: EditorState) {
         let mut preview = std::mem::take(&mut self.preview);
         if s.path.is_none() || s.path != self.path {
             preview.clear_variants();
         }
         let recent = self.recent.take();
+        let settings = std::mem::take(&mut self.settings);
         *self = s;
         self.preview = preview;
         self.recent = recent;
+        // The new file's collapsed nodes, as last saved.
+        self.use_settings(settings);
     }
 
     fn changed(&mut self) {

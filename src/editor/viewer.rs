@@ -112,6 +112,9 @@ pub enum Action {
     },
     /// Pick a texture node's image, or set its colour space ([`super::textures`]).
     Texture(super::textures::TextureAction),
+    /// Run a node command from this node's menu ([`super::node_commands`]): on the
+    /// selection when the node is in it, else on the node.
+    Command(super::keymap::NodeCommand, String),
 }
 
 /// What a node's preview swatch shows under its pins.
@@ -185,6 +188,10 @@ pub struct Viewer<'a> {
     pub pin_rows: PinRows,
     /// The values refused on the canvas, shown under their inputs ([`super::entry`]).
     pub rejections: &'a Rejections,
+    /// Where egui-snarl draws each pin this frame ([`super::wires`]).
+    pub pins: super::wires::PinPlaces,
+    /// The collapsed nodes ([`super::collapse`]): their pins without a wire are not drawn.
+    pub collapsed: &'a super::collapse::Collapsed,
 }
 
 /// The index [`Viewer::drawn`] gives the Material Output node (no document node).
@@ -322,20 +329,10 @@ impl Viewer<'_> {
             self.places.nodes.iter().map(|&(_, k, p)| (k, p)).collect();
         let font = egui::TextStyle::Body.resolve(style);
         for f in frames {
-            let rect = f
-                .nodes
-                .iter()
-                .filter_map(|id| {
-                    let k = self.doc.index(id)?;
-                    Some(self.estimate(k, *at.get(&k)?))
-                })
-                .fold(egui::Rect::NOTHING, egui::Rect::union);
-            if !rect.is_positive() {
+            let node = |k: usize| Some(self.estimate(k, *at.get(&k)?));
+            let Some(rect) = super::frames::rect(self.doc, f, node) else {
                 continue;
-            }
-            let rect = rect
-                .expand(FRAME_MARGIN)
-                .with_min_y(rect.min.y - FRAME_MARGIN - FRAME_LABEL);
+            };
             if !rect.intersects(*viewport) {
                 continue;
             }
@@ -384,9 +381,17 @@ impl Viewer<'_> {
         Culling::new(viewport, self.doc.doc().nodes.len(), nodes, wires)
     }
 
-    /// Document node `k`'s estimated rect at `pos` ([`super::layout::node_size`]).
+    /// Document node `k`'s estimated rect at `pos` ([`super::layout::node_size`]; a
+    /// collapsed node's header only).
     fn estimate(&self, k: usize, pos: egui::Pos2) -> egui::Rect {
-        let (w, h) = self.doc.node_sizes().get(k).copied().unwrap_or_default();
+        let (w, mut h) = self.doc.node_sizes().get(k).copied().unwrap_or_default();
+        let collapsed = self.doc.doc().nodes.get(k).is_some_and(|n| {
+            self.collapsed
+                .contains(&super::collapse::key(self.doc, &n.id))
+        });
+        if collapsed {
+            h = h.min(HEADER_HEIGHT);
+        }
         egui::Rect::from_min_size(pos, egui::vec2(w, h))
     }
 
@@ -853,10 +858,12 @@ pub const GROUP_COLOR: Color32 = Color32::from_rgb(0x3b, 0x59, 0x59);
 /// The header of a `switch` node (a variant set's switch): Blender's converter purple.
 pub const SWITCH_COLOR: Color32 = Color32::from_rgb(0x4a, 0x3b, 0x6b);
 
-/// A muted node's header colour: `c` greyed and darkened, as Blender draws muted nodes.
+/// A muted node's header colour: `c` blended half-way to red, as Blender draws a muted
+/// node's header (`UI_ThemeColorBlend(color_id, TH_REDALERT, 0.5f)` in node_draw, its
+/// default theme's alert red #ff0000).
 fn muted(c: Color32) -> Color32 {
-    let grey = |x: u8| ((u16::from(x) + 2 * 0x38) / 3) as u8;
-    Color32::from_rgb(grey(c.r()), grey(c.g()), grey(c.b()))
+    let half = |x: u8, y: u8| x.midpoint(y);
+    Color32::from_rgb(half(c.r(), 0xff), half(c.g(), 0), half(c.b(), 0))
 }
 
 /// A node frame's outline: red for a node with errors.
@@ -887,6 +894,116 @@ fn plain(frame: egui::Frame) -> egui::Frame {
         .shadow(egui::Shadow::NONE)
         .stroke(Stroke::NONE)
         .corner_radius(0)
+}
+
+impl Viewer<'_> {
+    /// Input pin `pin`'s row (its name, value editor, refusal) and pin.
+    fn input_pin(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
+        let id = self.id(snarl, pin.id.node).to_owned();
+        if id == OUTPUT_NODE {
+            return self.show_output_pin(pin.id.node, pin.id.input, ui);
+        }
+        let doc = self.doc;
+        let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
+            return PinInfo::default();
+        };
+        let ty = self.doc.port_type(&id, decl.ty);
+        let info = self.pin(&id, decl.ty);
+        if self.low_detail() || self.culled(&id) {
+            return info;
+        }
+        self.pin_rows.note(pin.id.node, true, pin.id.input, ui);
+        let rejected = self.rejections.get(&id, decl.name.as_ref());
+        // Compact editors: the bundled graphs' positions leave ~200 points per column.
+        ui.spacing_mut().slider_width = 40.0;
+        ui.spacing_mut().interact_size.x = 44.0;
+        // The row, and under it (in red) why the last value typed was refused.
+        ui.vertical(|ui| {
+            let row = ui.horizontal(|ui| {
+                // The label is drawn as a plain one (its colour unchanged); a click-sensing
+                // region over it opens the input's menu (expose as parameter, un-expose).
+                let label = ui.label(decl.name.as_ref());
+                let label = ui
+                    .interact(label.rect, label.id.with("menu"), egui::Sense::click())
+                    .on_hover_ui(|ui| {
+                        ui.label(tip(decl, ty, true));
+                    });
+                label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                // A switch's choices take links only (the loader refuses a literal there).
+                if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
+                    let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
+                    let ty = ty.unwrap_or(crate::types::SocketType::Float);
+                    let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
+                    let default = decl.default_for(generic);
+                    let lanes = current_lanes(decl, ty, written, &default);
+                    let edited = value_editor_checked(ui, decl, ty, &lanes, self.hard, true);
+                    if let Some(value) = edited.value {
+                        self.actions.push(Action::SetInput {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            value,
+                        });
+                    }
+                    if let Some(why) = edited.rejected {
+                        self.actions.push(Action::Reject {
+                            node: id.clone(),
+                            input: decl.name.clone().into_owned(),
+                            why,
+                        });
+                    }
+                    let r = edited.response;
+                    // Not on an enum's combo box: its popup and a context menu on its response
+                    // share one id (`response.id.with("popup")`), and the menu's close on a
+                    // primary click shut the list as it opened (wrap, filter could not be
+                    // chosen). An enum cannot be a parameter; the label keeps the menu.
+                    if decl.choices.is_empty() {
+                        r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
+                    }
+                }
+            });
+            if let Some(why) = rejected {
+                // Wrapped to the row's width, so that the node keeps its size.
+                let width = row.response.rect.width();
+                ui.scope(|ui| {
+                    ui.set_max_width(width);
+                    let text = egui::RichText::new(why).small().color(REFUSED_COLOR);
+                    ui.add(egui::Label::new(text).wrap());
+                });
+            }
+        });
+        info
+    }
+
+    /// Output pin `pin`'s row (its name) and pin.
+    fn output_pin(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
+        let id = self.id(snarl, pin.id.node).to_owned();
+        let doc = self.doc;
+        let Some(decl) = doc.ports(&id).and_then(|p| p.outputs.get(pin.id.output)) else {
+            return PinInfo::default();
+        };
+        if self.low_detail() || self.culled(&id) {
+            return self.pin(&id, decl.ty);
+        }
+        let ty = self.doc.port_type(&id, decl.ty);
+        self.pin_rows.note(pin.id.node, false, pin.id.output, ui);
+        // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
+        ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
+            ui.label(tip(decl, ty, false));
+        });
+        self.pin(&id, decl.ty)
+    }
+
+    /// `info`, drawn not at all when node `id` is collapsed and the pin holds no wire
+    /// (Blender's collapsed nodes show their wired sockets only).
+    fn unwired_hidden(&self, id: &str, unwired: bool, info: PinInfo) -> PinInfo {
+        let key = super::collapse::key(self.doc, id);
+        match unwired && self.collapsed.contains(&key) {
+            true => info
+                .with_fill(Color32::TRANSPARENT)
+                .with_stroke(Stroke::NONE),
+            false => info,
+        }
+    }
 }
 
 impl SnarlViewer<NodeView> for Viewer<'_> {
@@ -1055,99 +1172,27 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     #[allow(refining_impl_trait)]
-    fn show_input(&mut self, pin: &InPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
-        let id = self.id(snarl, pin.id.node).to_owned();
-        if id == OUTPUT_NODE {
-            return self.show_output_pin(pin.id.node, pin.id.input, ui);
-        }
-        let doc = self.doc;
-        let Some(decl) = doc.ports(&id).and_then(|p| p.inputs.get(pin.id.input)) else {
-            return PinInfo::default();
-        };
-        let ty = self.doc.port_type(&id, decl.ty);
-        let info = self.pin(&id, decl.ty);
-        if self.low_detail() || self.culled(&id) {
-            return info;
-        }
-        self.pin_rows.note(pin.id.node, true, pin.id.input, ui);
-        let rejected = self.rejections.get(&id, decl.name.as_ref());
-        // Compact editors: the bundled graphs' positions leave ~200 points per column.
-        ui.spacing_mut().slider_width = 40.0;
-        ui.spacing_mut().interact_size.x = 44.0;
-        // The row, and under it (in red) why the last value typed was refused.
-        ui.vertical(|ui| {
-            let row = ui.horizontal(|ui| {
-                // The label is drawn as a plain one (its colour unchanged); a click-sensing
-                // region over it opens the input's menu (expose as parameter, un-expose).
-                let label = ui.label(decl.name.as_ref());
-                let label = ui
-                    .interact(label.rect, label.id.with("menu"), egui::Sense::click())
-                    .on_hover_ui(|ui| {
-                        ui.label(tip(decl, ty, true));
-                    });
-                label.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
-                // A switch's choices take links only (the loader refuses a literal there).
-                if pin.remotes.is_empty() && !super::variants::is_switch(doc, &id) {
-                    let written = doc.node(&id).and_then(|n| n.inputs.get(decl.name.as_ref()));
-                    let ty = ty.unwrap_or(crate::types::SocketType::Float);
-                    let generic = doc.generic(&id).unwrap_or(crate::types::SocketType::Float);
-                    let default = decl.default_for(generic);
-                    let lanes = current_lanes(decl, ty, written, &default);
-                    let edited = value_editor_checked(ui, decl, ty, &lanes, self.hard, true);
-                    if let Some(value) = edited.value {
-                        self.actions.push(Action::SetInput {
-                            node: id.clone(),
-                            input: decl.name.clone().into_owned(),
-                            value,
-                        });
-                    }
-                    if let Some(why) = edited.rejected {
-                        self.actions.push(Action::Reject {
-                            node: id.clone(),
-                            input: decl.name.clone().into_owned(),
-                            why,
-                        });
-                    }
-                    let r = edited.response;
-                    // Not on an enum's combo box: its popup and a context menu on its response
-                    // share one id (`response.id.with("popup")`), and the menu's close on a
-                    // primary click shut the list as it opened (wrap, filter could not be
-                    // chosen). An enum cannot be a parameter; the label keeps the menu.
-                    if decl.choices.is_empty() {
-                        r.context_menu(|ui| self.input_pin_menu(ui, &id, decl.name.as_ref()));
-                    }
-                }
-            });
-            if let Some(why) = rejected {
-                // Wrapped to the row's width, so that the node keeps its size.
-                let width = row.response.rect.width();
-                ui.scope(|ui| {
-                    ui.set_max_width(width);
-                    let text = egui::RichText::new(why).small().color(REFUSED_COLOR);
-                    ui.add(egui::Label::new(text).wrap());
-                });
-            }
-        });
-        info
+    fn show_input(
+        &mut self,
+        pin: &InPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) -> super::wires::RecordedPin {
+        let info = self.input_pin(pin, ui, snarl);
+        let info = self.unwired_hidden(&snarl[pin.id.node].id, pin.remotes.is_empty(), info);
+        self.pins.wrap(pin.id.node, true, pin.id.input, info)
     }
 
     #[allow(refining_impl_trait)]
-    fn show_output(&mut self, pin: &OutPin, ui: &mut Ui, snarl: &mut Snarl<NodeView>) -> PinInfo {
-        let id = self.id(snarl, pin.id.node).to_owned();
-        let doc = self.doc;
-        let Some(decl) = doc.ports(&id).and_then(|p| p.outputs.get(pin.id.output)) else {
-            return PinInfo::default();
-        };
-        if self.low_detail() || self.culled(&id) {
-            return self.pin(&id, decl.ty);
-        }
-        let ty = self.doc.port_type(&id, decl.ty);
-        self.pin_rows.note(pin.id.node, false, pin.id.output, ui);
-        // The hover's text is made only when it shows (a 300-node canvas has ~900 pins).
-        ui.label(decl.name.as_ref()).on_hover_ui(|ui| {
-            ui.label(tip(decl, ty, false));
-        });
-        self.pin(&id, decl.ty)
+    fn show_output(
+        &mut self,
+        pin: &OutPin,
+        ui: &mut Ui,
+        snarl: &mut Snarl<NodeView>,
+    ) -> super::wires::RecordedPin {
+        let info = self.output_pin(pin, ui, snarl);
+        let info = self.unwired_hidden(&snarl[pin.id.node].id, pin.remotes.is_empty(), info);
+        self.pins.wrap(pin.id.node, false, pin.id.output, info)
     }
 
     fn has_body(&mut self, _: &NodeView) -> bool {
@@ -1265,6 +1310,18 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             return;
         }
         self.drawn.push((k, rect));
+        let passes = super::mute::passes(self.doc, &id);
+        if !passes.is_empty() && !self.low_detail() {
+            let zoom = self.to_screen.map_or(1.0, |t| t.scaling);
+            let pins = self.pins.of(node);
+            super::mute::paint_passthrough(
+                ui.painter(),
+                node,
+                &passes,
+                &pins,
+                2.0f32.max(1.0 / zoom),
+            );
+        }
         if self.low_detail() {
             let key = self.look_key(k);
             self.looks.frame(k, info.pos, rect, key);
@@ -1465,6 +1522,8 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             self.actions.push(Action::GroupSelected);
             ui.close();
         }
+        super::node_commands::node_menu(ui, self.doc, &id, &mut self.actions);
+        ui.separator();
         if ui.button("Duplicate").clicked() {
             self.actions.push(Action::Duplicate(vec![id.clone()]));
             ui.close();

@@ -3,7 +3,9 @@
 //! in docs/integration.md; deterministic (fields in declaration order, no maps).
 
 use super::Material;
-use super::layout::{StageCounts, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type};
+use super::layout::{
+    StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type,
+};
 use crate::wgsl::render::{
     FRAME_BINDING, FRAME_SIZE, LIGHT_DIRECTIONAL, LIGHT_MIN_DISTANCE, LIGHT_POINT, LIGHT_STRIDE,
     LIGHTS_BINDING, NORMAL_STEP, PARAMS_BINDING,
@@ -28,6 +30,11 @@ pub struct Contract {
     pub entry_points: EntryPoints,
     /// The one vertex buffer of `mg_vertex`.
     pub vertex_buffer: VertexBuffer,
+    /// The second vertex buffer (slot 1), present only when the graph reads the tangent
+    /// frame (`geometry.tangent` or `bitangent_sign`): the MikkTSpace tangent (xyz) and
+    /// bitangent sign (w) per vertex.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangent_buffer: Option<VertexBuffer>,
     /// The colour target `mg_fragment` writes.
     pub color_target: ColorTarget,
     /// Members of `MgGeometry` (the attributes the graph reads), in order.
@@ -439,6 +446,16 @@ pub(super) fn build(m: &Material) -> Contract {
                 })
                 .collect(),
         },
+        tangent_buffer: m.uses_tangents().then(|| VertexBuffer {
+            array_stride: TANGENT_STRIDE,
+            step_mode: "vertex".into(),
+            attributes: vec![VertexAttribute {
+                name: "tangent".into(),
+                shader_location: TANGENT_ATTRIBUTES[0].shader_location,
+                format: "float32x4".into(),
+                offset: 0,
+            }],
+        }),
         color_target: ColorTarget {
             location: 0,
             holds: "premultiplied linear radiance (rgb = alpha * radiance) and alpha".into(),

@@ -82,6 +82,27 @@ pub fn vertex_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
+/// The tangent attribute of `mg_vertex` (location 3), read by modules whose graph reads the
+/// tangent frame.
+pub const TANGENT_ATTRIBUTES: [wgpu::VertexAttribute; 1] = [wgpu::VertexAttribute {
+    format: wgpu::VertexFormat::Float32x4,
+    offset: 0,
+    shader_location: 3,
+}];
+
+/// Bytes per vertex of the tangent buffer: the MikkTSpace tangent (xyz) and bitangent sign (w).
+pub const TANGENT_STRIDE: u64 = 16;
+
+/// The second vertex buffer's layout (slot 1), for modules that read the tangent frame
+/// ([`crate::material::Material::uses_tangents`]).
+pub fn tangent_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: TANGENT_STRIDE,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &TANGENT_ATTRIBUTES,
+    }
+}
+
 /// Per-stage binding counts of a module (every binding is visible to both stages).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct StageCounts {

@@ -36,7 +36,10 @@ mod textures;
 
 pub use contract::{CONTRACT_SCHEMA, Contract};
 pub use frame::{Frame, Light, lights_bytes};
-pub use layout::{StageCounts, VERTEX_ATTRIBUTES, VERTEX_STRIDE, vertex_buffer_layout};
+pub use layout::{
+    StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
+    tangent_buffer_layout, vertex_buffer_layout,
+};
 pub use load::LoadError;
 pub use params::{IntoParam, ParamBlock};
 pub use textures::{
@@ -67,6 +70,10 @@ pub struct MaterialOptions {
     /// the app, e.g. once per frame for several passes, with `mg_material(g).displacement`
     /// of [`Material::library_wgsl`]): `mg_vertex` then transforms them without displacing.
     pub displaced_vertices: bool,
+    /// The app binds no tangent buffer: a graph that reads the tangent frame gets it from
+    /// screen-space derivatives in `mg_fragment` instead
+    /// ([`crate::wgsl::render::derived_tangents`], which states the difference).
+    pub derived_tangents: bool,
 }
 
 impl Default for MaterialOptions {
@@ -76,6 +83,7 @@ impl Default for MaterialOptions {
             float32_filterable: false,
             sample_shading: false,
             displaced_vertices: false,
+            derived_tangents: false,
         }
     }
 }
@@ -200,12 +208,17 @@ impl Material {
             },
         )
         .map_err(shader_err)?;
-        if options.sample_shading || options.displaced_vertices {
-            let source = crate::wgsl::render::variant(
+        let derive =
+            options.derived_tangents && crate::wgsl::render::uses_tangents(&render.attributes);
+        if options.sample_shading || options.displaced_vertices || derive {
+            let mut source = crate::wgsl::render::variant(
                 &render.source,
                 options.sample_shading,
                 options.displaced_vertices,
             );
+            if derive {
+                source = crate::wgsl::render::derived_tangents(&source);
+            }
             let (module, info) = validate(&name, &source)?;
             render.source = source;
             render.module = module;
@@ -308,6 +321,23 @@ impl Material {
     /// The vertex buffer layout of `mg_vertex` (32-byte interleaved position, normal, uv).
     pub fn vertex_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
         vertex_buffer_layout()
+    }
+
+    /// Whether `mg_vertex` reads the tangent buffer (slot 1, [`tangent_buffer_layout`]): the
+    /// graph reads `geometry.tangent` or `geometry.bitangent_sign`.
+    pub fn uses_tangents(&self) -> bool {
+        crate::wgsl::render::uses_tangents(&self.render.attributes)
+            && !self.options.derived_tangents
+    }
+
+    /// The vertex buffers of `mg_vertex`, slot by slot: the interleaved position, normal, uv
+    /// buffer, then the tangent buffer where [`Material::uses_tangents`].
+    pub fn vertex_buffer_layouts(&self) -> Vec<wgpu::VertexBufferLayout<'static>> {
+        let mut v = vec![vertex_buffer_layout()];
+        if self.uses_tangents() {
+            v.push(tangent_buffer_layout());
+        }
+        v
     }
 
     /// The colour target's blend: premultiplied alpha (`One`, `OneMinusSrcAlpha`), which is

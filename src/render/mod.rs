@@ -299,6 +299,14 @@ struct Roles {
     displacement: Option<String>,
 }
 
+/// The outputs the material pass reads: colour, emission and alpha.
+fn shaded_names(roles: &Roles) -> Vec<String> {
+    let mut names: Vec<String> = roles.color.iter().map(|(n, _)| n.clone()).collect();
+    names.extend(roles.emission.iter().map(|(n, _)| n.clone()));
+    names.extend(roles.alpha.iter().cloned());
+    names
+}
+
 fn roles(graph: &Graph) -> Result<Roles, RenderError> {
     let find = |name: &str| {
         graph
@@ -380,6 +388,19 @@ fn rgb(out: &crate::exec::OutputBatch, k: usize) -> impl Fn(usize) -> Vec3 + '_ 
 }
 
 /// Compiles the material for some of its outputs on `backend`.
+/// Whether the outputs `names` of `graph` read the tangent frame (`tangent` or
+/// `bitangent_sign`).
+pub fn reads_tangents(graph: &Graph, names: &[String]) -> Result<bool, EvalError> {
+    let plan = crate::plan::Plan::compile(
+        graph,
+        &PlanOptions {
+            outputs: names.to_vec(),
+            bake_parameters: false,
+        },
+    )?;
+    Ok(crate::wgsl::render::uses_tangents(plan.attributes()))
+}
+
 fn evaluator(
     graph: &Graph,
     names: Vec<String>,
@@ -695,6 +716,9 @@ pub fn render_timed(
     // 1. Displacement at the vertices.
     let start = Instant::now();
     let mut mesh: Mesh = scene.material_mesh();
+    // The tangent frame, when the shading reads it: the undisplaced mesh's MikkTSpace
+    // tangents, as the GPU's vertex buffer holds them.
+    let tangents = reads_tangents(graph, &shaded_names(&roles))?.then(|| mesh.tangents());
     if let Some(name) = &roles.displacement {
         let plan = crate::plan::Plan::compile(
             graph,
@@ -732,7 +756,7 @@ pub fn render_timed(
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
     let bound = Arc::new(textures(graph, scene, options, lookup)?);
-    let frame = crate::scene::GBufferFrame::new(
+    let mut frame = crate::scene::GBufferFrame::new(
         scene,
         &mesh,
         options.width,
@@ -740,6 +764,9 @@ pub fn render_timed(
         options.samples.max(1),
         lookup,
     );
+    if let Some(tangents) = tangents {
+        frame = frame.with_tangents(tangents);
+    }
     t.gbuffer = start.elapsed();
     let mut pixels: Vec<[f32; 3]> =
         Vec::with_capacity(options.width as usize * options.height as usize);

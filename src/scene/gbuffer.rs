@@ -1,7 +1,7 @@
 //! The G-buffer of the material surface: which samples of the frame see it, the geometry
 //! attributes a graph reads there, and what is seen everywhere without it.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::Scene;
@@ -255,6 +255,9 @@ pub struct GBufferFrame<'a> {
     back: Vec<SetupTri>,
     front: Vec<SetupTri>,
     shading: Shading<'a>,
+    /// Per-vertex MikkTSpace tangents and signs ([`Mesh::tangents`]), when the material reads
+    /// the tangent frame ([`GBufferFrame::with_tangents`]).
+    tangents: Option<Vec<Vec4>>,
 }
 
 impl<'a> GBufferFrame<'a> {
@@ -312,7 +315,25 @@ impl<'a> GBufferFrame<'a> {
             back,
             front,
             shading,
+            tangents: None,
         }
+    }
+
+    /// Supplies the `tangent` and `bitangent_sign` attributes from per-vertex `tangents`
+    /// (`xyz` tangent, `w` sign: [`Mesh::tangents`] of the undisplaced mesh, as the GPU reads
+    /// them): interpolated at each sample and made orthogonal to its normal
+    /// ([`super::orthonormal_tangent`]). Without it the batch leaves them to their defaults.
+    ///
+    /// # Panics
+    /// If `tangents` does not have one entry per vertex of the frame's mesh.
+    pub fn with_tangents(mut self, tangents: Vec<Vec4>) -> GBufferFrame<'a> {
+        assert_eq!(
+            tangents.len(),
+            self.mesh.positions.len(),
+            "one tangent per vertex"
+        );
+        self.tangents = Some(tangents);
+        self
     }
 
     /// The G-buffer of image rows `rows` (clamped to the image).
@@ -384,7 +405,7 @@ impl GBufferFrame<'_> {
         if m == 0 {
             return batch;
         }
-        let attrs = [
+        let mut attrs = vec![
             Attribute::Position,
             Attribute::Normal,
             Attribute::View,
@@ -396,6 +417,10 @@ impl GBufferFrame<'_> {
             Attribute::UvDx,
             Attribute::UvDy,
         ];
+        let tangents = self.tangents.as_deref();
+        if tangents.is_some() {
+            attrs.extend([Attribute::Tangent, Attribute::BitangentSign]);
+        }
         let mut columns: Vec<Vec<f32>> = attrs
             .iter()
             .map(|a| vec![0.0; a.ty().width() * m])
@@ -432,6 +457,10 @@ impl GBufferFrame<'_> {
                         Some(light) => light_at(light, casters, p),
                         None => (Vec3::Y, Vec3::ZERO),
                     };
+                    let (tangent, sign) = match tangents {
+                        Some(t) => tangent_at(mesh, t, f.tri, f.b, n),
+                        None => (Vec3::X, 1.0),
+                    };
 
                     let values = [
                         p.x,
@@ -458,6 +487,10 @@ impl GBufferFrame<'_> {
                         uv_dx.y,
                         uv_dy.x,
                         uv_dy.y,
+                        tangent.x,
+                        tangent.y,
+                        tangent.z,
+                        sign,
                     ];
                     for (col, v) in cols.iter_mut().zip(values) {
                         col[k] = v;
@@ -471,4 +504,15 @@ impl GBufferFrame<'_> {
         }
         batch
     }
+}
+
+/// The tangent frame's `(tangent, sign)` at barycentrics `b` of triangle `tri`: the vertex
+/// tangents interpolated as the GPU interpolates its varyings, made orthogonal to the unit
+/// normal `n`; the sign of the interpolated `w` (`≥ 0` is +1, as the WGSL's `select`).
+fn tangent_at(mesh: &Mesh, tangents: &[Vec4], tri: u32, b: [f32; 2], n: Vec3) -> (Vec3, f32) {
+    let [i0, i1, i2] = mesh.indices[tri as usize].map(|i| i as usize);
+    let b0 = 1.0 - b[0] - b[1];
+    let t = tangents[i0] * b0 + tangents[i1] * b[0] + tangents[i2] * b[1];
+    let sign = if t.w >= 0.0 { 1.0 } else { -1.0 };
+    (super::orthonormal_tangent(n, t.truncate()), sign)
 }

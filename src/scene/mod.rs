@@ -80,6 +80,7 @@ mod packed;
 mod raster;
 mod shade;
 mod snell;
+mod tangents;
 mod textures;
 mod validate;
 
@@ -102,6 +103,7 @@ pub use mesh::Mesh;
 pub(crate) use packed::{PackedScene, SceneFeatures, ScenePass, Viewport};
 pub use raster::{STANDARD_SAMPLE_COUNTS, sample_offsets, standard_sample_order};
 pub use snell::{SnellRefraction, apparent_mesh, apparent_position};
+pub use tangents::orthonormal_tangent;
 pub use textures::SceneTextures;
 
 use glam::{Vec2, Vec3};

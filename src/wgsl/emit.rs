@@ -1661,5 +1661,7 @@ pub fn fragment_location(a: Attribute) -> u32 {
         Attribute::Time => 8,
         Attribute::UvDx => 9,
         Attribute::UvDy => 10,
+        Attribute::Tangent => 11,
+        Attribute::BitangentSign => 12,
     }
 }

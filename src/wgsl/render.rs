@@ -88,6 +88,48 @@ struct MgVertexOut {
 
 ";
 
+/// [`VERTEX_OUT_WGSL`] of a graph that reads the tangent frame: the world-space tangent
+/// (`xyz`) and bitangent sign (`w`) of the vertex, interpolated.
+pub const VERTEX_OUT_TANGENT_WGSL: &str = "\
+struct MgVertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+}
+
+";
+
+/// [`VERTEX_OUT_TANGENT_WGSL`] with per-sample interpolation.
+pub const VERTEX_OUT_TANGENT_SAMPLE_WGSL: &str = "\
+struct MgVertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(perspective, sample) position: vec3<f32>,
+    @location(1) @interpolate(perspective, sample) normal: vec3<f32>,
+    @location(2) @interpolate(perspective, sample) uv: vec2<f32>,
+    @location(3) @interpolate(perspective, sample) tangent: vec4<f32>,
+}
+
+";
+
+/// The tangent of the frame at a fragment, as `scene::orthonormal_tangent`: the interpolated
+/// tangent `t` made orthogonal to the unit normal `n` (Gram–Schmidt), else the tangent of
+/// Duff et al.'s orthonormal basis of `n` (2017).
+pub const TANGENT_WGSL: &str = "\
+fn mg_tangent(n: vec3<f32>, t: vec3<f32>) -> vec3<f32> {
+    let o = t - n * dot(n, t);
+    let l = length(o);
+    if (l > 1e-6 * length(t) && l > 0.0 && l <= MG_F32_MAX) {
+        return o / l;
+    }
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    return vec3<f32>(1.0 + s * n.x * n.x * a, s * n.x * n.y * a, -s * n.x);
+}
+
+";
+
 /// `MgVertexOut` with per-sample interpolation (`@interpolate(perspective, sample)`): under
 /// MSAA the fragment entry runs once per covered sample, at the sample's position.
 pub const VERTEX_OUT_SAMPLE_WGSL: &str = "\
@@ -130,12 +172,64 @@ pub fn variant(source: &str, sample_shading: bool, displaced_vertices: bool) -> 
     let mut s = source.to_owned();
     if sample_shading {
         s = s.replacen(VERTEX_OUT_WGSL, VERTEX_OUT_SAMPLE_WGSL, 1);
+        s = s.replacen(VERTEX_OUT_TANGENT_WGSL, VERTEX_OUT_TANGENT_SAMPLE_WGSL, 1);
     }
     if displaced_vertices {
         s = s.replacen(DISPLACE_VERTEX_WGSL, PASS_VERTEX_WGSL, 1);
     }
     s
 }
+
+/// The render module `source` (as generated, reading the tangent buffer) for an app that
+/// binds no tangent buffer: `mg_vertex` reads no location 3, and `mg_fragment` builds the
+/// frame from screen-space derivatives of the position and uv instead (Mikkelsen 2010,
+/// "Bump Mapping Unparametrized Surfaces on the GPU"; Schüler 2013, "Normal Mapping Without
+/// Precomputed Tangents"): per pixel rather than MikkTSpace's per-vertex average, so the
+/// frame is faceted with the triangles (it follows each triangle's uv mapping exactly) and a
+/// normal map baked against MikkTSpace is off by the difference, which is largest where the
+/// uvs stretch unevenly across a triangle. `source` unchanged when it reads no tangents.
+pub fn derived_tangents(source: &str) -> String {
+    const VERTEX_READ: &str = "    o.tangent = vec4<f32>((mg_frame.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);\n";
+    if !source.contains(VERTEX_READ) {
+        return source.to_owned();
+    }
+    source
+        // The first is MgVertexIn's (MgVertexOut's follows it).
+        .replacen("    @location(3) tangent: vec4<f32>,\n", "", 1)
+        .replacen(VERTEX_READ, "    o.tangent = vec4<f32>(0.0);\n", 1)
+        .replacen(
+            TANGENT_WGSL,
+            &format!("{TANGENT_WGSL}{DERIVED_TANGENT_WGSL}"),
+            1,
+        )
+        .replacen(
+            "mg_tangent(n, v.tangent.xyz)",
+            "mg_derived_frame(n, v.position, v.uv).xyz",
+            1,
+        )
+        .replacen(
+            "select(-1.0, 1.0, v.tangent.w >= 0.0)",
+            "mg_derived_frame(n, v.position, v.uv).w",
+            1,
+        )
+}
+
+/// The frame of [`derived_tangents`]: the tangent (xyz) and bitangent sign (w) from the fine
+/// derivatives of position and uv across the pixel quad.
+const DERIVED_TANGENT_WGSL: &str = "\
+fn mg_derived_frame(n: vec3<f32>, p: vec3<f32>, uv: vec2<f32>) -> vec4<f32> {
+    let dp1 = dpdxFine(p);
+    let dp2 = dpdyFine(p);
+    let duv1 = dpdxFine(uv);
+    let duv2 = dpdyFine(uv);
+    let dp2perp = cross(dp2, n);
+    let dp1perp = cross(n, dp1);
+    let t = dp2perp * duv1.x + dp1perp * duv2.x;
+    let b = dp2perp * duv1.y + dp1perp * duv2.y;
+    return vec4<f32>(mg_tangent(n, t), select(-1.0, 1.0, dot(cross(n, t), b) >= 0.0));
+}
+
+";
 
 /// Which plan outputs play which role (indices into the module's outputs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -191,11 +285,20 @@ pub(super) fn emit_entries(
     );
     bindings.push((FRAME_BINDING, Binding::Frame));
     bindings.push((LIGHTS_BINDING, Binding::Lights));
+    let tangents = uses_tangents(attributes);
     out.push_str(
-        "struct MgVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n}\n\n\
-",
+        "struct MgVertexIn {\n    @location(0) position: vec3<f32>,\n    @location(1) normal: vec3<f32>,\n    @location(2) uv: vec2<f32>,\n",
     );
-    out.push_str(VERTEX_OUT_WGSL);
+    if tangents {
+        // The second vertex buffer (docs/integration.md): MikkTSpace tangent and sign.
+        out.push_str("    @location(3) tangent: vec4<f32>,\n");
+    }
+    out.push_str("}\n\n");
+    out.push_str(if tangents {
+        VERTEX_OUT_TANGENT_WGSL
+    } else {
+        VERTEX_OUT_WGSL
+    });
     // f32::MAX as its shortest f64 decimal (3.4028235e38 reads above f32's range in WGSL).
     let _ = writeln!(
         out,
@@ -246,9 +349,18 @@ pub(super) fn emit_entries(
     } else {
         out.push_str(PASS_VERTEX_WGSL);
     }
+    if tangents {
+        // A direction on the surface: the model matrix, not the normal matrix.
+        out.push_str(
+            "    o.tangent = vec4<f32>((mg_frame.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);\n",
+        );
+    }
     out.push_str(
         "    o.uv = v.uv;\n    o.clip = mg_frame.view_proj * vec4<f32>(o.position, 1.0);\n    return o;\n}\n\n",
     );
+    if tangents {
+        out.push_str(TANGENT_WGSL);
+    }
 
     // The light arriving at a point: direction towards the light, radiance and distance.
     let _ = writeln!(
@@ -303,6 +415,8 @@ pub(super) fn emit_entries(
             // flow: the entry's top.
             Attribute::UvDx => "dpdxFine(v.uv)".to_owned(),
             Attribute::UvDy => "dpdyFine(v.uv)".to_owned(),
+            Attribute::Tangent => "mg_tangent(n, v.tangent.xyz)".to_owned(),
+            Attribute::BitangentSign => "select(-1.0, 1.0, v.tangent.w >= 0.0)".to_owned(),
             Attribute::Time => continue,
         };
         let _ = writeln!(out, "    g.{} = {e};", a.name());
@@ -378,6 +492,13 @@ pub(super) fn emit_entries(
          \x20   return vec4<f32>(c * alpha, alpha);\n}\n\n",
     );
     out.push_str(DEFAULT_HOOKS_WGSL);
+}
+
+/// Whether a module reading `attributes` takes the tangent vertex buffer (location 3).
+pub fn uses_tangents(attributes: &[Attribute]) -> bool {
+    attributes
+        .iter()
+        .any(|a| matches!(a, Attribute::Tangent | Attribute::BitangentSign))
 }
 
 /// `e` of type `ty` as RGB: vectors of three or more lanes by their first three, scalars grey.

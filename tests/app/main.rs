@@ -7,6 +7,11 @@
 mod common;
 
 mod app_contract;
+mod atomic_writes;
 mod cli;
 mod cli_params;
+mod numeric_flags;
+mod output_paths;
 mod report;
+mod stdout_errors;
+mod tangent_contract;

@@ -41,6 +41,18 @@ pub const LOOSE: &[(&str, f64, f64, &str)] = &[
          (Q·a up to 100 m) and normal errors of δθ; measured 2.1e-4 at most, 62% of this bound (docs/models/toon_water.md)",
     ),
     (
+        "wave_texture",
+        2e-3,
+        1e-4,
+        "the phase n (20 rad a unit of vector·scale, plus phase_offset and distortion·fBm) \
+         reaches 1.7e4 rad over the soft ranges, where one ULP of it is 2e-3 rad; a GPU fusing \
+         a product into its sums (20·p + phase_offset, distortion·fBm + n, the rings' squares; \
+         WGSL §15.7.5) moves n by an ULP each time, and each ULP moves the sine by up to 1e-3 \
+         and the saw and triangle by ULP/2π and ULP/π: CPU − GPU differences come in whole \
+         ULPs of n (lavapipe: 3e-5 to 1e-3), two allowed; the hard ranges' larger phases are \
+         its CONDITIONED entry's",
+    ),
+    (
         "bubble_underwater",
         1e-5,
         3e-4,
@@ -143,6 +155,31 @@ pub const CONDITIONED: &[(&str, f64, &str)] = &[
          lie within a few roundings of each other either may win, and a fused product in the \
          jitter (o + hash·randomness, WGSL §15.7.5) is such a rounding; over detail octaves the \
          coordinates grow by lacunarity^detail, so the borders come closer in ULPs",
+    ),
+    (
+        "wave_texture",
+        64.0,
+        "past the soft ranges the phase n reaches 3.5e5 rad (scale 1000), where an ULP is \
+         0.03 rad (its LOOSE entry holds the soft ranges' 2e-3); the saw jumps at every whole \
+         cycle; and the distortion's fBm reads octaves at p·detail_scale·2^detail, up to 10⁹ \
+         cells, where an ULP of p moves an octave by a large part of a cell",
+    ),
+    (
+        "brick_texture",
+        8.0,
+        "the tint jumps at every row and brick edge, and the mortar at its edge where \
+         mortar_smooth is 0: there a quotient (p.y/row_height, (p.x + shift)/brick_width: \
+         2.5 ULP on a GPU, WGSL §15.7.4) or a product fused into x − width·brick picks either \
+         side (lavapipe matches the CPU bit for bit; other GPUs need not)",
+    ),
+    (
+        "magic_texture",
+        64.0,
+        "each of up to 10 rounds multiplies the colour's sensitivity to rounding by about 1.4 \
+         at |distortion| 2 (the hard range's edge): at depth 10, 4 ULPs of the coordinates (a \
+         product the GPU fuses into the next round's sum is one) move the colour by 6e-4 \
+         typically and 0.18 at worst (f64, 20 000 samples); and the first sines' arguments reach 1.5e5 rad over the hard \
+         ranges (scale 1000), where an ULP is 0.016 rad",
     ),
     (
         "thin_film",

@@ -139,3 +139,26 @@ fn fresnel_glass_built_from_an_empty_graph_renders_as_the_bundled_file() {
     let distinct: std::collections::HashSet<_> = a.pixels.iter().collect();
     assert!(distinct.len() > 50, "{} distinct colours", distinct.len());
 }
+
+/// Exposing an input of a generic node while the graph does not compile (an error on another
+/// node, as while a material is being made) keeps the value written on it: a colour f0
+/// becomes a colour parameter holding that colour (before the fix the node's type was taken
+/// as float, the colour did not parse, and the parameter got the default 0.04).
+#[test]
+fn exposing_a_generic_input_while_the_graph_does_not_compile_keeps_its_value() {
+    let mut s = EditorState::untitled(Registry::builtin());
+    let id = s.add_node("fresnel_schlick", [0.0, 0.0]).unwrap();
+    s.set_input(&id, "f0", serde_json::json!([0.95, 0.64, 0.54]), None);
+    let other = s.add_node("fresnel_dielectric", [0.0, 200.0]).unwrap();
+    s.set_input(&other, "ior_inside", serde_json::json!(0.0), None);
+    assert!(s.doc.graph().is_none(), "the graph must not compile here");
+    let name = s.expose_input(&id, "f0", Some("tint")).unwrap();
+    let p = s
+        .doc
+        .doc()
+        .nodes
+        .iter()
+        .find(|n| n.id == name)
+        .expect("the parameter node");
+    assert_eq!(p.inputs["value"], serde_json::json!([0.95, 0.64, 0.54]));
+}

@@ -8,7 +8,10 @@ mod common;
 
 mod browser;
 mod build;
+mod drive;
 mod groups;
+mod keymap;
+mod node_states;
 mod readable;
 mod selection;
 mod session;

@@ -1024,14 +1024,14 @@ fn overlapping_nodes_are_arranged_in_columns_by_link_depth() {
         column_x.windows(2).all(|w| w[0] + 160.0 < w[1]),
         "{column_x:?}"
     );
-    // A column stacks its nodes with the gap: the two sources, geo (8 outputs) above
+    // A column stacks its nodes with the gap: the two sources, geo (10 outputs) above
     // roughness (first in file order, same barycentre rule).
     let y = |id: &str| s.doc.node(id).unwrap().position.unwrap()[1];
     let outputs = registry.get("geometry").unwrap().outputs().len();
-    assert_eq!(outputs, 8);
+    assert_eq!(outputs, 10);
     assert_eq!(y("geo"), 0.0);
-    assert_eq!(y("roughness"), 30.0 + 18.0 * 8.0 + ROW_GAP);
-    assert_eq!(node_height(0, 8), 174.0);
+    assert_eq!(y("roughness"), 30.0 + 18.0 * 10.0 + ROW_GAP);
+    assert_eq!(node_height(0, 10), 210.0);
     // View → Arrange on a graph with no positions is one undoable edit.
     let mut u = untitled();
     u.add_node("geometry", [0.0, 0.0]).unwrap();

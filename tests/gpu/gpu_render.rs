@@ -683,3 +683,53 @@ fn graphs_differing_in_a_parameter_value_draw_their_own() {
         "roughness 0.3 and 0.8 look alike: RMSE {rmse:.2}/255"
     );
 }
+
+/// A graph whose emission is the tangent frame: (sign · T) / 2 + ½.
+const TANGENT_FRAME: &str = r#"{
+  "version": 1, "name": "tangent_frame",
+  "nodes": [
+    { "id": "geo", "type": "geometry" },
+    { "id": "signed", "type": "scale", "inputs": {
+        "v": { "link": "geo.tangent" }, "scale": { "link": "geo.bitangent_sign" } } },
+    { "id": "half", "type": "mul", "inputs": { "a": { "link": "signed.result" }, "b": [0.5, 0.5, 0.5] } },
+    { "id": "shift", "type": "add", "inputs": { "a": { "link": "half.result" }, "b": [0.5, 0.5, 0.5] } }
+  ],
+  "outputs": [ { "name": "emission", "from": "shift.result" } ]
+}"#;
+
+/// The tangent frame (MikkTSpace tangents, the second vertex buffer, the per-sample
+/// Gram–Schmidt) draws alike on the GPU rasteriser, at 1 sample (varyings) and 4 (varyings
+/// rebuilt from storage), and reads as the closed form: on the ball's equator facing the
+/// camera T ≈ +x, so the emission there is about (1, ½, ½), and it turns towards the limbs.
+#[test]
+fn the_tangent_frame_draws_alike_on_the_gpu_rasteriser() {
+    if gpu_context("the_tangent_frame_draws_alike_on_the_gpu_rasteriser").is_none() {
+        return;
+    }
+    let graph = Graph::from_json(TANGENT_FRAME, Registry::builtin()).unwrap();
+    let scene = Scene::preset("ball").unwrap();
+    let mask = edge_mask(&scene, &scene.material_mesh());
+    for spp in [1, 4] {
+        let (cpu, _) =
+            render_timed(&graph, &scene, &options(&graph, None, spp, Backend::Cpu)).unwrap();
+        let (gpu, t) =
+            render_timed(&graph, &scene, &options(&graph, None, spp, Backend::Gpu)).unwrap();
+        assert_eq!(t.fallback, None);
+        assert_parity("tangent_frame", spp, &cpu, &gpu, &mask);
+        // The ball's silhouette centre column: the tangent there is along +x (u grows to the
+        // right as seen from the front), so red is near 1 and green, blue near ½.
+        let at = |x: u32| cpu.pixels[(SIZE / 2 * SIZE + x) as usize];
+        let centre = at(SIZE / 2);
+        assert!(
+            centre[0] > 0.95 && (centre[1] - 0.5).abs() < 0.06 && (centre[2] - 0.5).abs() < 0.06,
+            "{centre:?}"
+        );
+        // Towards the limbs T turns about the vertical: towards the eye on the left (blue up),
+        // away on the right (blue down), where the default frame (+x everywhere) would stay ½.
+        let (left, right) = (at(SIZE / 2 - 60), at(SIZE / 2 + 60));
+        assert!(
+            left[2] > 0.8 && right[2] < 0.2,
+            "left {left:?} right {right:?}"
+        );
+    }
+}

@@ -209,6 +209,21 @@ fn value_outside_the_hard_range() {
     );
 }
 
+/// Schlick's F0 is a reflectance: a fraction per channel (before its hard range, f0 = −5 loaded
+/// and turned the ball black).
+#[test]
+fn schlick_f0_outside_zero_to_one() {
+    check(
+        &doc(
+            r#"{"id": "s", "type": "fresnel_schlick", "inputs": {"f0": -5.0}},
+               {"id": "c", "type": "fresnel_schlick", "inputs": {"f0": [0.9, 1.5, 0.2]}}"#,
+            "",
+        ),
+        "g.json: node 's': input 'f0': value -5.0 is outside [0, 1]\n\
+         g.json: node 'c': input 'f0': value [0.9,1.5,0.2] is outside [0, 1]",
+    );
+}
+
 #[test]
 fn link_to_a_missing_node() {
     check(

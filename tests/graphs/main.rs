@@ -17,4 +17,5 @@ mod scale;
 mod scene;
 mod specialise;
 mod texture;
+mod texture_keys;
 mod variants;

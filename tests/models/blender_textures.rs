@@ -1,8 +1,10 @@
 //! matgraph's `noise_texture` against Blender's own Noise Texture: values Blender 4.2
 //! computed (tests/blender/noise_reference.py, through geometry nodes, which share the
 //! shader node's definition) at 64 points (round and seeded random) for 12 settings covering
-//! 1D–4D, the five noise types, normalisation, fractional detail and distortion. The node
-//! is evaluated through a graph on the CPU, and on the GPU where there is one.
+//! 1D–4D, the five noise types, normalisation, fractional detail and distortion; and the
+//! other Blender textures (white noise, gradient, Voronoi, wave, brick, magic) against their
+//! own reference files in tests/blender/. Each node is evaluated through a graph on the CPU,
+//! and on the GPU where there is one.
 
 use crate::common;
 
@@ -301,6 +303,142 @@ fn voronoi_texture_matches_blender() {
             }
             report.push(line);
         }
+    }
+    println!("{}", report.join("\n"));
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+/// tests/blender/wave_brick_magic.json: Blender 4.2's Wave, Brick and Magic Texture at 64
+/// f32-exact points (6 round, the rest seeded random in [−1.5, 1.5]³; brick's kept 10⁻³
+/// away from every brick edge in every case, tests/blender/wave_brick_magic_reference.py).
+fn wave_brick_magic() -> J {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/blender/wave_brick_magic.json"
+    );
+    let r: J = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert_eq!(r["blender"], "4.2.0");
+    r
+}
+
+/// Runs `node` at the reference points on each backend and checks fac and colour against
+/// Blender's: one report line per backend, and the failures.
+fn check_cases(
+    what: &str,
+    node: serde_json::Value,
+    case: &J,
+    points: &[[f32; 3]],
+    phase: bool,
+    report: &mut Vec<String>,
+    failed: &mut Vec<String>,
+) {
+    let n = points.len();
+    for (b, out) in eval_node(node, "fac", points).iter().enumerate() {
+        let (d, at) = if phase {
+            worst_phase_of(out, &case["fac"], &case["color"], n)
+        } else {
+            worst_of(out, &case["fac"], &case["color"], n)
+        };
+        let line = format!("{what} (backend {b}): max |Δ| {d:.1e} ({at})");
+        if d > BOUND || d.is_nan() {
+            failed.push(line.clone());
+        }
+        report.push(line);
+    }
+}
+
+/// [`worst_of`] for a saw wave: each difference taken mod 1, since 0 and 1 are the two sides
+/// of the saw's jump (a point within an ULP of it may fall on either).
+fn worst_phase_of(out: &matgraph::OutputBatch, value: &J, color: &J, n: usize) -> (f64, String) {
+    let mut w = (0.0f64, String::new());
+    for i in 0..n {
+        let mut check = |got: f32, want: f64, what: &str| {
+            let d = (got as f64 - want).rem_euclid(1.0);
+            let d = d.min(1.0 - d);
+            if d > w.0 || d.is_nan() {
+                w = (d, format!("point {i} {what}: ours {got} Blender {want}"));
+            }
+        };
+        check(out.planar(0)[i], value[i].as_f64().unwrap(), "fac");
+        for k in 0..3 {
+            check(
+                out.planar(1)[k * n + i],
+                color[i][k].as_f64().unwrap(),
+                &format!("color[{k}]"),
+            );
+        }
+    }
+    w
+}
+
+#[test]
+fn wave_texture_matches_blender() {
+    let r = wave_brick_magic();
+    let points = texture_points(&r);
+    let (mut report, mut failed) = (Vec::new(), Vec::new());
+    for c in r["wave"].as_array().unwrap() {
+        let lower = |k: &str| c[k].as_str().unwrap().to_ascii_lowercase();
+        let node = serde_json::json!({ "id": "n", "type": "wave_texture", "inputs": {
+            "vector": { "link": "geo.position" }, "scale": c["scale"],
+            "distortion": c["distortion"], "detail": c["detail"],
+            "detail_scale": c["detail_scale"], "detail_roughness": c["detail_roughness"],
+            "phase_offset": c["phase_offset"], "type": lower("type"),
+            "bands_direction": lower("bands_direction"),
+            "rings_direction": lower("rings_direction"), "profile": lower("profile") } });
+        let what = format!(
+            "wave {} {}/{} {} distortion {}",
+            c["type"], c["bands_direction"], c["rings_direction"], c["profile"], c["distortion"]
+        );
+        let saw = c["profile"] == "SAW";
+        check_cases(&what, node, c, &points, saw, &mut report, &mut failed);
+    }
+    println!("{}", report.join("\n"));
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+#[test]
+fn brick_texture_matches_blender() {
+    let r = wave_brick_magic();
+    let points = texture_points(&r);
+    let (mut report, mut failed) = (Vec::new(), Vec::new());
+    for c in r["brick"].as_array().unwrap() {
+        let node = serde_json::json!({ "id": "n", "type": "brick_texture", "inputs": {
+            "vector": { "link": "geo.position" }, "color1": c["color1"], "color2": c["color2"],
+            "mortar": c["mortar"], "scale": c["scale"], "mortar_size": c["mortar_size"],
+            "mortar_smooth": c["mortar_smooth"], "bias": c["bias"],
+            "brick_width": c["brick_width"], "row_height": c["row_height"],
+            "offset": c["offset"], "offset_frequency": c["offset_frequency"],
+            "squash": c["squash"], "squash_frequency": c["squash_frequency"] } });
+        let what = format!(
+            "brick offset {}/{} squash {}/{} mortar {} smooth {} bias {}",
+            c["offset"],
+            c["offset_frequency"],
+            c["squash"],
+            c["squash_frequency"],
+            c["mortar_size"],
+            c["mortar_smooth"],
+            c["bias"]
+        );
+        check_cases(&what, node, c, &points, false, &mut report, &mut failed);
+    }
+    println!("{}", report.join("\n"));
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+}
+
+#[test]
+fn magic_texture_matches_blender() {
+    let r = wave_brick_magic();
+    let points = texture_points(&r);
+    let (mut report, mut failed) = (Vec::new(), Vec::new());
+    for c in r["magic"].as_array().unwrap() {
+        let node = serde_json::json!({ "id": "n", "type": "magic_texture", "inputs": {
+            "vector": { "link": "geo.position" }, "scale": c["scale"],
+            "distortion": c["distortion"], "depth": c["depth"] } });
+        let what = format!(
+            "magic depth {} scale {} distortion {}",
+            c["depth"], c["scale"], c["distortion"]
+        );
+        check_cases(&what, node, c, &points, false, &mut report, &mut failed);
     }
     println!("{}", report.join("\n"));
     assert!(failed.is_empty(), "{}", failed.join("\n"));

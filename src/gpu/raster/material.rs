@@ -59,7 +59,8 @@ pub(super) fn sample_source(source: &str) -> Option<String> {
         )
         .replace("dpdxFine(v.uv)", "mgr_uv_d.xy")
         .replace("dpdyFine(v.uv)", "mgr_uv_d.zw");
-    Some(format!(
+    let tangents = reads_tangents(source);
+    let entry = format!(
         "enable primitive_index;\n{shade}\n{}",
         r#"
 // The material's vertex buffer (8 floats per vertex: position, normal, uv) and indices.
@@ -95,10 +96,27 @@ fn mgr_material_sample_fs(
     let uv2 = vec2<f32>(mgr_mesh[8u * i2 + 6u], mgr_mesh[8u * i2 + 7u]);
     v.uv = uv0 * b0 + uv1 * bc.x + uv2 * bc.y;
     mgr_uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, uv1, uv2, vec2<u32>(xy.xy));
+    // mgr-tangent
     return mg_shade(v) + vec4<f32>(f32(sample) * 0.0);
 }
 "#
-    ))
+    );
+    if !tangents {
+        return Some(entry);
+    }
+    // The tangent frame (world space: the material mesh is): the undisplaced mesh's
+    // MikkTSpace tangents, interpolated as the varying would be.
+    Some(entry.replacen(
+        "    // mgr-tangent",
+        "    v.tangent = mgr_mesh_tangents[i0] * b0 + mgr_mesh_tangents[i1] * bc.x + mgr_mesh_tangents[i2] * bc.y;",
+        1,
+    ) + "\n@group(2) @binding(2) var<storage, read> mgr_mesh_tangents: array<vec4<f32>>;\n")
+}
+
+/// Whether a render module `source` reads the tangent vertex buffer (its varyings carry the
+/// tangent frame).
+pub(super) fn reads_tangents(source: &str) -> bool {
+    source.contains("@location(3) tangent: vec4<f32>")
 }
 
 /// World → clip of the camera as the scene passes project (`mgr_clip_position`): x and y
@@ -161,7 +179,16 @@ pub(super) fn pipeline(
     layout: &wgpu::PipelineLayout,
     samples: u32,
     (compare, write): (wgpu::CompareFunction, bool),
+    tangents: bool,
 ) -> wgpu::RenderPipeline {
+    let vertex = Material::vertex_buffer_layout();
+    let tangent = crate::material::tangent_buffer_layout();
+    let buffers = [Some(vertex), Some(tangent)];
+    let buffers = if tangents {
+        &buffers[..]
+    } else {
+        &buffers[..1]
+    };
     let targets = [Some(wgpu::ColorTargetState {
         format: COLOR,
         blend: None,
@@ -175,7 +202,7 @@ pub(super) fn pipeline(
                 module,
                 entry_point: Some("mg_vertex"),
                 compilation_options: Default::default(),
-                buffers: &[Some(Material::vertex_buffer_layout())],
+                buffers,
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(wgpu::DepthStencilState {

@@ -526,6 +526,9 @@ pub(in crate::gpu) struct MeshBuffers {
     count: u32,
     vertices: wgpu::Buffer,
     displacement: std::sync::OnceLock<DisplacementInputs>,
+    /// The MikkTSpace tangents and signs (`Mesh::tangents`), made on the first frame whose
+    /// material reads them: the second vertex buffer, and storage for rebuilt samples.
+    tangents: std::sync::OnceLock<wgpu::Buffer>,
 }
 
 /// The inputs of the displacement and normal passes: position and uv, normal and uv per
@@ -551,7 +554,26 @@ impl MeshBuffers {
             count: idx.len() as u32,
             vertices,
             displacement: std::sync::OnceLock::new(),
+            tangents: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The tangent buffer of `mesh` (the mesh these buffers were made from).
+    fn tangents(&self, s: &DeviceState, mesh: &Mesh) -> &wgpu::Buffer {
+        self.tangents.get_or_init(|| {
+            s.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("mgr material tangents"),
+                    contents: bytemuck::cast_slice(
+                        &mesh
+                            .tangents()
+                            .iter()
+                            .map(|t| t.to_array())
+                            .collect::<Vec<_>>(),
+                    ),
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+                })
+        })
     }
 
     /// The displacement passes' inputs of `mesh` (the mesh these buffers were made from),
@@ -1544,6 +1566,8 @@ pub(crate) fn render_frame(
             sample_shading: false,
             // Displaced by `displace`, in the CPU's order (normals from the displaced mesh).
             displaced_vertices: true,
+            // The mesh's MikkTSpace tangents, as the CPU's G-buffer reads them.
+            derived_tangents: false,
         };
         // Generated and validated once per graph and options on the device: later frames
         // (an animation) only write their parameters and time. At 1 sample the contract's
@@ -1601,11 +1625,13 @@ pub(crate) fn render_frame(
                 });
             let fm = module(s, "mgr material", source);
             let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
-            let mesh_layout = layout(
-                s,
-                "mgr mesh",
-                &[(0, vf, Kind::Storage), (1, vf, Kind::Storage)],
-            );
+            let tangents = material::reads_tangents(source);
+            let mesh_entries = [
+                (0, vf, Kind::Storage),
+                (1, vf, Kind::Storage),
+                (2, vf, Kind::Storage),
+            ];
+            let mesh_layout = layout(s, "mgr mesh", &mesh_entries[..if tangents { 3 } else { 2 }]);
             let (fs, pl) = match rebuilt {
                 false => (
                     "mg_fragment",
@@ -1619,8 +1645,9 @@ pub(crate) fn render_frame(
             use wgpu::CompareFunction::{Greater, GreaterEqual};
             // The material's depth, and its surface over that depth (the samples whose
             // depth it drew).
-            let depth_only = material::pipeline(s, &fm, None, &pl, ts, (Greater, true));
-            let surface = material::pipeline(s, &fm, Some(fs), &pl, ts, (GreaterEqual, false));
+            let depth_only = material::pipeline(s, &fm, None, &pl, ts, (Greater, true), tangents);
+            let surface =
+                material::pipeline(s, &fm, Some(fs), &pl, ts, (GreaterEqual, false), tangents);
             (mat_layout, mesh_layout, depth_only, surface)
         });
         let (mat_layout, mesh_layout, depth_only, surface) =
@@ -1657,11 +1684,10 @@ pub(crate) fn render_frame(
             None => mesh.vertices.clone(),
             Some(_) => displace(ctx, &mut enc, (&owner, material), m, &mesh)?,
         };
-        let mesh_group = bind(
-            s,
-            mesh_layout,
-            &[vertices.as_entire_binding(), index.as_entire_binding()],
-        );
+        let tangents = material::reads_tangents(source).then(|| mesh.tangents(s, m.mesh));
+        let mut mesh_entries = vec![vertices.as_entire_binding(), index.as_entire_binding()];
+        mesh_entries.extend(tangents.map(|t| t.as_entire_binding()));
+        let mesh_group = bind(s, mesh_layout, &mesh_entries);
         t.upload = start.elapsed();
 
         // Tile by tile (one tile where the frame fits the device): 2. the scene, 3. the
@@ -1746,6 +1772,9 @@ pub(crate) fn render_frame(
                             rp.set_bind_group(2, &mesh_group, &[]);
                         }
                         rp.set_vertex_buffer(0, vertices.slice(..));
+                        if let Some(t) = tangents {
+                            rp.set_vertex_buffer(1, t.slice(..));
+                        }
                         rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
                         rp.draw_indexed(0..tri_count, 0, 0..1);
                     };
@@ -1812,6 +1841,9 @@ pub(crate) fn render_frame(
                             rp.set_bind_group(2, &mesh_group, &[]);
                         }
                         rp.set_vertex_buffer(0, vertices.slice(..));
+                        if let Some(t) = tangents {
+                            rp.set_vertex_buffer(1, t.slice(..));
+                        }
                         rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
                         if tri_count > 0 {
                             rp.draw_indexed(0..tri_count, 0, 0..1);
