@@ -323,7 +323,7 @@ fn mg_curve_eval(c0: MgCurve, x: f32) -> f32 {
 /// The Float Curve node's math: `(1 − factor)·value + factor·curve(value)`.
 pub fn float_curve(points: &[Vec2], count: i32, factor: f32, value: f32) -> f32 {
     let v = Curve::new(points, count).eval(value);
-    (1.0 - factor) * v + factor * value
+    (1.0 - factor) * value + factor * v
 }
 
 /// The RGB Curves node's math: each channel through C then its own curve, mixed with the

@@ -7,6 +7,8 @@ pub mod blender_noise;
 pub mod blender_voronoi;
 pub mod blender_wave;
 pub mod bubble;
+pub mod color_ramp;
+pub mod curves;
 pub mod ibl;
 pub mod image;
 pub mod input;
@@ -24,6 +26,7 @@ pub mod texture;
 pub mod thin_film;
 pub mod toon_water;
 pub mod transmission;
+pub mod wide;
 
 use crate::node::NodeType;
 
@@ -54,12 +57,9 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_wave::all());
     v.extend(blender_brick::all());
     v.extend(blender_magic::all());
+    v.push(color_ramp::color_ramp_type());
+    v.push(curves::float_curve_type());
+    v.push(curves::rgb_curves_type());
     v
 }
 
-// Blender's Color Ramp, Float Curve and RGB Curves (issue 36 item 5), and the kernel adapter
-// their 35–70 inputs need. Not in `all()` yet: the CPU executor runs at most 16 inputs a node
-// (src/exec.rs), and these nodes have more.
-pub mod color_ramp;
-pub mod curves;
-pub mod wide;
