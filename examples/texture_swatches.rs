@@ -91,12 +91,7 @@ const SWATCHES: &[(&str, &str, &str, &str)] = &[
         r#"{ "scale": 4.0, "feature": "smooth_f1", "detail": 3.0, "normalize": true }"#,
         "distance",
     ),
-    (
-        "wave_bands",
-        "wave_texture",
-        r#"{ "scale": 5.0 }"#,
-        "fac",
-    ),
+    ("wave_bands", "wave_texture", r#"{ "scale": 5.0 }"#, "fac"),
     (
         "wave_rings_distorted",
         "wave_texture",
@@ -109,24 +104,14 @@ const SWATCHES: &[(&str, &str, &str, &str)] = &[
         r#"{ "scale": 3.0, "bands_direction": "diagonal", "profile": "saw", "distortion": 2.0, "detail_scale": 2.0 }"#,
         "fac",
     ),
-    (
-        "brick_default",
-        "brick_texture",
-        r#"{}"#,
-        "color",
-    ),
+    ("brick_default", "brick_texture", r#"{}"#, "color"),
     (
         "brick_coloured_squashed",
         "brick_texture",
         r#"{ "scale": 3.0, "color1": [0.6, 0.12, 0.05], "color2": [0.3, 0.06, 0.03], "mortar": [0.7, 0.7, 0.65], "mortar_size": 0.03, "mortar_smooth": 0.3, "offset": 0.25, "offset_frequency": 3, "squash": 0.5, "squash_frequency": 2 }"#,
         "color",
     ),
-    (
-        "magic_default",
-        "magic_texture",
-        r#"{}"#,
-        "color",
-    ),
+    ("magic_default", "magic_texture", r#"{}"#, "color"),
     (
         "magic_depth10",
         "magic_texture",

@@ -347,7 +347,7 @@ fn points_at(lanes: &[f32]) -> [Vec2; MAX_POINTS] {
     p
 }
 
-/// `float_curve`'s CPU kernel: lanes `factor, value, count`, then 16 × (x, y).
+/// `float_curve`'s CPU kernel: lanes `value, factor, count`, then 16 × (x, y).
 #[derive(Clone, Copy)]
 struct FloatKernel;
 
@@ -362,14 +362,14 @@ impl WideFn for FloatKernel {
     const OUTPUTS: &'static [Shape] = &[Shape::Scalar];
     fn sample(ins: &[f32], outs: &mut [f32]) {
         let p = points_at(&ins[3..]);
-        outs[0] = float_curve(&p, ins[2] as i32, ins[0], ins[1]);
+        outs[0] = float_curve(&p, ins[2] as i32, ins[1], ins[0]);
     }
 }
 
 /// Lanes of one of `rgb_curves`' curves: its count, then 16 × (x, y).
 const CURVE_LANES: usize = 1 + 2 * MAX_POINTS;
 
-/// `rgb_curves`' CPU kernel: lanes `fac, r, g, b`, then per curve (C, R, G, B) its count and
+/// `rgb_curves`' CPU kernel: lanes `r, g, b, fac`, then per curve (C, R, G, B) its count and
 /// 16 × (x, y).
 #[derive(Clone, Copy)]
 struct RgbKernel;
@@ -377,8 +377,8 @@ struct RgbKernel;
 impl WideFn for RgbKernel {
     const INPUTS: &'static [Shape] = &{
         let mut s = [Shape::Vec2; 2 + 4 * (1 + MAX_POINTS)];
-        s[0] = Shape::Scalar;
-        s[1] = Shape::Vec3;
+        s[0] = Shape::Vec3;
+        s[1] = Shape::Scalar;
         let mut c = 0;
         while c < 4 {
             s[2 + c * (1 + MAX_POINTS)] = Shape::Int;
@@ -395,8 +395,8 @@ impl WideFn for RgbKernel {
         let [(nc, pc), (nr, pr), (ng, pg), (nb, pb)] = [0, 1, 2, 3].map(curve);
         let o = rgb_curves(
             [(&pc, nc), (&pr, nr), (&pg, ng), (&pb, nb)],
-            ins[0],
-            Vec3::new(ins[1], ins[2], ins[3]),
+            ins[3],
+            Vec3::new(ins[0], ins[1], ins[2]),
         );
         outs[..3].copy_from_slice(&o.to_array());
     }
@@ -404,7 +404,7 @@ impl WideFn for RgbKernel {
 
 /// `float_curve`'s WGSL.
 const FLOAT_CURVE_WGSL: &str = r#"
-fn $fn(factor: f32, value: f32, count: i32, point_0: vec2<f32>, point_1: vec2<f32>, point_2: vec2<f32>, point_3: vec2<f32>, point_4: vec2<f32>, point_5: vec2<f32>, point_6: vec2<f32>, point_7: vec2<f32>, point_8: vec2<f32>, point_9: vec2<f32>, point_10: vec2<f32>, point_11: vec2<f32>, point_12: vec2<f32>, point_13: vec2<f32>, point_14: vec2<f32>, point_15: vec2<f32>) -> f32 {
+fn $fn(value: f32, factor: f32, count: i32, point_0: vec2<f32>, point_1: vec2<f32>, point_2: vec2<f32>, point_3: vec2<f32>, point_4: vec2<f32>, point_5: vec2<f32>, point_6: vec2<f32>, point_7: vec2<f32>, point_8: vec2<f32>, point_9: vec2<f32>, point_10: vec2<f32>, point_11: vec2<f32>, point_12: vec2<f32>, point_13: vec2<f32>, point_14: vec2<f32>, point_15: vec2<f32>) -> f32 {
     let c = mg_curve_build(array<vec2<f32>, 16>(point_0, point_1, point_2, point_3, point_4, point_5, point_6, point_7, point_8, point_9, point_10, point_11, point_12, point_13, point_14, point_15), count);
     let v = mg_curve_eval(c, value);
     return (1.0 - factor) * value + factor * v;
@@ -413,7 +413,7 @@ fn $fn(factor: f32, value: f32, count: i32, point_0: vec2<f32>, point_1: vec2<f3
 
 /// `rgb_curves`' WGSL.
 const RGB_CURVES_WGSL: &str = r#"
-fn $fn(fac: f32, color: vec3<f32>, c_count: i32, c_0: vec2<f32>, c_1: vec2<f32>, c_2: vec2<f32>, c_3: vec2<f32>, c_4: vec2<f32>, c_5: vec2<f32>, c_6: vec2<f32>, c_7: vec2<f32>, c_8: vec2<f32>, c_9: vec2<f32>, c_10: vec2<f32>, c_11: vec2<f32>, c_12: vec2<f32>, c_13: vec2<f32>, c_14: vec2<f32>, c_15: vec2<f32>, r_count: i32, r_0: vec2<f32>, r_1: vec2<f32>, r_2: vec2<f32>, r_3: vec2<f32>, r_4: vec2<f32>, r_5: vec2<f32>, r_6: vec2<f32>, r_7: vec2<f32>, r_8: vec2<f32>, r_9: vec2<f32>, r_10: vec2<f32>, r_11: vec2<f32>, r_12: vec2<f32>, r_13: vec2<f32>, r_14: vec2<f32>, r_15: vec2<f32>, g_count: i32, g_0: vec2<f32>, g_1: vec2<f32>, g_2: vec2<f32>, g_3: vec2<f32>, g_4: vec2<f32>, g_5: vec2<f32>, g_6: vec2<f32>, g_7: vec2<f32>, g_8: vec2<f32>, g_9: vec2<f32>, g_10: vec2<f32>, g_11: vec2<f32>, g_12: vec2<f32>, g_13: vec2<f32>, g_14: vec2<f32>, g_15: vec2<f32>, b_count: i32, b_0: vec2<f32>, b_1: vec2<f32>, b_2: vec2<f32>, b_3: vec2<f32>, b_4: vec2<f32>, b_5: vec2<f32>, b_6: vec2<f32>, b_7: vec2<f32>, b_8: vec2<f32>, b_9: vec2<f32>, b_10: vec2<f32>, b_11: vec2<f32>, b_12: vec2<f32>, b_13: vec2<f32>, b_14: vec2<f32>, b_15: vec2<f32>) -> vec3<f32> {
+fn $fn(color: vec3<f32>, fac: f32, c_count: i32, c_0: vec2<f32>, c_1: vec2<f32>, c_2: vec2<f32>, c_3: vec2<f32>, c_4: vec2<f32>, c_5: vec2<f32>, c_6: vec2<f32>, c_7: vec2<f32>, c_8: vec2<f32>, c_9: vec2<f32>, c_10: vec2<f32>, c_11: vec2<f32>, c_12: vec2<f32>, c_13: vec2<f32>, c_14: vec2<f32>, c_15: vec2<f32>, r_count: i32, r_0: vec2<f32>, r_1: vec2<f32>, r_2: vec2<f32>, r_3: vec2<f32>, r_4: vec2<f32>, r_5: vec2<f32>, r_6: vec2<f32>, r_7: vec2<f32>, r_8: vec2<f32>, r_9: vec2<f32>, r_10: vec2<f32>, r_11: vec2<f32>, r_12: vec2<f32>, r_13: vec2<f32>, r_14: vec2<f32>, r_15: vec2<f32>, g_count: i32, g_0: vec2<f32>, g_1: vec2<f32>, g_2: vec2<f32>, g_3: vec2<f32>, g_4: vec2<f32>, g_5: vec2<f32>, g_6: vec2<f32>, g_7: vec2<f32>, g_8: vec2<f32>, g_9: vec2<f32>, g_10: vec2<f32>, g_11: vec2<f32>, g_12: vec2<f32>, g_13: vec2<f32>, g_14: vec2<f32>, g_15: vec2<f32>, b_count: i32, b_0: vec2<f32>, b_1: vec2<f32>, b_2: vec2<f32>, b_3: vec2<f32>, b_4: vec2<f32>, b_5: vec2<f32>, b_6: vec2<f32>, b_7: vec2<f32>, b_8: vec2<f32>, b_9: vec2<f32>, b_10: vec2<f32>, b_11: vec2<f32>, b_12: vec2<f32>, b_13: vec2<f32>, b_14: vec2<f32>, b_15: vec2<f32>) -> vec3<f32> {
     let cc = mg_curve_build(array<vec2<f32>, 16>(c_0, c_1, c_2, c_3, c_4, c_5, c_6, c_7, c_8, c_9, c_10, c_11, c_12, c_13, c_14, c_15), c_count);
     let cr = mg_curve_build(array<vec2<f32>, 16>(r_0, r_1, r_2, r_3, r_4, r_5, r_6, r_7, r_8, r_9, r_10, r_11, r_12, r_13, r_14, r_15), r_count);
     let cg = mg_curve_build(array<vec2<f32>, 16>(g_0, g_1, g_2, g_3, g_4, g_5, g_6, g_7, g_8, g_9, g_10, g_11, g_12, g_13, g_14, g_15), g_count);
@@ -483,15 +483,15 @@ pub fn float_curve_type() -> NodeType {
         curve_source!()
     ))
     .input(
+        In::float("value", 1.0)
+            .range(0.0, 1.0)
+            .doc("The value mapped (Blender's Value); constant beyond the curve's ends."),
+    )
+    .input(
         In::float("factor", 1.0)
             .range(0.0, 1.0)
             .hard(0.0, 1.0)
             .doc("How much of the curve to use: 0 passes value through, 1 gives curve(value)."),
-    )
-    .input(
-        In::float("value", 1.0)
-            .range(0.0, 1.0)
-            .doc("The value mapped (Blender's Value); constant beyond the curve's ends."),
     )
     .input(count_input(
         "count",
@@ -579,15 +579,15 @@ pub fn rgb_curves_type() -> NodeType {
         curve_source!()
     ))
     .input(
+        In::color("color", [1.0, 1.0, 1.0])
+            .range(0.0, 1.0)
+            .doc("The colour mapped, linear RGB (Blender's Color)."),
+    )
+    .input(
         In::float("fac", 1.0)
             .range(0.0, 1.0)
             .hard(0.0, 1.0)
             .doc("How much of the mapping to use: 0 passes the colour through."),
-    )
-    .input(
-        In::color("color", [1.0, 1.0, 1.0])
-            .range(0.0, 1.0)
-            .doc("The colour mapped, linear RGB (Blender's Color)."),
     );
     for (count, names) in RGB_CURVES {
         t = t.input(count_input(

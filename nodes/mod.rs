@@ -62,4 +62,3 @@ pub fn all() -> Vec<NodeType> {
     v.push(curves::rgb_curves_type());
     v
 }
-

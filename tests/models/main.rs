@@ -19,6 +19,7 @@ mod param_ranges;
 mod pbr;
 mod physics_pointwise;
 mod ramps;
+mod ramps_blender;
 mod registry_stability;
 mod skin;
 mod sunshine;

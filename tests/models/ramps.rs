@@ -24,7 +24,7 @@ use serde_json::json;
 // ------------------------------------------------------------------------------------------
 
 /// One sample per row: each row the node's defaults with `set` applied.
-fn samples(t: &NodeType, rows: &[Vec<(&str, Value)>]) -> NodeSamples {
+pub(crate) fn samples(t: &NodeType, rows: &[Vec<(&str, Value)>]) -> NodeSamples {
     let n = rows.len();
     let columns = t
         .inputs()
@@ -49,7 +49,7 @@ fn samples(t: &NodeType, rows: &[Vec<(&str, Value)>]) -> NodeSamples {
 }
 
 /// Output `o` of sample `i`, all its components.
-fn output(out: &[Vec<f32>], o: usize, width: usize, n: usize, i: usize) -> Vec<f32> {
+pub(crate) fn output(out: &[Vec<f32>], o: usize, width: usize, n: usize, i: usize) -> Vec<f32> {
     (0..width).map(|c| out[o][c * n + i]).collect()
 }
 
@@ -157,7 +157,7 @@ fn ramp_reference(stops: &[(f32, [f32; 4])], count: i32, x: f64, mode: &str) -> 
 }
 
 /// The inputs of a ramp node: `fac`, the mode, and the stops.
-fn ramp_row(
+pub(crate) fn ramp_row(
     stops: &[(f32, [f32; 4])],
     count: i32,
     fac: f32,
@@ -177,7 +177,7 @@ fn ramp_row(
 }
 
 /// A ramp's stops: (position, RGBA).
-type Stops = Vec<(f32, [f32; 4])>;
+pub(crate) type Stops = Vec<(f32, [f32; 4])>;
 
 /// Runs the node's kernel on `rows` (stops, count, fac, mode); returns RGBA per row.
 fn ramp_kernel(rows: &[(Stops, i32, f32, &str)]) -> Vec<[f32; 4]> {
@@ -514,7 +514,11 @@ fn curve_matches_fritsch_carlson_and_keeps_its_properties() {
 }
 
 /// The inputs of a float curve node.
-fn float_curve_row(points: &[(f32, f32)], factor: f32, value: f32) -> Vec<(&'static str, Value)> {
+pub(crate) fn float_curve_row(
+    points: &[(f32, f32)],
+    factor: f32,
+    value: f32,
+) -> Vec<(&'static str, Value)> {
     let mut row = vec![
         ("factor", Value::float(factor)),
         ("value", Value::float(value)),
@@ -749,7 +753,9 @@ fn every_curve_point_input_is_declared_once_in_order() {
     let t = curves::rgb_curves_type();
     let names: Vec<&str> = t.inputs().iter().map(|d| d.name).collect();
     assert_eq!(names.len(), 2 + 4 * (1 + MAX_POINTS));
-    assert_eq!(&names[..3], ["fac", "color", "c_count"]);
+    // The colour first: the registry suites link the first input, and with the default
+    // (identity) curves only the colour changes the output.
+    assert_eq!(&names[..3], ["color", "fac", "c_count"]);
     assert_eq!(names[3 + MAX_POINTS], "r_count");
     assert_eq!(names.last(), Some(&"b_15"));
 }
