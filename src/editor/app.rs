@@ -54,6 +54,8 @@ pub struct EditorApp {
     handed: Option<usize>,
     /// The last frame's [`Viewer::drawn`].
     drawn: Vec<(usize, egui::Rect)>,
+    /// The last frame's [`Viewer::widgets`].
+    widgets: Vec<(String, egui::Rect)>,
     /// How the pending fit frames the nodes: as a graph opens ([`first_view::opening`],
     /// 1×) or whole (Home, [`first_view::frame_all`]).
     fit_whole: bool,
@@ -89,6 +91,7 @@ impl EditorApp {
             hand_off: true,
             handed: None,
             drawn: Vec::new(),
+            widgets: Vec::new(),
             fit_whole: false,
             zoom_to: None,
             crisp: Default::default(),
@@ -196,6 +199,12 @@ impl EditorApp {
     /// How many nodes the last frame handed egui-snarl; `None` when it was handed all.
     pub fn handed(&self) -> Option<usize> {
         self.handed
+    }
+
+    /// The ramp-and-curve widgets drawn in the last frame: node id, the strip's or plot's
+    /// rect in canvas points ([`super::ramp_ui`]).
+    pub fn drawn_widgets(&self) -> &[(String, egui::Rect)] {
+        &self.widgets
     }
 
     /// The frames of the nodes egui-snarl drew in full in the last frame, by node id, in
@@ -367,6 +376,7 @@ impl EditorApp {
             looks: &mut self.looks,
             wires: None,
             drawn: Vec::new(),
+            widgets: Vec::new(),
             selection: &self.state.selection,
             restore: None,
             pin_rows: Default::default(),
@@ -479,6 +489,7 @@ impl EditorApp {
             self.crisp.apply(ui.ctx(), layer, from, t.scaling);
         }
         self.drawn = std::mem::take(&mut viewer.drawn);
+        self.widgets = std::mem::take(&mut viewer.widgets);
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;
@@ -771,6 +782,9 @@ impl EditorApp {
                     }
                 }
                 Action::Disconnect { node, input } => s.clear_input(&node, &input),
+                Action::SetInputs { node, values, key } => {
+                    s.set_inputs(&node, &values, key.as_deref());
+                }
                 Action::SetInput { node, input, value } => {
                     let key = format!("value:{node}.{input}");
                     s.set_input(&node, &input, value, Some(&key));
