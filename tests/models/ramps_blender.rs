@@ -189,3 +189,99 @@ fn rgb_curves_agree_with_blender_within_the_curve_bound() {
     assert!(worst < MAX_RGB_CURVES_DIFFERENCE, "{worst}");
     assert!(worst > 1e-3, "{worst}");
 }
+
+/// Blender's last ramp (16 stops: inputs up to `color_15`, the 35th) and last RGB curves
+/// case (70 inputs) through a whole graph: the executor hands a kernel every input (it
+/// handed at most 16 before, and the ramp's kernel read past them).
+#[test]
+fn the_executor_runs_nodes_of_35_and_70_inputs() {
+    use matgraph::{Attribute, Graph, Plan, PlanOptions, Registry, SampleBatch};
+    let r = reference();
+    let xs = list(&r["x"]);
+    let at_x: Vec<[f32; 3]> = xs.iter().map(|&x| [x, 0.0, 0.0]).collect();
+    let run = |node: serde_json::Value, out: &str, pts: &[[f32; 3]]| -> Vec<f32> {
+        let text = serde_json::json!({
+            "version": 1, "name": "wide",
+            "nodes": [ { "id": "geo", "type": "geometry" },
+                       { "id": "sp", "type": "split", "inputs": { "v": { "link": "geo.position" } } },
+                       node ],
+            "outputs": [ { "name": "out", "from": format!("n.{out}") } ]
+        });
+        let graph = Graph::from_json(&text.to_string(), Registry::builtin()).unwrap();
+        let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
+        let mut batch = SampleBatch::new(pts.len());
+        batch.set_values(Attribute::Position, pts).unwrap();
+        let o = plan.execute(&batch, &plan.default_parameters()).unwrap();
+        o.planar(0).to_vec()
+    };
+    let case = &r["ramps"][14];
+    let stops = case["stops"].as_array().unwrap();
+    assert_eq!(stops.len(), 16);
+    let mut inputs = serde_json::json!({
+        "fac": { "link": "sp.x" },
+        "interpolation": case["interpolation"],
+        "count": 16,
+    });
+    for (k, s) in stops.iter().enumerate() {
+        inputs[color_ramp::POSITIONS[k]] = s[0].clone();
+        inputs[color_ramp::COLORS[k]] = s[1].clone();
+    }
+    let got = run(
+        serde_json::json!({ "id": "n", "type": "color_ramp", "inputs": inputs }),
+        "color",
+        &at_x,
+    );
+    let n = xs.len();
+    for i in 0..n {
+        let want = list(&case["color"][i]);
+        for k in 0..3 {
+            let d = (got[k * n + i] - want[k]).abs();
+            assert!(d <= 1e-4, "fac {}: channel {k} {d}", xs[i]);
+        }
+    }
+    // RGB Curves: the B curve's inputs are the last; compared with the kernel run alone.
+    let case = &r["rgb_curves"][5];
+    let cols: Vec<[f32; 3]> = r["colors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let c = list(c);
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    let mut inputs = serde_json::json!({ "color": { "link": "geo.position" }, "fac": case["fac"] });
+    let cs: Vec<Vec<(f32, f32)>> = case["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(points)
+        .collect();
+    for ((count, names), pts) in curves::RGB_CURVES.iter().zip(&cs) {
+        inputs[*count] = serde_json::json!(pts.len());
+        for (k, &(x, y)) in pts.iter().enumerate() {
+            inputs[names[k]] = serde_json::json!([x, y]);
+        }
+    }
+    let got = run(
+        serde_json::json!({ "id": "n", "type": "rgb_curves", "inputs": inputs }),
+        "color",
+        &cols,
+    );
+    let curve = |c: usize| {
+        let p: Vec<glam::Vec2> = cs[c].iter().map(|&(x, y)| glam::Vec2::new(x, y)).collect();
+        (p, cs[c].len() as i32)
+    };
+    let [c, rr, g, b] = [0, 1, 2, 3].map(curve);
+    let n = cols.len();
+    for (i, col) in cols.iter().enumerate() {
+        let want = curves::rgb_curves(
+            [(&c.0, c.1), (&rr.0, rr.1), (&g.0, g.1), (&b.0, b.1)],
+            f(&case["fac"]),
+            glam::Vec3::from_array(*col),
+        );
+        for k in 0..3 {
+            assert_eq!(got[k * n + i], want[k], "colour {i} channel {k}");
+        }
+    }
+}
