@@ -15,7 +15,7 @@ use serde_json::{Value as J, json};
 
 /// The node types the widget edits, and how many of their first inputs keep their pins
 /// (the rest, stops or points and their counts, are the widget's).
-pub const PINNED: [(&str, usize); 3] = [("color_ramp", 2), ("float_curve", 2), ("rgb_curves", 2)];
+pub const PINNED: [(&str, usize); 3] = [("color_ramp", 2), ("float_curve", 3), ("rgb_curves", 3)];
 
 /// The inputs one edit writes: (input name, literal).
 pub type Edits = Vec<(String, J)>;
@@ -185,10 +185,11 @@ impl CurvePoints {
         Some(CurvePoints { channel, points })
     }
 
-    /// The curve at `x` (the node's own evaluation).
+    /// The curve at `x` over the widget's square (the node's own curve; [0, 1] lies within
+    /// its ends, or is drawn flat beyond them).
     pub fn at(&self, x: f32) -> f32 {
         let p: Vec<Vec2> = self.points.iter().map(|&p| Vec2::from_array(p)).collect();
-        Curve::new(&p, p.len() as i32).eval(x)
+        Curve::new(&p, p.len() as i32).eval(x, false)
     }
 
     /// Point `k` moved to `p` (clamped to [0, 1]², the widget's square).

@@ -5,7 +5,8 @@ Blender itself through geometry nodes (tests/blender/gn.py):
 
 Every number is f32-exact (seeded random). Ramp stops are given to Blender sorted by position
 and at distinct positions (its ColorBand expects them so); curve points sorted by x, distinct,
-in [0, 1]² (Blender clips them to its clipping rectangle). Factors/values run past both ends.
+in [0, 1]² (Blender clips them to its clipping rectangle). Factors/values run past both ends;
+curves alternate Blender's Extend Horizontal and Extend Extrapolated (its default).
 """
 import json
 import random
@@ -78,10 +79,11 @@ for case in range(15):
 for case in range(12):
     pts = curve(2 + case)
     factor = 1.0 if case % 3 else f32(rng.uniform(0.0, 1.0))
+    extend = ["HORIZONTAL", "EXTRAPOLATED"][case % 2]
 
-    def make(tree, pos, pts=pts, factor=factor):
+    def make(tree, pos, pts=pts, factor=factor, extend=extend):
         n = tree.nodes.new("ShaderNodeFloatCurve")
-        n.mapping.extend = "HORIZONTAL"
+        n.mapping.extend = extend
         set_points(n.mapping.curves[0], pts)
         n.mapping.update()
         pts[:] = [tuple(p.location) for p in n.mapping.curves[0].points]
@@ -92,7 +94,8 @@ for case in range(12):
         return n
 
     r = gn.evaluate(obj, make, [("Value", "FLOAT")])
-    out["float_curves"].append({"points": pts, "factor": factor, "value": r["Value"]})
+    out["float_curves"].append({"points": pts, "factor": factor, "extend": extend.lower(),
+                                "value": r["Value"]})
 
 cols = [[f32(rng.uniform(-0.1, 1.1)) for _ in range(3)] for _ in range(N)]
 cobj = gn.point_object(cols)
@@ -100,10 +103,11 @@ out["colors"] = cols
 for case in range(6):
     cs = [curve(2 + (case + 3 * k) % 9) for k in range(4)]  # C, R, G, B
     fac = 1.0 if case % 2 else f32(rng.uniform(0.0, 1.0))
+    extend = ["HORIZONTAL", "EXTRAPOLATED"][case // 3]
 
-    def make(tree, pos, cs=cs, fac=fac):
+    def make(tree, pos, cs=cs, fac=fac, extend=extend):
         n = tree.nodes.new("ShaderNodeRGBCurve")
-        n.mapping.extend = "HORIZONTAL"
+        n.mapping.extend = extend
         # Blender's curves are R, G, B, C; ours C, R, G, B.
         for cm, pts in zip([n.mapping.curves[3], n.mapping.curves[0], n.mapping.curves[1],
                             n.mapping.curves[2]], cs):
@@ -116,6 +120,7 @@ for case in range(6):
         return n
 
     r = gn.evaluate(cobj, make, [("Color", "FLOAT_VECTOR")])
-    out["rgb_curves"].append({"curves": cs, "fac": fac, "color": r["Color"]})
+    out["rgb_curves"].append({"curves": cs, "fac": fac, "extend": extend.lower(),
+                              "color": r["Color"]})
 
 print(json.dumps(out))

@@ -338,14 +338,52 @@ fn ramp_count_is_clamped_and_the_rest_ignored() {
 /// τ = 3/√(αₖ² + βₖ²); the cubic Hermite between the points, constant beyond. Points must
 /// have distinct x, sorted.
 fn fritsch_carlson(points: &[(f64, f64)], x: f64) -> f64 {
+    fritsch_carlson_extended(points, x, false)
+}
+
+/// Blender's extrapolation slopes (`curvemap_make_table` after `calchandle_curvemap`), in
+/// f64: with two points the secant; with more, from an end point towards its neighbour's
+/// automatic handle, h = q ∓ t·|q − q∓|/(2.5614·|t|), t the sum of the unit vectors along the
+/// neighbour's two segments, the handle's x kept on the curve's side; vertical gives 0.
+fn blender_slopes(p: &[(f64, f64)]) -> [f64; 2] {
+    let n = p.len();
+    let slope = |dx: f64, dy: f64| if dx != 0.0 { dy / dx } else { 0.0 };
+    if n == 2 {
+        let s = slope(p[1].0 - p[0].0, p[1].1 - p[0].1);
+        return [s, s];
+    }
+    // The handle of point q (between a and b) on the side of a (`toward_a`) or of b.
+    let handle = |a: (f64, f64), q: (f64, f64), b: (f64, f64), toward_a: bool| {
+        let (ax, ay) = (q.0 - a.0, q.1 - a.1);
+        let (bx, by) = (b.0 - q.0, b.1 - q.1);
+        let la = match ax.hypot(ay) {
+            0.0 => 1.0,
+            l => l,
+        };
+        let lb = match bx.hypot(by) {
+            0.0 => 1.0,
+            l => l,
+        };
+        let (tx, ty) = (bx / lb + ax / la, by / lb + ay / la);
+        let len = tx.hypot(ty) * 2.5614;
+        match (len == 0.0, toward_a) {
+            (true, _) => q,
+            (false, true) => (q.0 - tx * la / len, q.1 - ty * la / len),
+            (false, false) => (q.0 + tx * lb / len, q.1 + ty * lb / len),
+        }
+    };
+    let h = handle(p[0], p[1], p[2], true);
+    let lo = slope((h.0 - p[0].0).max(0.0), h.1 - p[0].1);
+    let h = handle(p[n - 3], p[n - 2], p[n - 1], false);
+    let hi = slope((h.0 - p[n - 1].0).min(0.0), h.1 - p[n - 1].1);
+    [lo, hi]
+}
+
+/// [`fritsch_carlson`], beyond the ends (`extrapolate`) along Blender's extrapolation
+/// slopes ([`blender_slopes`]).
+fn fritsch_carlson_extended(points: &[(f64, f64)], x: f64, extrapolate: bool) -> f64 {
     let n = points.len();
     let (xs, ys): (Vec<f64>, Vec<f64>) = points.iter().copied().unzip();
-    if x <= xs[0] {
-        return ys[0];
-    }
-    if x >= xs[n - 1] {
-        return ys[n - 1];
-    }
     let delta: Vec<f64> = (0..n - 1)
         .map(|k| (ys[k + 1] - ys[k]) / (xs[k + 1] - xs[k]))
         .collect();
@@ -376,6 +414,17 @@ fn fritsch_carlson(points: &[(f64, f64)], x: f64) -> f64 {
             m[k + 1] = tau * b * delta[k];
         }
     }
+    let ext = blender_slopes(points);
+    let beyond = |k: usize, s: f64| match extrapolate {
+        true => ys[k] + s * (x - xs[k]),
+        false => ys[k],
+    };
+    if x <= xs[0] {
+        return beyond(0, ext[0]);
+    }
+    if x >= xs[n - 1] {
+        return beyond(n - 1, ext[1]);
+    }
     let k = (0..n - 1).rfind(|&k| xs[k] <= x).unwrap();
     let h = xs[k + 1] - xs[k];
     let t = (x - xs[k]) / h;
@@ -396,11 +445,11 @@ fn curve_hand_computed_values() {
     // A peak: (0, 0), (½, ½), (1, 0). m₁ = 0 (the secants change sign), m₀ = 1, m₂ = −1, no
     // limit (α² + β² = 1). At ¼: t = ½, h = ½: ½·½ + ½·(⅛·1 − ⅛·0) = 0.3125; ¾ mirrors it.
     let c = Curve::new(&vec2s(&[(0.0, 0.0), (0.5, 0.5), (1.0, 0.0)]), 3);
-    assert_eq!(c.eval(0.25), 0.3125);
-    assert_eq!(c.eval(0.75), 0.3125);
-    assert_eq!(c.eval(0.5), 0.5);
-    assert_eq!(c.eval(-3.0), 0.0);
-    assert_eq!(c.eval(9.0), 0.0);
+    assert_eq!(c.eval(0.25, false), 0.3125);
+    assert_eq!(c.eval(0.75, false), 0.3125);
+    assert_eq!(c.eval(0.5, false), 0.5);
+    assert_eq!(c.eval(-3.0, false), 0.0);
+    assert_eq!(c.eval(9.0, false), 0.0);
     // Points on a line, given out of order: the line, everywhere between them.
     let c = Curve::new(
         &vec2s(&[(0.8, 0.62), (0.1, 0.34), (0.5, 0.5), (0.3, 0.42)]),
@@ -410,9 +459,9 @@ fn curve_hand_computed_values() {
         let x = 0.1 + k as f64 / 100.0;
         let want = 0.3 + 0.4 * x;
         assert!(
-            (c.eval(x as f32) as f64 - want).abs() < 3e-7,
+            (c.eval(x as f32, false) as f64 - want).abs() < 3e-7,
             "{x}: {}",
-            c.eval(x as f32)
+            c.eval(x as f32, false)
         );
     }
     // A limited segment: (0, 0), (0.1, 1), (1, 1.05). δ = 10, 0.0556; m₁ = 5.03 gives
@@ -422,7 +471,7 @@ fn curve_hand_computed_values() {
     let pts = [(0.0, 0.0), (0.1, 1.0), (1.0, 1.05)];
     for k in 0..=100 {
         let x = k as f64 / 100.0;
-        let got = c.eval(x as f32) as f64;
+        let got = c.eval(x as f32, false) as f64;
         let want = fritsch_carlson(&pts, x);
         assert!((got - want).abs() < 1e-6, "{x}: {got} against {want}");
         assert!(got <= 1.05 + 1e-7, "{x}: {got} overshoots 1.05");
@@ -435,10 +484,18 @@ fn equal_x_make_a_jump() {
     // line: both tangents there are the one secant 0.4), from ½ on the last two's.
     let c = Curve::new(&vec2s(&[(0.0, 0.0), (0.5, 0.8), (0.5, 0.2), (1.0, 1.0)]), 4);
     // Sorted stably: (½, 0.8) stays before (½, 0.2).
-    assert_eq!(c.eval(0.5), 0.2);
-    assert!((c.eval(0.499_999_97) - 0.8).abs() < 1e-6);
-    assert!((c.eval(0.25) - 0.4).abs() < 1e-6, "{}", c.eval(0.25));
-    assert!((c.eval(0.75) - 0.6).abs() < 1e-6, "{}", c.eval(0.75));
+    assert_eq!(c.eval(0.5, false), 0.2);
+    assert!((c.eval(0.499_999_97, false) - 0.8).abs() < 1e-6);
+    assert!(
+        (c.eval(0.25, false) - 0.4).abs() < 1e-6,
+        "{}",
+        c.eval(0.25, false)
+    );
+    assert!(
+        (c.eval(0.75, false) - 0.6).abs() < 1e-6,
+        "{}",
+        c.eval(0.75, false)
+    );
 }
 
 impl Rng {
@@ -477,7 +534,7 @@ fn curve_matches_fritsch_carlson_and_keeps_its_properties() {
         sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
         // Through every point.
         for &(x, y) in &sorted {
-            assert_eq!(c.eval(x as f32) as f64, y, "case {case}: at {x}");
+            assert_eq!(c.eval(x as f32, false) as f64, y, "case {case}: at {x}");
         }
         for w in sorted.windows(2) {
             let ((x0, y0), (x1, y1)) = (w[0], w[1]);
@@ -486,7 +543,7 @@ fn curve_matches_fritsch_carlson_and_keeps_its_properties() {
             let mut last = y0;
             for j in 0..=32 {
                 let x = (x0 + (x1 - x0) * j as f64 / 32.0) as f32;
-                let got = c.eval(x) as f64;
+                let got = c.eval(x, false) as f64;
                 let want = fritsch_carlson(&sorted, x as f64);
                 worst = worst.max((got - want).abs());
                 assert!(
@@ -507,8 +564,8 @@ fn curve_matches_fritsch_carlson_and_keeps_its_properties() {
             }
         }
         // Beyond the ends: the end points' values.
-        assert_eq!(c.eval(-5.0) as f64, sorted[0].1);
-        assert_eq!(c.eval(5.0) as f64, sorted[n - 1].1);
+        assert_eq!(c.eval(-5.0, false) as f64, sorted[0].1);
+        assert_eq!(c.eval(5.0, false) as f64, sorted[n - 1].1);
     }
     eprintln!("curve: worst |cpu − f64 Fritsch–Carlson| {worst:.2e}");
 }
@@ -550,10 +607,19 @@ fn float_curve_node_mixes_by_its_factor() {
         let mut sorted: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| (x as f64, y as f64)).collect();
         sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
         let (f, v) = (*f as f64, *v as f64);
-        let want = (1.0 - f) * v + f * fritsch_carlson(&sorted, v);
+        // Extrapolated beyond the ends (the default, Blender's).
+        let want = (1.0 - f) * v + f * fritsch_carlson_extended(&sorted, v, true);
         let got = out[0][i] as f64;
+        // Between the ends 2e-6; beyond them the extrapolated slope comes from a handle's
+        // x offset, a difference that f32 rounds (measured 2.5e-6 relative): 1e-5 relative.
+        let inside = v > sorted[0].0 && v < sorted[sorted.len() - 1].0;
+        let tol = if inside {
+            2e-6
+        } else {
+            1e-5 * want.abs().max(1.0)
+        };
         assert!(
-            (got - want).abs() < 2e-6,
+            (got - want).abs() < tol,
             "{pts:?} f {f} v {v}: {got} against {want}"
         );
     }
@@ -752,10 +818,10 @@ fn the_wgsl_validates_with_naga_and_tint() {
 fn every_curve_point_input_is_declared_once_in_order() {
     let t = curves::rgb_curves_type();
     let names: Vec<&str> = t.inputs().iter().map(|d| d.name).collect();
-    assert_eq!(names.len(), 2 + 4 * (1 + MAX_POINTS));
+    assert_eq!(names.len(), 3 + 4 * (1 + MAX_POINTS));
     // The colour first: the registry suites link the first input, and with the default
     // (identity) curves only the colour changes the output.
-    assert_eq!(&names[..3], ["color", "fac", "c_count"]);
-    assert_eq!(names[3 + MAX_POINTS], "r_count");
+    assert_eq!(&names[..4], ["color", "fac", "extend", "c_count"]);
+    assert_eq!(names[4 + MAX_POINTS], "r_count");
     assert_eq!(names.last(), Some(&"b_15"));
 }
