@@ -633,8 +633,8 @@ pub fn float_curve_type() -> NodeType {
     )
     .source(concat!(
         "Blender's Float Curve node (source/blender/nodes/shader/nodes/node_shader_curves.cc): \
-         (1 − factor)·value + factor·curve(value). The points are inputs count and point_k \
-         (x, y).",
+         (1 − factor)·value + factor·curve(value). The points are the inputs point 0 to 15 \
+         (x, y), the first count of them used.",
         curve_source!()
     ))
     .input(
