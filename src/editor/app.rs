@@ -207,6 +207,15 @@ impl EditorApp {
         &self.widgets
     }
 
+    /// Whether the pointer is on a ramp-and-curve widget drawn in the last frame.
+    fn pointer_on_widget(&self, ctx: &egui::Context) -> bool {
+        let Some(at) = ctx.input(|i| i.pointer.hover_pos()) else {
+            return false;
+        };
+        let at = self.to_screen.inverse() * at;
+        self.widgets.iter().any(|(_, r)| r.contains(at))
+    }
+
     /// The frames of the nodes egui-snarl drew in full in the last frame, by node id, in
     /// canvas points (culled and withheld nodes left out).
     pub fn drawn_frames(&self) -> Vec<(&str, egui::Rect)> {
@@ -899,12 +908,16 @@ impl EditorApp {
             let ids = self.selected(ctx);
             self.state.run_node_command(c, &ids);
         }
+        // Delete over a ramp-and-curve widget removes its stop or point (super::ramp_ui),
+        // not the selected nodes.
+        let on_widget = self.pointer_on_widget(ctx);
         let (search, tab, delete, duplicate) = ctx.input_mut(|i| {
             (
                 i.consume_key(Modifiers::SHIFT, Key::A),
                 i.consume_key(Modifiers::NONE, Key::Tab),
-                i.consume_key(Modifiers::NONE, Key::Delete)
-                    || i.consume_key(Modifiers::NONE, Key::X),
+                !on_widget
+                    && (i.consume_key(Modifiers::NONE, Key::Delete)
+                        || i.consume_key(Modifiers::NONE, Key::X)),
                 i.consume_key(Modifiers::SHIFT, Key::D),
             )
         });

@@ -13,9 +13,9 @@ use egui::{Color32, Pos2, Rect, Sense, Shape, Stroke, Ui, vec2};
 /// The strip's and the plot's width, canvas points.
 pub const WIDTH: f32 = 180.0;
 /// The colour strip's height.
-const STRIP: f32 = 20.0;
+pub const STRIP: f32 = 20.0;
 /// The stop markers' row under the strip.
-const MARKS: f32 = 12.0;
+pub const MARKS: f32 = 12.0;
 /// The curve plot's height.
 const PLOT: f32 = 120.0;
 /// How near (points) the pointer must be to a stop or point to pick it.
@@ -46,7 +46,8 @@ struct Memory {
 }
 
 /// Draws the widget of node `id` (of type `ty`); returns the edit made, if any, and the
-/// rect of the strip or plot (canvas points, for tests and the layout).
+/// rect of the strip with its markers' row under it, or of the plot (canvas points: where
+/// Delete goes to the widget, and for tests).
 pub fn show(ui: &mut Ui, doc: &EditorDoc, id: &str, ty: &str) -> (Option<WidgetEdit>, Rect) {
     let mem_id = egui::Id::new(("ramp_widget", id));
     let mut mem: Memory = ui.data(|d| d.get_temp(mem_id)).unwrap_or_default();
@@ -197,7 +198,7 @@ fn ramp_widget(
             }
         });
     }
-    (edit, strip)
+    (edit, rect)
 }
 
 fn curve_widget(

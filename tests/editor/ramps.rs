@@ -18,7 +18,8 @@ fn one_node(ty: &str) -> (H, String) {
     (harness(s), id)
 }
 
-/// The widget's strip or plot of node `id` (canvas points).
+/// The widget's strip (20 points high, its stop markers' row, 12 high, under it) or plot of
+/// node `id` (canvas points).
 fn widget(h: &H, id: &str) -> Rect {
     h.state()
         .drawn_widgets()
@@ -100,10 +101,10 @@ fn dragging_a_stop_moves_it_and_undo_puts_it_back() {
     let (mut h, id) = one_node("color_ramp");
     let r = widget(&h, &id);
     // Stop 1 (white, at 1) from its marker under the strip's right end to a quarter.
-    let from = screen(&h, egui::pos2(r.right() - 1.0, r.bottom() + 4.0));
+    let from = screen(&h, egui::pos2(r.right() - 1.0, r.bottom() - 5.0));
     let to = screen(
         &h,
-        egui::pos2(r.left() + 0.25 * r.width(), r.bottom() + 4.0),
+        egui::pos2(r.left() + 0.25 * r.width(), r.bottom() - 5.0),
     );
     drag(&mut h, from, to);
     let pos = literal(&h, &id, "pos_1").expect("pos_1 written");
@@ -118,7 +119,7 @@ fn dragging_a_stop_moves_it_and_undo_puts_it_back() {
 fn a_click_on_the_strip_adds_a_stop_with_the_ramps_colour_and_the_menu_removes_it() {
     let (mut h, id) = one_node("color_ramp");
     let r = widget(&h, &id);
-    let at = screen(&h, egui::pos2(r.left() + 0.5 * r.width(), r.center().y));
+    let at = screen(&h, egui::pos2(r.left() + 0.5 * r.width(), r.top() + 10.0));
     click(&mut h, at, PointerButton::Primary);
     assert_eq!(literal(&h, &id, "count"), Some(json!(3)));
     let p = f(&literal(&h, &id, "pos_2").unwrap());
@@ -130,7 +131,7 @@ fn a_click_on_the_strip_adds_a_stop_with_the_ramps_colour_and_the_menu_removes_i
     }
     assert_eq!(f(&c[3]), 1.0);
     // Right-click the new stop's marker, "Remove stop": count back to 2.
-    let mark = screen(&h, egui::pos2(r.left() + p * r.width(), r.bottom() + 4.0));
+    let mark = screen(&h, egui::pos2(r.left() + p * r.width(), r.bottom() - 5.0));
     click(&mut h, mark, PointerButton::Secondary);
     h.get_by_label("Remove stop").click();
     h.run();
@@ -182,4 +183,22 @@ fn rgb_curves_edit_the_tab_shown() {
         (f(&p[0]) - 0.5).abs() < 0.01 && (f(&p[1]) - 0.8).abs() < 0.01,
         "{p}"
     );
+}
+
+#[test]
+fn delete_over_the_strip_removes_the_selected_stop_not_the_node() {
+    let (mut h, id) = one_node("color_ramp");
+    // The node selected, as a user who clicked it has it.
+    crate::drive::click_node(&mut h, &id, Modifiers::NONE);
+    assert_eq!(h.state().state.selection.ids().to_vec(), [id.clone()]);
+    let r = widget(&h, &id);
+    // Select stop 1 (its marker at the right end), then Delete with the pointer on the strip.
+    let mark = screen(&h, egui::pos2(r.right() - 1.0, r.bottom() - 5.0));
+    click(&mut h, mark, PointerButton::Primary);
+    h.key_press(Key::Delete);
+    h.run();
+    assert!(h.state().state.doc.node(&id).is_some(), "the node stays");
+    assert_eq!(literal(&h, &id, "count"), Some(json!(1)));
+    // Stop 0 (black at 0) is the one left: stop 1 was removed, nothing shifted into it.
+    assert_eq!(literal(&h, &id, "pos_0"), None);
 }
