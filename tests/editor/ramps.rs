@@ -190,7 +190,7 @@ fn delete_over_the_strip_removes_the_selected_stop_not_the_node() {
     let (mut h, id) = one_node("color_ramp");
     // The node selected, as a user who clicked it has it.
     crate::drive::click_node(&mut h, &id, Modifiers::NONE);
-    assert_eq!(h.state().state.selection.ids().to_vec(), [id.clone()]);
+    assert_eq!(h.state().state.selection.ids(), std::slice::from_ref(&id));
     let r = widget(&h, &id);
     // Select stop 1 (its marker at the right end), then Delete with the pointer on the strip.
     let mark = screen(&h, egui::pos2(r.right() - 1.0, r.bottom() - 5.0));
