@@ -7,6 +7,8 @@ pub mod blender_noise;
 pub mod blender_voronoi;
 pub mod blender_wave;
 pub mod bubble;
+pub mod color_ramp;
+pub mod curves;
 pub mod ibl;
 pub mod image;
 pub mod input;
@@ -26,6 +28,7 @@ pub mod thin_film;
 pub mod toon_water;
 pub mod transmission;
 pub mod triplanar;
+pub mod wide;
 
 use crate::node::NodeType;
 
@@ -58,5 +61,8 @@ pub fn all() -> Vec<NodeType> {
     v.extend(blender_magic::all());
     v.extend(triplanar::all());
     v.extend(texture_coordinate::all());
+    v.push(color_ramp::color_ramp_type());
+    v.push(curves::float_curve_type());
+    v.push(curves::rgb_curves_type());
     v
 }

@@ -352,7 +352,7 @@ impl Plan {
                     .outs
                     .push(std::mem::take(&mut scratch.regs[r as usize]));
             }
-            let mut ins: [&[f32]; 16] = [&[]; 16];
+            let mut ins: [&[f32]; crate::kernel::MAX_INPUTS] = [&[]; crate::kernel::MAX_INPUTS];
             for (slot, &r) in ins.iter_mut().zip(&step.inputs) {
                 *slot = &scratch.regs[r as usize];
             }

@@ -163,6 +163,9 @@ fn columns_mut(buf: &mut [f32], width: usize, stride: usize, len: usize) -> [&mu
 /// The most outputs a node may have.
 pub const MAX_OUTPUTS: usize = 8;
 
+/// The most inputs a node's kernel takes (`rgb_curves` has 70: its points are sockets).
+pub const MAX_INPUTS: usize = 80;
+
 /// The outputs of a compute function: one [`Lane`] or a tuple of them.
 pub trait Outputs: Copy + Send + Sync + 'static {
     /// Shapes of the outputs in order.

@@ -54,6 +54,8 @@ pub struct EditorApp {
     handed: Option<usize>,
     /// The last frame's [`Viewer::drawn`].
     drawn: Vec<(usize, egui::Rect)>,
+    /// The last frame's [`Viewer::widgets`].
+    widgets: Vec<(String, egui::Rect)>,
     /// How the pending fit frames the nodes: as a graph opens ([`first_view::opening`],
     /// 1×) or whole (Home, [`first_view::frame_all`]).
     fit_whole: bool,
@@ -89,6 +91,7 @@ impl EditorApp {
             hand_off: true,
             handed: None,
             drawn: Vec::new(),
+            widgets: Vec::new(),
             fit_whole: false,
             zoom_to: None,
             crisp: Default::default(),
@@ -196,6 +199,21 @@ impl EditorApp {
     /// How many nodes the last frame handed egui-snarl; `None` when it was handed all.
     pub fn handed(&self) -> Option<usize> {
         self.handed
+    }
+
+    /// The ramp-and-curve widgets drawn in the last frame: node id, the strip's or plot's
+    /// rect in canvas points ([`super::ramp_ui`]).
+    pub fn drawn_widgets(&self) -> &[(String, egui::Rect)] {
+        &self.widgets
+    }
+
+    /// Whether the pointer is on a ramp-and-curve widget drawn in the last frame.
+    fn pointer_on_widget(&self, ctx: &egui::Context) -> bool {
+        let Some(at) = ctx.input(|i| i.pointer.hover_pos()) else {
+            return false;
+        };
+        let at = self.to_screen.inverse() * at;
+        self.widgets.iter().any(|(_, r)| r.contains(at))
     }
 
     /// The frames of the nodes egui-snarl drew in full in the last frame, by node id, in
@@ -367,6 +385,7 @@ impl EditorApp {
             looks: &mut self.looks,
             wires: None,
             drawn: Vec::new(),
+            widgets: Vec::new(),
             selection: &self.state.selection,
             restore: None,
             pin_rows: Default::default(),
@@ -479,6 +498,7 @@ impl EditorApp {
             self.crisp.apply(ui.ctx(), layer, from, t.scaling);
         }
         self.drawn = std::mem::take(&mut viewer.drawn);
+        self.widgets = std::mem::take(&mut viewer.widgets);
         // The fit is done once the canvas drew a frame with it (egui may rerun a pass).
         if fit.is_some() && viewer.to_screen == fit {
             self.frame_in = 0;
@@ -775,6 +795,9 @@ impl EditorApp {
                     }
                 }
                 Action::Disconnect { node, input } => s.clear_input(&node, &input),
+                Action::SetInputs { node, values, key } => {
+                    s.set_inputs(&node, &values, key.as_deref());
+                }
                 Action::SetInput { node, input, value } => {
                     let key = format!("value:{node}.{input}");
                     s.set_input(&node, &input, value, Some(&key));
@@ -889,12 +912,16 @@ impl EditorApp {
             let ids = self.selected(ctx);
             self.state.run_node_command(c, &ids);
         }
+        // Delete over a ramp-and-curve widget removes its stop or point (super::ramp_ui),
+        // not the selected nodes.
+        let on_widget = self.pointer_on_widget(ctx);
         let (search, tab, delete, duplicate) = ctx.input_mut(|i| {
             (
                 i.consume_key(Modifiers::SHIFT, Key::A),
                 i.consume_key(Modifiers::NONE, Key::Tab),
-                i.consume_key(Modifiers::NONE, Key::Delete)
-                    || i.consume_key(Modifiers::NONE, Key::X),
+                !on_widget
+                    && (i.consume_key(Modifiers::NONE, Key::Delete)
+                        || i.consume_key(Modifiers::NONE, Key::X)),
                 i.consume_key(Modifiers::SHIFT, Key::D),
             )
         });

@@ -106,8 +106,10 @@ pub fn node_size(
 /// registered type's, or a group instance's interface); the header also holds what
 /// [`header_notes`] adds to the title.
 pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketType>) -> (f32, f32) {
-    let input = ports
-        .inputs
+    // The ramp-and-curve widget's nodes show their first inputs' pins (super::ramps).
+    let widget = super::ramps::pinned(&node.node_type);
+    let inputs = &ports.inputs[..widget.unwrap_or(ports.inputs.len()).min(ports.inputs.len())];
+    let input = inputs
         .iter()
         .map(|i| 16.0 + CHAR * i.name.len() as f32 + widget_width(i, node, generic))
         .fold(0.0f32, f32::max);
@@ -128,9 +130,13 @@ pub fn node_size_of(node: &NodeDocument, ports: &Ports, generic: Option<SocketTy
         .max(title)
         .max(rows_w)
         .max(MIN_WIDTH);
+    let (width, widget_h) = match super::ramp_ui::height(&node.node_type) {
+        Some(h) => (width.max(super::ramp_ui::WIDTH + 20.0), h),
+        None => (width, 0.0),
+    };
     (
         width,
-        node_height(ports.inputs.len(), ports.outputs.len()) + rows_h,
+        node_height(inputs.len(), ports.outputs.len()) + rows_h + widget_h,
     )
 }
 

@@ -55,6 +55,8 @@ pub mod pin_tips;
 pub mod ports;
 pub mod preview;
 pub mod preview_ui;
+pub mod ramp_ui;
+pub mod ramps;
 pub mod scope;
 pub mod search;
 pub mod search_ui;

@@ -475,6 +475,22 @@ impl EditorState {
         });
     }
 
+    /// Writes literals on several inputs of `node` as one edit (one undo step; edits with
+    /// the same `key` coalesce).
+    pub fn set_inputs(
+        &mut self,
+        node: &str,
+        values: &[(String, serde_json::Value)],
+        key: Option<&str>,
+    ) {
+        let _ = self.edit(key, false, |d| {
+            for (input, value) in values {
+                d.set_input(node, input, value.clone());
+            }
+            Ok(())
+        });
+    }
+
     /// Removes nodes.
     pub fn remove_nodes(&mut self, ids: &[String]) {
         if ids.is_empty() {

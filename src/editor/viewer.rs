@@ -43,6 +43,16 @@ pub enum Action {
         /// Input name.
         input: String,
     },
+    /// Write literals on several inputs of one node in one undo step (the ramp-and-curve
+    /// widget, [`super::ramp_ui`]); steps with the same `key` coalesce (one drag).
+    SetInputs {
+        /// Node id.
+        node: String,
+        /// (input name, literal) pairs.
+        values: super::ramps::Edits,
+        /// The coalescing key.
+        key: Option<String>,
+    },
     /// Write a literal on an input (coalesced per input while the pointer is held).
     SetInput {
         /// Node id.
@@ -190,6 +200,9 @@ pub struct Viewer<'a> {
     pub rejections: &'a Rejections,
     /// Where egui-snarl draws each pin this frame ([`super::wires`]).
     pub pins: super::wires::PinPlaces,
+    /// The ramp-and-curve widgets drawn this frame: node id, the strip's or plot's rect
+    /// (canvas points; [`super::ramp_ui`]).
+    pub widgets: Vec<(String, egui::Rect)>,
     /// The collapsed nodes ([`super::collapse`]): their pins without a wire are not drawn.
     pub collapsed: &'a super::collapse::Collapsed,
 }
@@ -281,6 +294,31 @@ impl Viewer<'_> {
     }
 
     /// The loader's errors at node `id`, and the shader generator's when it names `id`.
+    /// The type of node `id` when it has the ramp-and-curve widget ([`super::ramps`]).
+    fn widget_type(&self, id: &str) -> Option<String> {
+        let ty = &self.doc.node(id)?.node_type;
+        super::ramps::pinned(ty).map(|_| ty.clone())
+    }
+
+    /// How many input pins node `id` shows when the widget edits the rest: its first
+    /// inputs, and every input up to the last one holding a link (a linked stop keeps its
+    /// wire).
+    fn widget_pins(&self, id: &str) -> Option<usize> {
+        let node = self.doc.node(id)?;
+        let pinned = super::ramps::pinned(&node.node_type)?;
+        let ports = self.doc.ports(id)?;
+        let linked = ports
+            .inputs
+            .iter()
+            .rposition(|p| {
+                node.inputs
+                    .get(p.name.as_ref())
+                    .is_some_and(|v| super::model::link_of(v).is_some())
+            })
+            .map_or(0, |k| k + 1);
+        Some(pinned.max(linked).min(ports.inputs.len()))
+    }
+
     fn errors_of(&self, id: &str) -> Vec<String> {
         let mut errors = self.doc.node_errors(id);
         if let Some((node, message)) = &self.shader_error
@@ -1111,7 +1149,9 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
     }
 
     fn has_footer(&mut self, node: &NodeView) -> bool {
-        (self.swatches.contains_key(&node.id) || self.image_rows(&node.id))
+        (self.swatches.contains_key(&node.id)
+            || self.image_rows(&node.id)
+            || self.widget_type(&node.id).is_some())
             && !self.culled(&node.id)
     }
 
@@ -1124,7 +1164,20 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
         snarl: &mut Snarl<NodeView>,
     ) {
         let id = self.id(snarl, node).to_owned();
-        if self.image_rows(&id) {
+        if let Some(ty) = self.widget_type(&id) {
+            ui.vertical(|ui| {
+                let (edit, rect) = super::ramp_ui::show(ui, self.doc, &id, &ty);
+                self.widgets.push((id.clone(), rect));
+                if let Some((values, key)) = edit {
+                    self.actions.push(Action::SetInputs {
+                        node: id.clone(),
+                        values,
+                        key,
+                    });
+                }
+                self.show_swatch(&id, ui);
+            });
+        } else if self.image_rows(&id) {
             ui.vertical(|ui| {
                 if let Some(a) = super::textures_ui::node_rows(ui, self.doc, self.file, &id) {
                     self.actions.push(Action::Texture(a));
@@ -1179,6 +1232,7 @@ impl SnarlViewer<NodeView> for Viewer<'_> {
             };
         }
         let all = self.doc.ports(&node.id).map_or(0, |p| p.inputs.len());
+        let all = self.widget_pins(&node.id).unwrap_or(all);
         self.pins_shown(node, all, Culling::inputs)
     }
 

@@ -12,6 +12,7 @@ mod drive;
 mod groups;
 mod keymap;
 mod node_states;
+mod ramps;
 mod readable;
 mod selection;
 mod session;

@@ -18,6 +18,8 @@ mod optics_reference;
 mod param_ranges;
 mod pbr;
 mod physics_pointwise;
+mod ramps;
+mod ramps_blender;
 mod registry_stability;
 mod skin;
 mod sunshine;

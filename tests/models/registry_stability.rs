@@ -377,10 +377,15 @@ fn range_edges_give_finite_outputs() {
                 .map(|d| edge_values(d, port_type(d, g)))
                 .collect();
             // Every combination, or evenly spaced ones when there are too many.
-            let total: u128 = per_input.iter().map(|v| v.len() as u128).product();
+            // Saturating: a node of 70 inputs has more combinations than a u128 counts.
+            let total: u128 = per_input
+                .iter()
+                .fold(1u128, |p, v| p.saturating_mul(v.len() as u128));
             let picks = total.min(MAX_COMBINATIONS as u128);
             for i in 0..picks {
-                let mut idx = i * total / picks;
+                let mut idx = i
+                    .checked_mul(total)
+                    .map_or(i * (total / picks), |p| p / picks);
                 let mut inputs = BTreeMap::new();
                 for (d, values) in t.inputs().iter().zip(&per_input) {
                     let n = values.len() as u128;
