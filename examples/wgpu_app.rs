@@ -27,6 +27,46 @@ pub struct MeshData {
     pub indices: Vec<u32>,
 }
 
+/// Per-vertex tangents `[tx, ty, tz, bitangent_sign]` of `m` for the contract's tangent
+/// buffer (slot 1, read where `Material::uses_tangents`): the direction in which u grows,
+/// accumulated over the vertex's triangles (Lengyel 2001, "Computing Tangent Space Basis
+/// Vectors for an Arbitrary Mesh"), made orthogonal to the normal, and the sign with which
+/// `N × T` points where v grows. An app with MikkTSpace tangents from its baker binds those.
+pub fn tangents(m: &MeshData) -> Vec<[f32; 4]> {
+    use glam::{Vec2, Vec3};
+    let n = m.vertices.len();
+    let (mut t, mut b) = (vec![Vec3::ZERO; n], vec![Vec3::ZERO; n]);
+    let p = |i: usize| Vec3::from_slice(&m.vertices[i][0..3]);
+    let uv = |i: usize| Vec2::from_slice(&m.vertices[i][6..8]);
+    for tri in m.indices.chunks_exact(3) {
+        let [a, c, d] = [tri[0], tri[1], tri[2]].map(|i| i as usize);
+        let (e1, e2) = (p(c) - p(a), p(d) - p(a));
+        let (w1, w2) = (uv(c) - uv(a), uv(d) - uv(a));
+        let det = w1.x * w2.y - w2.x * w1.y;
+        if det.abs() < 1e-20 {
+            continue;
+        }
+        let r = 1.0 / det;
+        let (dt, db) = ((e1 * w2.y - e2 * w1.y) * r, (e2 * w1.x - e1 * w2.x) * r);
+        for k in [a, c, d] {
+            t[k] += dt;
+            b[k] += db;
+        }
+    }
+    (0..n)
+        .map(|i| {
+            let nrm = Vec3::from_slice(&m.vertices[i][3..6]);
+            let tt = (t[i] - nrm * nrm.dot(t[i])).normalize_or(nrm.any_orthonormal_vector());
+            let sign = if nrm.cross(tt).dot(b[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            [tt.x, tt.y, tt.z, sign]
+        })
+        .collect()
+}
+
 /// A square in the xz plane (y = 0, normal +y), `size` metres a side centred on the origin,
 /// `n × n` quads; uv (0, 0) at (−size/2, −size/2), u along +x, v along +z.
 pub fn plane(n: u32, size: f32) -> MeshData {
@@ -228,7 +268,11 @@ pub fn render(
             module: &module,
             entry_point: Some("mg_vertex"),
             compilation_options: Default::default(),
-            buffers: &[Some(Material::vertex_buffer_layout())],
+            buffers: &material
+                .vertex_buffer_layouts()
+                .into_iter()
+                .map(Some)
+                .collect::<Vec<_>>(),
         },
         primitive: wgpu::PrimitiveState {
             cull_mode: setup.cull_back_faces.then_some(wgpu::Face::Back),
@@ -299,6 +343,14 @@ pub fn render(
         bytemuck::cast_slice(&mesh.vertices),
         wgpu::BufferUsages::VERTEX,
     );
+    // The tangent buffer, for materials that read the tangent frame.
+    let tangents = material.uses_tangents().then(|| {
+        uniform(
+            "tangents",
+            bytemuck::cast_slice(&tangents(mesh)),
+            wgpu::BufferUsages::VERTEX,
+        )
+    });
     let indices = uniform(
         "indices",
         bytemuck::cast_slice(&mesh.indices),
@@ -370,6 +422,9 @@ pub fn render(
         pass.set_pipeline(&pipeline);
         pass.set_bind_group(0, &bind_group, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
+        if let Some(t) = &tangents {
+            pass.set_vertex_buffer(1, t.slice(..));
+        }
         pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..mesh.indices.len() as u32, 0, 0..1);
     }
