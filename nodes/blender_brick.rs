@@ -257,7 +257,6 @@ pub fn all() -> Vec<NodeType> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
 
     /// The hash's float conversion is C's `(float)nn`: the split sum equals a direct
     /// round-to-nearest conversion for every bit pattern tried.
