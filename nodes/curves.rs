@@ -316,12 +316,12 @@ struct MgCurve {
 fn mg_curve_handles(prev: vec2<f32>, p: vec2<f32>, next: vec2<f32>) -> array<vec2<f32>, 2> {
     let a = p - prev;
     let b = next - p;
-    var la = length(a);
+    var la = sqrt(dot(a, a));
     if (la == 0.0) { la = 1.0; }
-    var lb = length(b);
+    var lb = sqrt(dot(b, b));
     if (lb == 0.0) { lb = 1.0; }
     let t = b / lb + a / la;
-    let len = length(t) * 2.5614;
+    let len = sqrt(dot(t, t)) * 2.5614;
     if (len == 0.0) { return array<vec2<f32>, 2>(p, p); }
     return array<vec2<f32>, 2>(p - t * (la / len), p + t * (lb / len));
 }
@@ -348,8 +348,8 @@ fn mg_curve_ext(c: MgCurve) -> vec2<f32> {
     var hi = mg_curve_handles(q0, q1, q2)[1] - q2;
     hi.x = min(hi.x, 0.0);
     let eps = 1.1920929e-7;
-    if (!(length(lo) > eps)) { lo = p1 - p0; }
-    if (!(length(hi) > eps)) { hi = q1 - q2; }
+    if (!(sqrt(dot(lo, lo)) > eps)) { lo = p1 - p0; }
+    if (!(sqrt(dot(hi, hi)) > eps)) { hi = q1 - q2; }
     return vec2<f32>(mg_curve_slope(lo), mg_curve_slope(hi));
 }
 

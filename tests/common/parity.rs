@@ -165,6 +165,14 @@ pub const CONDITIONED: &[(&str, f64, &str)] = &[
          cells, where an ULP of p moves an octave by a large part of a cell",
     ),
     (
+        "rgb_curves",
+        64.0,
+        "a curve's points reach ±100 over the hard ranges and its monotone-cubic slopes are \
+         quotients of their differences (a GPU's division is 2.5 ULP, WGSL §15.7.4), then \
+         multiplied by the span between points: the worst conformant GPU moves a channel by \
+         1.3e-4 of 0.5 (measured, tests/worst_gpu.rs), as a few ULPs of the points do",
+    ),
+    (
         "brick_texture",
         8.0,
         "the tint jumps at every row and brick edge, and the mortar at its edge where \
