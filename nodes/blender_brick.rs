@@ -163,11 +163,14 @@ fn $fn(vector: vec3<f32>, color1: vec3<f32>, color2: vec3<f32>, mortar_color: ve
     let offset_frequency = clamp(offset_frequency0, 1, 99);
     let squash_frequency = clamp(squash_frequency0, 1, 99);
     let rownum = i32(floor(p.y / row_height));
-    if (rownum % squash_frequency == 0) {
+    // Whether rownum is a multiple, from |rownum|: GLSL leaves % of a negative operand
+    // undefined, and naga's GLSL keeps WGSL's % as is.
+    let row_abs = bitcast<u32>(select(rownum, -rownum, rownum < 0));
+    if (row_abs % u32(squash_frequency) == 0u) {
         brick_width = brick_width * squash_amount;
     }
     var offset = 0.0;
-    if (rownum % offset_frequency == 0) {
+    if (row_abs % u32(offset_frequency) == 0u) {
         offset = brick_width * offset_amount;
     }
     let bricknum = i32(floor((p.x + offset) / brick_width));

@@ -183,16 +183,7 @@ fn every_node_type_matches_its_cpu_kernel() {
             missing.join(", ")
         );
     }
-    // A known defect, open (session 47): on GL (llvmpipe through EGL, naga's GLSL) a few
-    // brick_texture samples take the other tint (the GPU returns color2 exactly where the CPU
-    // mixes), which is no rounding; Vulkan matches bit for bit. Said loudly, not failed,
-    // until its cause is found.
-    let gl = std::env::var("MATGRAPH_EXPECT_BACKEND").is_ok_and(|b| b == "gl");
     for f in &failures {
-        if gl && f.starts_with("brick_texture:") {
-            eprintln!("KNOWN GL DEFECT (not failed): {f}");
-            continue;
-        }
         let _ = writeln!(report, "{f}");
     }
     assert!(report.is_empty(), "node parity failed:\n{report}");
