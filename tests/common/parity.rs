@@ -327,6 +327,40 @@ pub fn bound_for(node: &str) -> (f64, f64) {
         .unwrap_or((ABS, REL))
 }
 
+/// Bounds that hold on a worst conformant GPU (tests/worst_gpu.rs) only past a node's
+/// [`LOOSE`] one: (node, absolute, relative, why).
+pub const WORST_GPU_LOOSE: &[(&str, f64, f64, &str)] = &[(
+    "wave_texture",
+    0.02,
+    1e-4,
+    "inside its hard ranges (scale to 1000, detail_scale to 1000 at detail 15) the phase \
+     reaches 10⁵ rad, where one f32 ULP is 0.0078 rad and the triangle's slope is 1/π a \
+     radian: the worst GPU's few ULPs move it by up to 0.01, and at the profile's minimum the \
+     conditioned envelope (linearised corners) cannot reach below the exact value; measured \
+     (session 47): 10 samples of 15 000, |Δ| ≤ 0.012 (the saw's taken on its cycle)",
+)];
+
+/// The bound for a node type on a worst conformant GPU: its [`WORST_GPU_LOOSE`] entry, else
+/// [`bound_for`].
+pub fn worst_gpu_bound_for(node: &str) -> (f64, f64) {
+    WORST_GPU_LOOSE
+        .iter()
+        .find(|l| l.0 == node)
+        .map(|l| (l.1, l.2))
+        .unwrap_or_else(|| bound_for(node))
+}
+
+/// Whether sample `i` of `t` outputs a point of a cycle, where 0 and 1 are one value: the
+/// saw profile of `wave_texture` (its `profile` input 1), compared as
+/// tests/models/blender_textures.rs compares it with Blender's, modulo 1.
+fn on_cycle(t: &NodeType, s: &NodeSamples, i: usize) -> bool {
+    t.name() == "wave_texture"
+        && t.inputs()
+            .iter()
+            .position(|d| d.name == "profile")
+            .is_some_and(|k| s.columns[k][i] == 1.0)
+}
+
 /// Largest errors seen over a set of comparisons.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Errors {
@@ -869,6 +903,10 @@ pub fn compare_node_outputs(
             let bound = scaled_bound(&scaled, samples, i, bound);
             for c in 0..w {
                 let (a, b) = (want[k][c * samples.n + i], got[k][c * samples.n + i]);
+                let b = match on_cycle(t, samples, i) {
+                    true => a + ((b - a + 0.5).rem_euclid(1.0) - 0.5),
+                    false => b,
+                };
                 let mut ratio = errors.measure(a, b, bound);
                 let mut range = String::new();
                 if let (true, Some(kk)) = (ratio > 1.0, conditioning) {
