@@ -165,38 +165,6 @@ fn delayed_progress() -> indicatif::ProgressBar {
     bar
 }
 
-/// A render's memory refusal restated against the whole budget `limit`, what the command
-/// already holds (`reserve`: its output images, the images and environment it loaded)
-/// included.
-fn with_reserve(
-    e: matgraph::render::RenderError,
-    reserve: u64,
-    limit: u64,
-) -> matgraph::render::RenderError {
-    use matgraph::render::RenderError;
-    match e {
-        RenderError::Memory {
-            width,
-            height,
-            samples,
-            needed,
-            what,
-            ..
-        } => RenderError::Memory {
-            width,
-            height,
-            samples,
-            needed: needed + reserve,
-            what: format!(
-                "{what}, {} MiB output and loaded images",
-                reserve.div_ceil(1 << 20)
-            ),
-            budget: limit,
-        },
-        e => e,
-    }
-}
-
 /// Renders every graph and writes the images.
 pub fn run(args: &Args) -> CliResult {
     use matgraph::render::frames::{Apng, Frames};
@@ -416,7 +384,9 @@ pub fn run(args: &Args) -> CliResult {
                 }
                 let start = std::time::Instant::now();
                 let (hdr, timings) = render_timed(&graph, &scene, &options)
-                    .map_err(|e| with_reserve(e, budget.used(), budget.limit()))
+                    .map_err(|e| {
+                        e.with_reserve(budget.used(), "output and loaded images", budget.limit())
+                    })
                     .map_err(|e| format!("{}: {e}", file.display()))?;
                 if k == 0
                     && let Some(why) = &timings.fallback

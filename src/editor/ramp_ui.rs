@@ -159,20 +159,7 @@ fn ramp_widget(
     {
         mem.selected = nearest(strip, positions(), p.x);
     }
-    let mut remove = false;
-    resp.context_menu(|ui| {
-        if ui
-            .add_enabled(mem.selected.is_some(), egui::Button::new("Remove stop"))
-            .clicked()
-        {
-            remove = true;
-            ui.close();
-        }
-    });
-    if resp.hovered() && ui.input(|i| i.key_pressed(egui::Key::Delete)) {
-        remove = true;
-    }
-    if remove
+    if removal_asked(ui, &resp, "Remove stop", mem.selected.is_some())
         && let Some(k) = mem.selected
         && let Some(e) = ramp.remove_stop(k)
     {
@@ -317,20 +304,7 @@ fn curve_widget(
     {
         mem.selected = near(p);
     }
-    let mut remove = false;
-    resp.context_menu(|ui| {
-        if ui
-            .add_enabled(mem.selected.is_some(), egui::Button::new("Remove point"))
-            .clicked()
-        {
-            remove = true;
-            ui.close();
-        }
-    });
-    if resp.hovered() && ui.input(|i| i.key_pressed(egui::Key::Delete)) {
-        remove = true;
-    }
-    if remove
+    if removal_asked(ui, &resp, "Remove point", mem.selected.is_some())
         && let Some(k) = mem.selected
         && let Some(e) = curve.remove_point(k)
     {
@@ -338,4 +312,17 @@ fn curve_widget(
         edit = Some((e, None));
     }
     (edit, rect)
+}
+
+/// Whether the user asks to remove the selected stop or point of a widget (`resp`): its
+/// right-click menu's `label` (enabled when something is selected), or Delete over it.
+fn removal_asked(ui: &egui::Ui, resp: &egui::Response, label: &str, selected: bool) -> bool {
+    let mut remove = false;
+    resp.context_menu(|ui| {
+        if ui.add_enabled(selected, egui::Button::new(label)).clicked() {
+            remove = true;
+            ui.close();
+        }
+    });
+    remove || (resp.hovered() && ui.input(|i| i.key_pressed(egui::Key::Delete)))
 }

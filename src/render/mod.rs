@@ -93,6 +93,31 @@ pub enum RenderError {
     },
 }
 
+impl RenderError {
+    /// A memory refusal restated against the whole `budget`, with `reserve` bytes already
+    /// held (said as `MiB {held}`) counted in; other errors unchanged.
+    pub fn with_reserve(self, reserve: u64, held: &str, budget: u64) -> RenderError {
+        match self {
+            RenderError::Memory {
+                width,
+                height,
+                samples,
+                needed,
+                what,
+                ..
+            } => RenderError::Memory {
+                width,
+                height,
+                samples,
+                needed: needed + reserve,
+                what: format!("{what}, {} MiB {held}", reserve.div_ceil(1 << 20)),
+                budget,
+            },
+            e => e,
+        }
+    }
+}
+
 /// How to render.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
@@ -705,24 +730,7 @@ pub fn render_timed(
         uses_scene_textures(graph),
         budget.remaining(),
     )
-    .map_err(|e| match e {
-        RenderError::Memory {
-            width,
-            height,
-            samples,
-            needed,
-            what,
-            ..
-        } => RenderError::Memory {
-            width,
-            height,
-            samples,
-            needed: needed + meshes,
-            what: format!("{what}, {} MiB scene meshes", meshes.div_ceil(1 << 20)),
-            budget: options.memory_budget,
-        },
-        e => e,
-    })?;
+    .map_err(|e| e.with_reserve(meshes, "scene meshes", options.memory_budget))?;
     // Every plan of a graph exposes the same parameters, so one set serves all evaluators.
     let mut params = crate::gpu::default_parameters(
         graph,
