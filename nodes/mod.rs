@@ -7,6 +7,7 @@ pub mod blender_noise;
 pub mod blender_voronoi;
 pub mod blender_wave;
 pub mod bubble;
+pub mod bump;
 pub mod color_ramp;
 pub mod curves;
 pub mod ibl;
@@ -64,5 +65,6 @@ pub fn all() -> Vec<NodeType> {
     v.push(color_ramp::color_ramp_type());
     v.push(curves::float_curve_type());
     v.push(curves::rgb_curves_type());
+    v.extend(bump::all());
     v
 }

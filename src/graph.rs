@@ -431,6 +431,20 @@ impl Graph {
     pub fn order(&self) -> &[NodeIndex] {
         &self.order
     }
+    /// Adds a node the compiler made ([`crate::bump`]), outside the order and the ids: the
+    /// caller places it with [`Graph::set_order`].
+    pub(crate) fn push_node(&mut self, node: Node) -> NodeIndex {
+        self.nodes.push(node);
+        self.nodes.len() - 1
+    }
+    /// Node `i`, to rewire ([`crate::bump`]).
+    pub(crate) fn node_mut(&mut self, i: NodeIndex) -> &mut Node {
+        &mut self.nodes[i]
+    }
+    /// Replaces the evaluation order ([`crate::bump`]): a topological order of every node.
+    pub(crate) fn set_order(&mut self, order: Vec<NodeIndex>) {
+        self.order = order;
+    }
     /// The node with id `id`.
     pub fn node_index(&self, id: &str) -> Option<NodeIndex> {
         self.by_id.get(id).copied()

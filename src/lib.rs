@@ -8,6 +8,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod bump;
 pub mod color_space;
 pub mod document;
 #[cfg(feature = "editor")]

@@ -373,10 +373,21 @@ pub enum Attribute {
     /// it, z along the viewing direction (positive in front of the camera), in metres from the
     /// eye. (0, 0, 1) when the caller supplies none.
     Camera,
+    /// Screen-space derivative of [`Attribute::Position`] along the pixel x axis: `∂P/∂x`, in
+    /// metres per pixel, x growing to the right, as [`Attribute::UvDx`] is uv's: what
+    /// `dpdxFine(position)` gives a fragment shader, the CPU G-buffer supplying the difference of
+    /// the positions on the triangle's plane under the centres of the pixel's 2 × 2 quad along
+    /// its row. The `bump` node's one-pixel offset (Cycles' `dP.dx`). (0, 0, 0) when the caller
+    /// supplies none.
+    PositionDx,
+    /// Screen-space derivative of [`Attribute::Position`] along the pixel y axis (downwards):
+    /// `∂P/∂y`, metres per pixel, as `dpdyFine(position)`; see [`Attribute::PositionDx`].
+    /// (0, 0, 0) when the caller supplies none.
+    PositionDy,
 }
 
 /// Every attribute, in declaration order.
-pub const ALL_ATTRIBUTES: [Attribute; 17] = [
+pub const ALL_ATTRIBUTES: [Attribute; 19] = [
     Attribute::Position,
     Attribute::Normal,
     Attribute::View,
@@ -394,6 +405,8 @@ pub const ALL_ATTRIBUTES: [Attribute; 17] = [
     Attribute::Reflection,
     Attribute::Window,
     Attribute::Camera,
+    Attribute::PositionDx,
+    Attribute::PositionDy,
 ];
 
 impl Attribute {
@@ -417,6 +430,8 @@ impl Attribute {
             Attribute::Reflection => "reflection",
             Attribute::Window => "window",
             Attribute::Camera => "camera",
+            Attribute::PositionDx => "position_dx",
+            Attribute::PositionDy => "position_dy",
         }
     }
     /// Parses a name written by [`Attribute::name`].
@@ -443,7 +458,8 @@ impl Attribute {
     /// depth 0, time 0, uv derivatives (0, 0), tangent +x with sign 1 (the frame of the +z
     /// normal whose u grows along x and v along y), generated (½, ½, ½) (the box's centre),
     /// reflection +z (of the view +z about the normal +z), window (½, ½, 0) (the screen's
-    /// centre) and camera (0, 0, 1) (a point a metre in front of the eye).
+    /// centre), camera (0, 0, 1) (a point a metre in front of the eye) and position derivatives
+    /// (0, 0, 0).
     pub const fn default_value(self) -> Value {
         match self {
             Attribute::Position => Value::vec3([0.0, 0.0, 0.0]),
@@ -458,6 +474,7 @@ impl Attribute {
             Attribute::Reflection => Value::vec3([0.0, 0.0, 1.0]),
             Attribute::Window => Value::vec3([0.5, 0.5, 0.0]),
             Attribute::Camera => Value::vec3([0.0, 0.0, 1.0]),
+            Attribute::PositionDx | Attribute::PositionDy => Value::vec3([0.0, 0.0, 0.0]),
         }
     }
 }

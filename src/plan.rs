@@ -274,9 +274,11 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// Compiles `graph` for the outputs in `options`.
+    /// Compiles `graph` for the outputs in `options` (its `bump` nodes' shifted heights
+    /// written in first: [`crate::bump`]).
     pub fn compile(graph: &Graph, options: &PlanOptions) -> Result<Plan, EvalError> {
-        Compiler::new(graph).compile(options)
+        let graph = crate::bump::expand(graph);
+        Compiler::new(&graph).compile(options)
     }
     /// The outputs, in request order.
     pub fn outputs(&self) -> &[PlanOutput] {

@@ -21,7 +21,7 @@ use crate::exec::SampleBatch;
 use crate::node::Attribute;
 
 /// The screen-space derivatives `(∂uv/∂x, ∂uv/∂y)` of the uv of triangle `tri` of `mesh` at
-/// pixel `(x, y)`, per pixel (x to the right, y downwards; see [`Attribute::UvDx`]), as a
+/// pixel `(x, y)`, and `(∂P/∂x, ∂P/∂y)` of its position, per pixel (x to the right, y downwards; see [`Attribute::UvDx`]), as a
 /// fragment shader's fine derivatives `dpdxFine(uv)`, `dpdyFine(uv)` give them: the 2 × 2
 /// quad's differences between pixel centres, `uv(x₁ + ½, y + ½) − uv(x₀ + ½, y + ½)` with
 /// `x₀ = x & !1`, `x₁ = x₀ + 1` (and likewise down the column), the uv taken on the plane of
@@ -33,7 +33,8 @@ use crate::node::Attribute;
 /// the plane `n·(q − P0) = 0` at `s = n·(P0 − o)/(n·D)` (also behind the eye, `s < 0`: the
 /// projective extension that perspective-correct interpolation computes). A point `q` of the
 /// plane is `P0 + a·e1 + b·e2` over the edges `e1 = P1 − P0`, `e2 = P2 − P0` (solved with
-/// their Gram matrix), with uv `uv0 + a·(uv1 − uv0) + b·(uv2 − uv0)`.
+/// their Gram matrix), with uv `uv0 + a·(uv1 − uv0) + b·(uv2 − uv0)`; the position
+/// derivatives are the differences of those points `q`.
 ///
 /// From the camera and the surface rather than from neighbouring G-buffer samples: defined at
 /// every sample, also where the neighbour is another object, the sky or off the surface's
@@ -41,13 +42,13 @@ use crate::node::Attribute;
 /// exact derivative so that the level a graph picks from them is the one a GPU rasteriser
 /// picks from `dpdx`/`dpdy` (they differ at first order, ½·∂²uv/∂x² per pixel, which the
 /// alpha test of seed 002 turns into flipped texels). A degenerate triangle, or a pixel ray
-/// parallel to its plane, gives (0, 0).
-fn uv_derivatives(
+/// parallel to its plane, gives zeros.
+fn surface_derivatives(
     mesh: &Mesh,
     tri: u32,
     (x, y): (u32, u32),
     cam: &CameraFrame,
-) -> (glam::Vec2, glam::Vec2) {
+) -> Derivatives {
     use glam::{DVec2, DVec3};
     let [i0, i1, i2] = mesh.indices[tri as usize].map(|i| i as usize);
     let at = |i: usize| mesh.positions[i].as_dvec3();
@@ -69,8 +70,8 @@ fn uv_derivatives(
     let tan = cam.tan_half_y as f64;
     let (w, h) = (cam.width as f64, cam.height as f64);
     let aspect = cam.aspect as f64;
-    // The uv on the triangle's plane under pixel coordinates (px, py).
-    let uv_at = |px: f64, py: f64| -> Option<DVec2> {
+    // The point of the triangle's plane under pixel coordinates (px, py), and its uv.
+    let at_pixel = |px: f64, py: f64| -> Option<(DVec3, DVec2)> {
         let d: DVec3 = forward
             + right * ((2.0 * px / w - 1.0) * tan * aspect)
             + up * ((1.0 - 2.0 * py / h) * tan);
@@ -82,18 +83,30 @@ fn uv_derivatives(
         let (r1, r2) = (e1.dot(q), e2.dot(q));
         let a = (g22 * r1 - g12 * r2) / det;
         let b = (g11 * r2 - g12 * r1) / det;
-        Some(du1 * a + du2 * b)
+        Some((q, du1 * a + du2 * b))
     };
     let (x0, y0) = ((x & !1) as f64 + 0.5, (y & !1) as f64 + 0.5);
     let (xc, yc) = (x as f64 + 0.5, y as f64 + 0.5);
-    let diff = |a: Option<DVec2>, b: Option<DVec2>| match (a, b) {
-        (Some(a), Some(b)) => (b - a).as_vec2(),
-        _ => glam::Vec2::ZERO,
+    let diff = |a: Option<(DVec3, DVec2)>, b: Option<(DVec3, DVec2)>| match (a, b) {
+        (Some(a), Some(b)) => ((b.0 - a.0).as_vec3(), (b.1 - a.1).as_vec2()),
+        _ => (Vec3::ZERO, glam::Vec2::ZERO),
     };
-    (
-        diff(uv_at(x0, yc), uv_at(x0 + 1.0, yc)),
-        diff(uv_at(xc, y0), uv_at(xc, y0 + 1.0)),
-    )
+    let (p_dx, uv_dx) = diff(at_pixel(x0, yc), at_pixel(x0 + 1.0, yc));
+    let (p_dy, uv_dy) = diff(at_pixel(xc, y0), at_pixel(xc, y0 + 1.0));
+    Derivatives {
+        uv_dx,
+        uv_dy,
+        p_dx,
+        p_dy,
+    }
+}
+
+/// A sample's screen-space derivatives (see [`surface_derivatives`]).
+struct Derivatives {
+    uv_dx: glam::Vec2,
+    uv_dy: glam::Vec2,
+    p_dx: Vec3,
+    p_dy: Vec3,
 }
 
 /// Samples per parallel block when filling attribute columns.
@@ -422,6 +435,8 @@ impl GBufferFrame<'_> {
             Attribute::Reflection,
             Attribute::Window,
             Attribute::Camera,
+            Attribute::PositionDx,
+            Attribute::PositionDy,
         ];
         let (tex_center, tex_half) = scene.texture_space();
         let tangents = self.tangents.as_deref();
@@ -457,7 +472,8 @@ impl GBufferFrame<'_> {
                     let (x, y, s) = sample_coords(index, spp, width);
                     let y = y + first_row;
                     let o = offsets[s as usize];
-                    let (uv_dx, uv_dy) = uv_derivatives(mesh, f.tri, (x, y), cam);
+                    let dv = surface_derivatives(mesh, f.tri, (x, y), cam);
+                    let (uv_dx, uv_dy) = (dv.uv_dx, dv.uv_dy);
                     let su = (x as f32 + o[0]) / w;
                     let sv = (y as f32 + o[1]) / h;
                     let (l, lc) = match &light {
@@ -510,6 +526,12 @@ impl GBufferFrame<'_> {
                         camera.x,
                         camera.y,
                         camera.z,
+                        dv.p_dx.x,
+                        dv.p_dx.y,
+                        dv.p_dx.z,
+                        dv.p_dy.x,
+                        dv.p_dy.y,
+                        dv.p_dy.z,
                         tangent.x,
                         tangent.y,
                         tangent.z,

@@ -1669,5 +1669,7 @@ pub fn fragment_location(a: Attribute) -> u32 {
         Attribute::Reflection => 14,
         Attribute::Window => 15,
         Attribute::Camera => 16,
+        Attribute::PositionDx => 17,
+        Attribute::PositionDy => 18,
     }
 }

@@ -270,6 +270,8 @@ pub enum ShaderError {
 
 /// Generates and validates the WGSL module of `graph`.
 pub fn generate(graph: &Graph, options: &WgslOptions) -> Result<ShaderModule, ShaderError> {
+    // The plan and the emitter see the same graph, its bump nodes' shifted heights included.
+    let graph = &*crate::bump::expand(graph);
     let plan = Plan::compile(graph, &options.plan)?;
     let text = emit::Emitter::new(graph, &plan, options).emit()?;
     let (module, info) = validate::validate(&text.source, &text.spans)?;

@@ -449,6 +449,8 @@ pub(super) fn emit_entries(
             // flow: the entry's top.
             Attribute::UvDx => "dpdxFine(v.uv)".to_owned(),
             Attribute::UvDy => "dpdyFine(v.uv)".to_owned(),
+            Attribute::PositionDx => "dpdxFine(v.position)".to_owned(),
+            Attribute::PositionDy => "dpdyFine(v.position)".to_owned(),
             Attribute::Tangent => "mg_tangent(n, v.tangent.xyz)".to_owned(),
             Attribute::BitangentSign => "select(-1.0, 1.0, v.tangent.w >= 0.0)".to_owned(),
             // Cycles' svm_node_tex_coord: 2 (N · V) N − V.

@@ -777,3 +777,109 @@ fn texture_coordinates_draw_alike_on_the_gpu_rasteriser() {
         }
     }
 }
+
+/// A graph whose emission shows the `bump` node's normal (`n · ½ + ½`), its height given by
+/// the nodes in `height` (JSON node list ending in a node `h` with output `result` or `fac`).
+fn bump_graph(name: &str, height: serde_json::Value, from: &str, distance: f32) -> Graph {
+    let mut nodes = vec![serde_json::json!({ "id": "geo", "type": "geometry" })];
+    nodes.extend(height.as_array().unwrap().iter().cloned());
+    nodes.extend([
+        serde_json::json!({ "id": "b", "type": "bump", "inputs": { "height": { "link": from }, "distance": distance } }),
+        serde_json::json!({ "id": "s", "type": "mul", "inputs": { "a": { "link": "b.normal" }, "b": 0.5 } }),
+        serde_json::json!({ "id": "o", "type": "add", "inputs": { "a": { "link": "s.result" }, "b": 0.5 } }),
+    ]);
+    let text = serde_json::json!({
+        "version": 1, "name": name, "nodes": nodes,
+        "outputs": [ { "name": "emission", "from": "o.result" } ]
+    });
+    Graph::from_json(&text.to_string(), Registry::builtin()).unwrap()
+}
+
+/// The bump node's shifted evaluations on both renderers: the CPU's from the G-buffer's
+/// position and uv differentials on the triangle's plane, the GPU's from `dpdxFine` and
+/// `dpdyFine` of the varyings (at 4 samples, from the same plane-ray construction in WGSL).
+/// On the plane card a height linear in the position, `h = g · P`, gives the closed form
+/// `normalize(N − d (g − (g·N) N))` with N = +z at every pixel, on both; on the ball a noise
+/// height of the position and one of the uv draw alike within the render parity bound, and
+/// differ from the unbumped normal (the shifted heights are not the height).
+#[test]
+fn bump_draws_alike_on_the_gpu_rasteriser_and_as_the_closed_form() {
+    if gpu_context("bump_draws_alike_on_the_gpu_rasteriser_and_as_the_closed_form").is_none() {
+        return;
+    }
+    let g = glam::DVec3::new(0.6, -0.3, 0.2);
+    let d = 0.9;
+    let linear = bump_graph(
+        "bump_linear",
+        serde_json::json!([{ "id": "h", "type": "dot", "inputs": { "a": { "link": "geo.position" }, "b": [g.x, g.y, g.z] } }]),
+        "h.result",
+        d as f32,
+    );
+    let plane = Scene::preset("plane").unwrap();
+    let n = glam::DVec3::Z;
+    let want = (n - (g - n * g.dot(n)) * d).normalize() * 0.5 + glam::DVec3::splat(0.5);
+    let gb = plane.gbuffer(&plane.material_mesh(), SIZE, SIZE, 1);
+    let mask = edge_mask(&plane, &plane.material_mesh());
+    for spp in [1, 4] {
+        for backend in [Backend::Cpu, Backend::Gpu] {
+            let (image, _) =
+                render_timed(&linear, &plane, &options(&linear, None, spp, backend)).unwrap();
+            let mut worst = 0.0f64;
+            for &s in &gb.samples {
+                if mask[s as usize] {
+                    continue;
+                }
+                let p = image.pixels[s as usize];
+                let got = glam::DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+                worst = worst.max((got - want).abs().max_element());
+            }
+            println!("bump linear height, {backend:?} {spp} spp: worst {worst:.1e}");
+            // g · P rounded at |P| ≤ 1.5 m and differenced over ~1 cm pixels: ~1e-5 relative.
+            assert!(worst < 2e-4, "{backend:?} at {spp} spp: worst {worst}");
+        }
+    }
+
+    let ball = Scene::preset("ball").unwrap();
+    let mask = edge_mask(&ball, &ball.material_mesh());
+    let heights = [
+        (
+            "bump_noise",
+            serde_json::json!([
+                { "id": "p", "type": "mul", "inputs": { "a": { "link": "geo.position" }, "b": 3.0 } },
+                { "id": "h", "type": "noise_texture", "inputs": { "vector": { "link": "p.result" }, "detail": 4.0 } }
+            ]),
+            "h.fac",
+            0.05,
+        ),
+        (
+            "bump_uv",
+            serde_json::json!([
+                { "id": "uv", "type": "split", "inputs": { "v": { "link": "geo.uv" } } },
+                { "id": "a", "type": "mul", "inputs": { "a": { "link": "uv.x" }, "b": 60.0 } },
+                { "id": "h", "type": "sin", "inputs": { "x": { "link": "a.result" } } }
+            ]),
+            "h.result",
+            0.05,
+        ),
+    ];
+    for (name, height, from, distance) in heights {
+        let graph = bump_graph(name, height, from, distance);
+        let flat = bump_graph("flat", serde_json::json!([]), "geo.depth", distance);
+        for spp in [1, 4] {
+            let (cpu, _) =
+                render_timed(&graph, &ball, &options(&graph, None, spp, Backend::Cpu)).unwrap();
+            let (gpu, t) =
+                render_timed(&graph, &ball, &options(&graph, None, spp, Backend::Gpu)).unwrap();
+            assert_eq!(t.fallback, None);
+            assert_parity(name, spp, &cpu, &gpu, &mask);
+            let (unbumped, _) =
+                render_timed(&flat, &ball, &options(&flat, None, spp, Backend::Cpu)).unwrap();
+            let (rmse, _, _) = parity(&cpu, &unbumped, &mask);
+            println!("{name} {spp} spp against the unbumped normal: RMSE {rmse:.2}/255");
+            assert!(
+                rmse > 3.0,
+                "{name}: the bump barely moved the normal ({rmse}/255)"
+            );
+        }
+    }
+}

@@ -9,6 +9,7 @@ mod common;
 
 mod blender_textures;
 mod bubble;
+mod bump;
 mod ibl;
 mod mapping;
 mod math_edges;

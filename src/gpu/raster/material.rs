@@ -68,6 +68,21 @@ pub(super) fn sample_source(source: &str) -> Option<String> {
         )
         .replace("dpdxFine(v.uv)", "mgr_uv_d.xy")
         .replace("dpdyFine(v.uv)", "mgr_uv_d.zw");
+    // The position's derivatives likewise (the bump node's offsets), where the module reads them.
+    let positions =
+        shade.contains("dpdxFine(v.position)") || shade.contains("dpdyFine(v.position)");
+    let shade = if positions {
+        shade
+            .replacen(
+                "fn mg_shade(",
+                "var<private> mgr_p_d: MgrPositionDerivatives;\n\nfn mg_shade(",
+                1,
+            )
+            .replace("dpdxFine(v.position)", "mgr_p_d.dx")
+            .replace("dpdyFine(v.position)", "mgr_p_d.dy")
+    } else {
+        shade
+    };
     let tangents = reads_tangents(source);
     let entry = format!(
         "enable primitive_index;\n{shade}\n{}",
@@ -105,11 +120,21 @@ fn mgr_material_sample_fs(
     let uv2 = vec2<f32>(mgr_mesh[8u * i2 + 6u], mgr_mesh[8u * i2 + 7u]);
     v.uv = uv0 * b0 + uv1 * bc.x + uv2 * bc.y;
     mgr_uv_d = mgr_uv_derivatives(p0, p1, p2, uv0, uv1, uv2, vec2<u32>(xy.xy));
+    // mgr-positions
     // mgr-tangent
     return mg_shade(v) + vec4<f32>(f32(sample) * 0.0);
 }
 "#
     );
+    let entry = if positions {
+        entry.replacen(
+            "    // mgr-positions",
+            "    mgr_p_d = mgr_position_derivatives(p0, p1, p2, vec2<u32>(xy.xy));",
+            1,
+        )
+    } else {
+        entry
+    };
     if !tangents {
         return Some(entry);
     }

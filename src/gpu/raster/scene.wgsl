@@ -364,6 +364,42 @@ fn mgr_finite(x: f32) -> bool {
 // the plane of the triangle (p0, p1, p2) with uvs (u0, u1, u2) between pixel centres, at
 // pixel `pixel`, as dpdxFine/dpdyFine give them; (dx, dy) packed in a vec4, 0 where a ray is
 // parallel to the plane or the triangle is degenerate.
+// The position's derivatives (x, y) on the triangle's plane across the pixel's 2 × 2 quad, as
+// mgr_uv_derivatives takes the uv's (gbuffer.rs surface_derivatives): zero where that gives
+// none.
+struct MgrPositionDerivatives {
+    dx: vec3<f32>,
+    dy: vec3<f32>,
+}
+
+fn mgr_position_derivatives(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, pixel: vec2<u32>) -> MgrPositionDerivatives {
+    let f = mgr_frame;
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let n = cross(e1, e2);
+    let det = dot(e1, e1) * dot(e2, e2) - dot(e1, e2) * dot(e1, e2);
+    let q = pixel + vec2<u32>(f.tile_offset.zw);
+    let x0 = f32(q.x & ~1u) + 0.5;
+    let y0 = f32(q.y & ~1u) + 0.5;
+    let xc = f32(q.x) + 0.5;
+    let yc = f32(q.y) + 0.5;
+    let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
+    var p = array<vec3<f32>, 4>();
+    var ok = det != 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = mgr_ray_frame(at[k]);
+        let nd = dot(n, d);
+        ok = ok && nd != 0.0;
+        p[k] = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
+    }
+    var r: MgrPositionDerivatives;
+    if (ok) {
+        r.dx = p[1] - p[0];
+        r.dy = p[3] - p[2];
+    }
+    return r;
+}
+
 fn mgr_uv_derivatives(
     p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
     u0: vec2<f32>, u1: vec2<f32>, u2: vec2<f32>,
