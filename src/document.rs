@@ -263,6 +263,15 @@ pub struct ParameterDocument {
     /// The group it is shown in (for example "sebum", "epidermis", "dermis").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub group: Option<String>,
+    /// The values it accepts, `[min, max]` (every component, for a vector): the file's
+    /// value must lie in it, and a value set later (`--set`, the editor, the app API) outside
+    /// it is refused.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        serialize_with = "shortest_array"
+    )]
+    pub range: Option<[f32; 2]>,
 }
 
 /// One declared variant: a named choice between alternative implementations.

@@ -44,6 +44,18 @@ pub enum EvalError {
         /// The nearest parameter name.
         suggestion: Option<String>,
     },
+    /// A parameter value outside the parameter's own range (the file's `range`).
+    #[error("parameter '{name}': {value} is outside its range [{min}, {max}]")]
+    ParameterOutsideItsRange {
+        /// The parameter.
+        name: String,
+        /// The value refused.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
+    },
     /// A parameter value outside the hard range of an input it feeds (see
     /// [`crate::graph::Feed`]).
     #[error(
@@ -221,6 +233,8 @@ pub struct PlanParameter {
     pub default: Value,
     /// Uniform slot it fills (`None` when unused or baked).
     pub slot: Option<u32>,
+    /// The values it accepts (the file's `range`), every component.
+    pub range: Option<crate::node::Range>,
 }
 
 /// What the compiler did to the graph.
@@ -373,6 +387,8 @@ pub(crate) struct Guards {
     param_slots: Vec<Option<u32>>,
     /// Graph node of each plan parameter (plan order).
     param_nodes: Vec<NodeIndex>,
+    /// The range of each plan parameter (plan order), from the file.
+    ranges: Vec<Option<crate::node::Range>>,
     guards: Vec<Guard>,
 }
 
@@ -479,6 +495,17 @@ impl ParamValues {
                     value: seen.to_string(),
                     min: g.range.min,
                     max: g.range.max,
+                });
+            }
+            // The parameter's own range after the inputs it feeds, whose refusal says more.
+            if let Some(r) = guards.ranges[i]
+                && !r.contains(&v)
+            {
+                return Err(EvalError::ParameterOutsideItsRange {
+                    name: name.to_owned(),
+                    value: v.to_string(),
+                    min: r.min,
+                    max: r.max,
                 });
             }
         }
@@ -603,6 +630,7 @@ impl<'g> Compiler<'g> {
                 ty: p.ty,
                 default: p.default,
                 slot: self.param_slots.get(&p.node).copied(),
+                range: p.range,
             })
             .collect();
         self.allocate(&mut outputs);
@@ -611,6 +639,7 @@ impl<'g> Compiler<'g> {
             steps: self.uniform_steps.clone(),
             param_slots: parameters.iter().map(|p: &PlanParameter| p.slot).collect(),
             param_nodes: self.graph.parameters().iter().map(|p| p.node).collect(),
+            ranges: parameters.iter().map(|p: &PlanParameter| p.range).collect(),
             guards: std::mem::take(&mut self.guards),
         });
         // The file's values must respect the guards too.
