@@ -138,6 +138,17 @@ pub enum TextureSource {
 impl TextureSource {
     /// The prefix of scene textures.
     pub const SCENE: &'static str = "scene:";
+    /// The scene textures a renderer supplies (`scene:NAME`): the scene's passes, and the
+    /// environment map with its image-based-lighting tables.
+    pub const SCENE_TEXTURES: [&'static str; 7] = [
+        "background",
+        "refraction",
+        "reflection",
+        "environment",
+        "environment_ggx",
+        "brdf_lut",
+        "environment_sh",
+    ];
 
     /// The key the texture is bound under in a [`crate::texture::TextureSet`]: the path as
     /// written, or the paths of a chain joined by `|`.

@@ -1033,6 +1033,20 @@ impl Builder<'_> {
                 message,
             });
         }
+        if let Some(name) = n.texture.as_ref().and_then(|s| s.scene_name())
+            && !crate::document::TextureSource::SCENE_TEXTURES.contains(&name)
+        {
+            self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!(
+                    "unknown scene texture '{}{name}': a scene supplies {}",
+                    crate::document::TextureSource::SCENE,
+                    crate::document::TextureSource::SCENE_TEXTURES
+                        .map(|t| format!("scene:{t}"))
+                        .join(", ")
+                ),
+            });
+        }
         match (&n.texture, n.color_space) {
             (None, Some(_)) if t.evaluation() != Evaluation::Texture => self.errors.push(GraphError::BadTexture {
                 node: n.id.clone(),
