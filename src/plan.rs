@@ -26,7 +26,7 @@ pub const TILE: usize = 256;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EvalError {
     /// A requested output that the graph does not have.
-    #[error("unknown output '{name}'{}", hint(.suggestion))]
+    #[error("unknown output '{}'{}", vis(.name), hint(.suggestion))]
     UnknownOutput {
         /// What was asked for.
         name: String,
@@ -37,7 +37,7 @@ pub enum EvalError {
     #[error("the graph has no outputs: name one as node_id.output")]
     NoOutputs,
     /// A parameter the plan does not have.
-    #[error("unknown parameter '{name}'{}", hint(.suggestion))]
+    #[error("unknown parameter '{}'{}", vis(.name), hint(.suggestion))]
     UnknownParameter {
         /// What was set.
         name: String,
@@ -45,7 +45,7 @@ pub enum EvalError {
         suggestion: Option<String>,
     },
     /// A parameter value outside the parameter's own range (the file's `range`).
-    #[error("parameter '{name}': {value} is outside its range [{min}, {max}]")]
+    #[error("parameter '{}': {value} is outside its range [{min}, {max}]", vis(.name))]
     ParameterOutsideItsRange {
         /// The parameter.
         name: String,
@@ -59,7 +59,9 @@ pub enum EvalError {
     /// A parameter value outside the hard range of an input it feeds (see
     /// [`crate::graph::Feed`]).
     #[error(
-        "parameter '{name}': input '{input}' of node '{node}', which it feeds, would get {value}, outside its hard range [{min}, {max}]"
+        "parameter '{}': input '{input}' of node '{}', which it feeds, would get {value}, outside its hard range [{min}, {max}]",
+        vis(.name),
+        vis(.node)
     )]
     ParameterOutOfRange {
         /// The parameter.
@@ -76,7 +78,7 @@ pub enum EvalError {
         max: f32,
     },
     /// A parameter value of the wrong type.
-    #[error("parameter '{name}': expected {expected}, found {found}")]
+    #[error("parameter '{}': expected {expected}, found {found}", vis(.name))]
     ParameterType {
         /// The parameter.
         name: String,
@@ -96,7 +98,7 @@ pub enum EvalError {
         found: usize,
     },
     /// A texture the plan samples that the batch does not hold.
-    #[error("texture '{name}' is not loaded (bind it to the batch with SampleBatch::set_textures)")]
+    #[error("texture '{}' is not loaded (bind it to the batch with SampleBatch::set_textures)", vis(.name))]
     MissingTexture {
         /// The texture's key.
         name: String,
@@ -108,8 +110,13 @@ pub enum EvalError {
 
 fn hint(s: &Option<String>) -> String {
     s.as_ref()
-        .map(|s| format!(" (did you mean '{s}'?)"))
+        .map(|s| format!(" (did you mean '{}'?)", vis(s)))
         .unwrap_or_default()
+}
+
+/// User text of a message, spelt out ([`crate::visible::visible`]).
+fn vis(s: &str) -> std::borrow::Cow<'_, str> {
+    crate::visible::visible(s)
 }
 
 /// Where a value lives at run time.
