@@ -325,6 +325,14 @@ pub(super) struct Emitter<'a> {
     runs: HashMap<NodeIndex, chains::Run>,
 }
 
+/// Above this many outputs `MgOutputs` holds them in chunk structs of this many
+/// (`MgOutputs{k}`, its member `c{k}`), each built and stored by a function of its own
+/// (issue 37): naga's WGSL front end resolves a function's expression types by
+/// `Arena::iter().skip(done)`, which walks the ones done, and finds a struct member by a
+/// linear search, so a function of E expressions and a struct of M members cost E² and M
+/// per access. Bounded functions and structs keep `wgsl` linear in the outputs.
+pub(super) const OUT_CHUNK: usize = 256;
+
 /// Above this many node calls the material function is split into part functions.
 pub(super) const SPLIT_CALLS: usize = 256;
 /// Node calls per part function of a split material function.
@@ -598,28 +606,59 @@ impl<'a> Emitter<'a> {
             .collect();
         let out_fields: Vec<String> = {
             let mut seen: HashSet<String> = HashSet::new();
-            let mut next_suffix: HashMap<String, String> = HashMap::new();
+            let mut next_suffix: HashMap<String, usize> = HashMap::new();
             outputs
                 .iter()
                 .map(|(name, ..)| {
                     let base = ident(name);
-                    // Continue from the last suffix tried for this base (the ones before it
-                    // are taken), so that many colliding names stay linear.
-                    let mut f = next_suffix.remove(&base).unwrap_or_else(|| base.clone());
+                    // A taken name gets the next free `_2`, `_3`, … of its base, counted
+                    // on from the last one tried, so that many colliding names (10,000
+                    // `--output o0`, issue 37) stay linear in count and in length (an
+                    // underscore more per collision made the fields, and the module,
+                    // quadratic in size).
+                    let mut f = base.clone();
+                    let mut k = next_suffix.get(&base).copied().unwrap_or(1);
                     while seen.contains(&f) {
-                        f.push('_');
+                        k += 1;
+                        f = format!("{base}_{k}");
                     }
                     seen.insert(f.clone());
-                    next_suffix.insert(base, f.clone());
+                    next_suffix.insert(base, k);
                     f
                 })
                 .collect()
         };
-        self.out.push_str("struct MgOutputs {\n");
-        for ((_, ty, _), f) in outputs.iter().zip(&out_fields) {
-            let _ = writeln!(self.out, "    {f}: {},", wgsl_type(*ty));
+        let chunked = outputs.len() > OUT_CHUNK;
+        if chunked {
+            for (k, chunk) in outputs.chunks(OUT_CHUNK).enumerate() {
+                let _ = writeln!(self.out, "struct MgOutputs{k} {{");
+                for (j, (_, ty, _)) in chunk.iter().enumerate() {
+                    let f = &out_fields[k * OUT_CHUNK + j];
+                    let _ = writeln!(self.out, "    {f}: {},", wgsl_type(*ty));
+                }
+                self.out.push_str("}\n\n");
+            }
+            self.out.push_str("struct MgOutputs {\n");
+            for k in 0..outputs.len().div_ceil(OUT_CHUNK) {
+                let _ = writeln!(self.out, "    c{k}: MgOutputs{k},");
+            }
+            self.out.push_str("}\n\n");
+        } else {
+            self.out.push_str("struct MgOutputs {\n");
+            for ((_, ty, _), f) in outputs.iter().zip(&out_fields) {
+                let _ = writeln!(self.out, "    {f}: {},", wgsl_type(*ty));
+            }
+            self.out.push_str("}\n\n");
         }
-        self.out.push_str("}\n\n");
+        // How an entry reads each output from `MgOutputs`: its member, or in a chunk.
+        let field_paths: Vec<String> = out_fields
+            .iter()
+            .enumerate()
+            .map(|(j, f)| match chunked {
+                true => format!("c{}.{f}", j / OUT_CHUNK),
+                false => f.clone(),
+            })
+            .collect();
 
         let hardware = self.entry.texture_mode() == super::TextureMode::Hardware;
         for h in &helpers {
@@ -680,7 +719,7 @@ impl<'a> Emitter<'a> {
         // The entry point.
         let mut shader_outputs = Vec::new();
         let mut column = 0u32;
-        for ((name, ty, _), field) in outputs.iter().zip(&out_fields) {
+        for ((name, ty, _), field) in outputs.iter().zip(&field_paths) {
             shader_outputs.push(ShaderOutput {
                 name: name.clone(),
                 ty: *ty,
@@ -693,7 +732,7 @@ impl<'a> Emitter<'a> {
             Entry::Compute => {
                 self.compute_entry(&attributes, &shader_outputs, &out_fields, &mut bindings)
             }
-            Entry::Fragment => self.fragment_entry(&attributes, &shader_outputs, &out_fields),
+            Entry::Fragment => self.fragment_entry(&attributes, &shader_outputs, &field_paths),
             Entry::Library(_) => {}
             Entry::Render(_) => super::render::emit_entries(
                 &mut self.out,
@@ -1491,8 +1530,13 @@ impl<'a> Emitter<'a> {
         true
     }
 
-    /// The material function's `return MgOutputs(...)` and closing brace.
+    /// The material function's `return MgOutputs(...)` and closing brace; past
+    /// [`OUT_CHUNK`] outputs, [`Self::emit_chunked_return`].
     fn emit_return(&mut self, outputs: &[(String, SocketType, OutputRef)]) {
+        if outputs.len() > OUT_CHUNK {
+            self.emit_chunked_return(outputs);
+            return;
+        }
         let values: Vec<String> = outputs
             .iter()
             .map(|(_, ty, r)| self.source_expr(*r, *ty))
@@ -1501,6 +1545,78 @@ impl<'a> Emitter<'a> {
             self.out,
             "    return MgOutputs({});\n}}\n",
             values.join(", ")
+        );
+    }
+
+    /// The return of more than [`OUT_CHUNK`] outputs, in chunk structs, with every
+    /// function's expressions bounded: in a split material function each chunk is built by
+    /// a function of its own reading the state (`mg_out_chunk_{k}`); elsewhere the values
+    /// are the function's own `let`s and calls (at most [`SPLIT_CALLS`]), and a value
+    /// returned more than once is bound to a `let` once (`mg_v{j}`: naming a `let` adds no
+    /// expression).
+    fn emit_chunked_return(&mut self, outputs: &[(String, SocketType, OutputRef)]) {
+        let chunks: Vec<_> = outputs.chunks(OUT_CHUNK).collect();
+        if self.context == Context::Material {
+            let saved = self.context;
+            // No part owns the values: each is read through the state pointer `s`.
+            self.context = Context::Part(usize::MAX);
+            let (param, arg) = match self.has_geom {
+                true => (", geom: MgGeometry", ", geom"),
+                false => ("", ""),
+            };
+            let mut defs = String::new();
+            for (k, chunk) in chunks.iter().enumerate() {
+                let values: Vec<String> = chunk
+                    .iter()
+                    .map(|(_, ty, r)| self.source_expr(*r, *ty))
+                    .collect();
+                let _ = writeln!(
+                    defs,
+                    "fn mg_out_chunk_{k}(s: ptr<function, MgState>{param}) -> MgOutputs{k} {{\n    return MgOutputs{k}({});\n}}\n",
+                    values.join(", ")
+                );
+            }
+            self.context = saved;
+            let parts: Vec<String> = (0..chunks.len())
+                .map(|k| format!("mg_out_chunk_{k}(&s{arg})"))
+                .collect();
+            let _ = writeln!(
+                self.out,
+                "    return MgOutputs({});\n}}\n",
+                parts.join(", ")
+            );
+            self.out.push_str(&defs);
+            return;
+        }
+        let values: Vec<String> = outputs
+            .iter()
+            .map(|(_, ty, r)| self.source_expr(*r, *ty))
+            .collect();
+        let mut uses: HashMap<&str, usize> = HashMap::new();
+        for v in &values {
+            *uses.entry(v.as_str()).or_default() += 1;
+        }
+        let mut bound: HashMap<&str, String> = HashMap::new();
+        for v in &values {
+            if uses[v.as_str()] > 1 && !bound.contains_key(v.as_str()) {
+                let name = format!("mg_v{}", bound.len());
+                let _ = writeln!(self.out, "    let {name} = {v};");
+                bound.insert(v.as_str(), name);
+            }
+        }
+        let named: Vec<&str> = values
+            .iter()
+            .map(|v| bound.get(v.as_str()).map_or(v.as_str(), String::as_str))
+            .collect();
+        let parts: Vec<String> = named
+            .chunks(OUT_CHUNK)
+            .enumerate()
+            .map(|(k, c)| format!("MgOutputs{k}({})", c.join(", ")))
+            .collect();
+        let _ = writeln!(
+            self.out,
+            "    return MgOutputs({});\n}}\n",
+            parts.join(", ")
         );
     }
 
@@ -1559,27 +1675,27 @@ impl<'a> Emitter<'a> {
         } else {
             self.out.push_str("    let o = mg_material();\n");
         }
-        for (o, f) in outputs.iter().zip(fields) {
-            let w = o.ty.width();
-            for c in 0..w {
-                let e = if w == 1 {
-                    format!("o.{f}")
-                } else {
-                    format!("o.{f}.{}", ["x", "y", "z", "w"][c])
-                };
-                let e = convert(
-                    &e,
-                    if w == 1 { o.ty } else { SocketType::Float },
-                    SocketType::Float,
-                );
-                let _ = writeln!(
-                    self.out,
-                    "    mg_out[{}u * n + i] = {e};",
-                    o.column as usize + c
-                );
-            }
+        if outputs.len() <= OUT_CHUNK {
+            self.out.push_str(&stores(outputs, fields));
+            self.out.push_str("}\n");
+            return;
+        }
+        // Past OUT_CHUNK outputs, one store function per chunk (see OUT_CHUNK).
+        let mut defs = String::new();
+        for (k, (o, f)) in outputs
+            .chunks(OUT_CHUNK)
+            .zip(fields.chunks(OUT_CHUNK))
+            .enumerate()
+        {
+            let _ = writeln!(self.out, "    mg_out_store_{k}(o.c{k}, n, i);");
+            let _ = writeln!(
+                defs,
+                "\nfn mg_out_store_{k}(o: MgOutputs{k}, n: u32, i: u32) {{\n{}}}",
+                stores(o, f)
+            );
         }
         self.out.push_str("}\n");
+        self.out.push_str(&defs);
     }
 
     fn fragment_entry(
@@ -1630,6 +1746,33 @@ impl<'a> Emitter<'a> {
         };
         let _ = writeln!(self.out, "    return {rgba};\n}}");
     }
+}
+
+/// The compute entry's stores of `outputs` (members `fields` of `o`) into `mg_out`, one
+/// line per component.
+fn stores(outputs: &[ShaderOutput], fields: &[String]) -> String {
+    let mut text = String::new();
+    for (o, f) in outputs.iter().zip(fields) {
+        let w = o.ty.width();
+        for c in 0..w {
+            let e = if w == 1 {
+                format!("o.{f}")
+            } else {
+                format!("o.{f}.{}", ["x", "y", "z", "w"][c])
+            };
+            let e = convert(
+                &e,
+                if w == 1 { o.ty } else { SocketType::Float },
+                SocketType::Float,
+            );
+            let _ = writeln!(
+                text,
+                "    mg_out[{}u * n + i] = {e};",
+                o.column as usize + c
+            );
+        }
+    }
+    text
 }
 
 /// The `MgState` member holding the shared values of WGSL type `ty`.
