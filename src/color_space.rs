@@ -31,6 +31,7 @@ use serde::{Deserialize, Serialize};
 /// How an image's stored values are read: sRGB-decoded colour, linear colour, or data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(rename_all = "lowercase")]
+#[serde(expecting = "a colour space: \"srgb\", \"linear\" or \"data\"")]
 pub enum ColorSpace {
     /// sRGB-encoded colour, decoded to linear light.
     Srgb,

@@ -499,7 +499,10 @@ impl fmt::Display for GraphErrors {
             if i > 0 {
                 writeln!(f)?;
             }
-            write!(f, "{}: {e}", self.source.display())?;
+            // One line per error: its user text (ids, names, paths) spelt out, line
+            // breaks included.
+            let line = format!("{}: {e}", self.source.display());
+            write!(f, "{}", crate::visible::visible(&line))?;
         }
         if self.errors.len() > MAX_SHOWN {
             let more = self.errors.len() - MAX_SHOWN;

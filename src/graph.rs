@@ -140,6 +140,8 @@ pub struct GraphParameter {
     pub doc: String,
     /// Editor group.
     pub group: Option<String>,
+    /// The values it accepts (the file's `range`), every component.
+    pub range: Option<crate::node::Range>,
     /// The hard ranges its value must respect: one per input it feeds (see [`Feed`]).
     pub feeds: Vec<Feed>,
 }
@@ -554,6 +556,7 @@ impl Graph {
                     node: self.nodes[p.node].id.clone(),
                     doc: p.doc.clone(),
                     group: p.group.clone(),
+                    range: p.range.map(|r| [r.min, r.max]),
                 })
                 .collect(),
             variants: self
@@ -1044,6 +1047,20 @@ impl Builder<'_> {
                 message,
             });
         }
+        if let Some(name) = n.texture.as_ref().and_then(|s| s.scene_name())
+            && !crate::document::TextureSource::SCENE_TEXTURES.contains(&name)
+        {
+            self.errors.push(GraphError::BadTexture {
+                node: n.id.clone(),
+                message: format!(
+                    "unknown scene texture '{}{name}': a scene supplies {}",
+                    crate::document::TextureSource::SCENE,
+                    crate::document::TextureSource::SCENE_TEXTURES
+                        .map(|t| format!("scene:{t}"))
+                        .join(", ")
+                ),
+            });
+        }
         match (&n.texture, n.color_space) {
             (None, Some(_)) if t.evaluation() != Evaluation::Texture => self.errors.push(GraphError::BadTexture {
                 node: n.id.clone(),
@@ -1274,6 +1291,27 @@ impl Builder<'_> {
                     continue;
                 }
             };
+            let range = match p.range {
+                None => None,
+                Some([min, max]) if min.is_finite() && max.is_finite() && min <= max => {
+                    Some(crate::node::Range { min, max })
+                }
+                Some([min, max]) => {
+                    self.errors.push(bad(format!(
+                        "its range [{min}, {max}] must be two finite numbers, the first not above the second"
+                    )));
+                    continue;
+                }
+            };
+            if let Some(r) = range
+                && !r.contains(&default)
+            {
+                self.errors.push(bad(format!(
+                    "its value {default} (node '{}') is outside its range [{}, {}]",
+                    p.node, r.min, r.max
+                )));
+                continue;
+            }
             names.insert(p.name.as_str());
             out.push(GraphParameter {
                 name: p.name.clone(),
@@ -1282,6 +1320,7 @@ impl Builder<'_> {
                 default,
                 doc: p.doc.clone(),
                 group: p.group.clone(),
+                range,
                 feeds: feeds.get(&i).cloned().unwrap_or_default(),
             });
         }

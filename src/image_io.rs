@@ -153,7 +153,7 @@ pub fn load_opened_image(
     let srgb = space.unwrap_or(default).decodes_srgb();
     let decoder = reader
         .into_decoder()
-        .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
+        .map_err(|e| file_error(path, format_args!("cannot decode: {}", decode_reason(&e))))?;
     let (width, height) = decoder.dimensions();
     let peak = decode_peak_bytes(width, height, decoder.total_bytes());
     budget
@@ -168,6 +168,23 @@ pub fn load_opened_image(
     loaded
 }
 
+/// A decoder's error in words: the PNG decoder writes a chunk's type as a Rust debug
+/// struct (`ChunkType { type: IHDR, critical: true, … }`), cut here to its name (`IHDR`).
+fn decode_reason(e: &image::ImageError) -> String {
+    let mut text = e.to_string();
+    const OPEN: &str = "ChunkType { type: ";
+    while let Some(start) = text.find(OPEN) {
+        let rest = &text[start + OPEN.len()..];
+        let name_end = rest.find([',', ' ', '}']).unwrap_or(rest.len());
+        let name = rest[..name_end].to_owned();
+        let close = rest
+            .find('}')
+            .map_or(text.len(), |k| start + OPEN.len() + k + 1);
+        text.replace_range(start..close, &name);
+    }
+    text
+}
+
 /// The decoding part of [`load_opened_image`], its memory reserved.
 fn decode_reserved(
     path: &Path,
@@ -175,7 +192,7 @@ fn decode_reserved(
     srgb: bool,
 ) -> Result<Image, TextureError> {
     let decoded = image::DynamicImage::from_decoder(decoder)
-        .map_err(|e| file_error(path, format_args!("cannot decode: {e}")))?;
+        .map_err(|e| file_error(path, format_args!("cannot decode: {}", decode_reason(&e))))?;
     let rgba = decoded.to_rgba32f();
     drop(decoded);
     let (width, height) = rgba.dimensions();

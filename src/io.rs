@@ -542,6 +542,39 @@ pub enum PathError {
     },
 }
 
+impl PathError {
+    /// The message, said of the folder the reference must stay in: the graph's, or, for a
+    /// reference written in a file in another folder (a scene file's environment image),
+    /// that file's (its Display says "the graph's folder" whatever file wrote it).
+    pub fn message_for(&self, graph_file: &Path) -> String {
+        let graph_folder = graph_file
+            .parent()
+            .map(|p| {
+                if p.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    p
+                }
+            })
+            .and_then(|p| std::fs::canonicalize(p).ok());
+        match self {
+            PathError::Outside {
+                file,
+                by,
+                reference,
+                resolved,
+                folder,
+            } if graph_folder.as_deref() != Some(folder.as_path()) => format!(
+                "{}: {by}: path '{reference}' resolves to {}, outside the scene's folder {} (a scene file's paths must lie in its own folder)",
+                file.display(),
+                resolved.display(),
+                folder.display()
+            ),
+            e => e.to_string(),
+        }
+    }
+}
+
 /// The canonical form of `path`, or, when it does not exist, the canonical form of its
 /// longest existing ancestor with the rest of it applied lexically: where it would be, so
 /// that a missing file outside the folder is reported as outside (not as missing, which

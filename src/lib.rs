@@ -36,6 +36,7 @@ pub mod texture;
 pub mod types;
 pub mod value;
 pub mod variant;
+pub mod visible;
 pub mod wgsl;
 
 /// The node library (the repository's `nodes/` folder).

@@ -26,7 +26,7 @@ pub const TILE: usize = 256;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum EvalError {
     /// A requested output that the graph does not have.
-    #[error("unknown output '{name}'{}", hint(.suggestion))]
+    #[error("unknown output '{}'{}", vis(.name), hint(.suggestion))]
     UnknownOutput {
         /// What was asked for.
         name: String,
@@ -37,17 +37,31 @@ pub enum EvalError {
     #[error("the graph has no outputs: name one as node_id.output")]
     NoOutputs,
     /// A parameter the plan does not have.
-    #[error("unknown parameter '{name}'{}", hint(.suggestion))]
+    #[error("unknown parameter '{}'{}", vis(.name), hint(.suggestion))]
     UnknownParameter {
         /// What was set.
         name: String,
         /// The nearest parameter name.
         suggestion: Option<String>,
     },
+    /// A parameter value outside the parameter's own range (the file's `range`).
+    #[error("parameter '{}': {value} is outside its range [{min}, {max}]", vis(.name))]
+    ParameterOutsideItsRange {
+        /// The parameter.
+        name: String,
+        /// The value refused.
+        value: String,
+        /// Lower bound.
+        min: f32,
+        /// Upper bound.
+        max: f32,
+    },
     /// A parameter value outside the hard range of an input it feeds (see
     /// [`crate::graph::Feed`]).
     #[error(
-        "parameter '{name}': input '{input}' of node '{node}', which it feeds, would get {value}, outside its hard range [{min}, {max}]"
+        "parameter '{}': input '{input}' of node '{}', which it feeds, would get {value}, outside its hard range [{min}, {max}]",
+        vis(.name),
+        vis(.node)
     )]
     ParameterOutOfRange {
         /// The parameter.
@@ -64,7 +78,7 @@ pub enum EvalError {
         max: f32,
     },
     /// A parameter value of the wrong type.
-    #[error("parameter '{name}': expected {expected}, found {found}")]
+    #[error("parameter '{}': expected {expected}, found {found}", vis(.name))]
     ParameterType {
         /// The parameter.
         name: String,
@@ -84,7 +98,7 @@ pub enum EvalError {
         found: usize,
     },
     /// A texture the plan samples that the batch does not hold.
-    #[error("texture '{name}' is not loaded (bind it to the batch with SampleBatch::set_textures)")]
+    #[error("texture '{}' is not loaded (bind it to the batch with SampleBatch::set_textures)", vis(.name))]
     MissingTexture {
         /// The texture's key.
         name: String,
@@ -96,8 +110,13 @@ pub enum EvalError {
 
 fn hint(s: &Option<String>) -> String {
     s.as_ref()
-        .map(|s| format!(" (did you mean '{s}'?)"))
+        .map(|s| format!(" (did you mean '{}'?)", vis(s)))
         .unwrap_or_default()
+}
+
+/// User text of a message, spelt out ([`crate::visible::visible`]).
+fn vis(s: &str) -> std::borrow::Cow<'_, str> {
+    crate::visible::visible(s)
 }
 
 /// Where a value lives at run time.
@@ -221,6 +240,8 @@ pub struct PlanParameter {
     pub default: Value,
     /// Uniform slot it fills (`None` when unused or baked).
     pub slot: Option<u32>,
+    /// The values it accepts (the file's `range`), every component.
+    pub range: Option<crate::node::Range>,
 }
 
 /// What the compiler did to the graph.
@@ -375,6 +396,8 @@ pub(crate) struct Guards {
     param_slots: Vec<Option<u32>>,
     /// Graph node of each plan parameter (plan order).
     param_nodes: Vec<NodeIndex>,
+    /// The range of each plan parameter (plan order), from the file.
+    ranges: Vec<Option<crate::node::Range>>,
     guards: Vec<Guard>,
 }
 
@@ -481,6 +504,17 @@ impl ParamValues {
                     value: seen.to_string(),
                     min: g.range.min,
                     max: g.range.max,
+                });
+            }
+            // The parameter's own range after the inputs it feeds, whose refusal says more.
+            if let Some(r) = guards.ranges[i]
+                && !r.contains(&v)
+            {
+                return Err(EvalError::ParameterOutsideItsRange {
+                    name: name.to_owned(),
+                    value: v.to_string(),
+                    min: r.min,
+                    max: r.max,
                 });
             }
         }
@@ -605,6 +639,7 @@ impl<'g> Compiler<'g> {
                 ty: p.ty,
                 default: p.default,
                 slot: self.param_slots.get(&p.node).copied(),
+                range: p.range,
             })
             .collect();
         self.allocate(&mut outputs);
@@ -613,6 +648,7 @@ impl<'g> Compiler<'g> {
             steps: self.uniform_steps.clone(),
             param_slots: parameters.iter().map(|p: &PlanParameter| p.slot).collect(),
             param_nodes: self.graph.parameters().iter().map(|p| p.node).collect(),
+            ranges: parameters.iter().map(|p: &PlanParameter| p.range).collect(),
             guards: std::mem::take(&mut self.guards),
         });
         // The file's values must respect the guards too.

@@ -15,7 +15,10 @@
 //!   i mod w, [`Wrap::Clamp`] clamps to [0, w − 1] (clamp to edge), [`Wrap::Mirror`] mirrors with
 //!   period 2w, repeating the edge texel (GL's `MIRRORED_REPEAT`). Before the conversion to an
 //!   integer a texel coordinate is clamped to ±2147483520 (the largest f32 below 2³¹) so that
-//!   the conversion is defined on both sides.
+//!   the conversion is defined on both sides; the bilinear coordinate is clamped so before its
+//!   fraction is taken, so a uv beyond f32's range (5e37 × 128 texels is ∞) reads the texel
+//!   at the limit with fraction 0 instead of NaN. The cost: none below 2³¹ texels, where f32
+//!   has no fraction left anyway.
 //! - **Level of detail.** Level 0 is the full-size image. `lod` is clamped to [0, levels − 1]
 //!   (a NaN lod reads level 0). [`Filter::Bilinear`] blends the levels ⌊lod⌋ and ⌊lod⌋ + 1 as
 //!   `a + (b − a)·(lod − ⌊lod⌋)` (trilinear filtering; level ⌊lod⌋ alone when the fraction is 0);
@@ -534,8 +537,10 @@ fn sample_level(
         let y = wrap_index(to_index((uv.y * fh).floor()), hi, wrap);
         return fetch(x as u32, y as u32);
     }
-    let px = uv.x * fw - 0.5;
-    let py = uv.y * fh - 0.5;
+    // Clamped like the indices, so that a coordinate beyond f32's range (uv 5e37 × 128
+    // texels) gives the fraction 0, not ∞ − ∞ = NaN (issue 37).
+    let px = (uv.x * fw - 0.5).clamp(-COORD_LIMIT, COORD_LIMIT);
+    let py = (uv.y * fh - 0.5).clamp(-COORD_LIMIT, COORD_LIMIT);
     let fx = px.floor();
     let fy = py.floor();
     let tx = px - fx;
@@ -843,8 +848,8 @@ fn mg_tex_level(level: vec4<u32>, uv: vec2<f32>, wrap: u32, filt: u32) -> vec4<f
         let y = mg_tex_wrap(mg_tex_index(floor(uv.y * fh)), hi, wrap);
         return mg_tex_fetch(level, x, y);
     }
-    let px = uv.x * fw - 0.5;
-    let py = uv.y * fh - 0.5;
+    let px = clamp(uv.x * fw - 0.5, -2147483520.0, 2147483520.0);
+    let py = clamp(uv.y * fh - 0.5, -2147483520.0, 2147483520.0);
     let fx = floor(px);
     let fy = floor(py);
     let tx = px - fx;

@@ -38,6 +38,13 @@ pub const IOR_MIN: f32 = 1.0;
 /// Largest index of refraction accepted; linked values above are clamped to it.
 pub const IOR_MAX: f32 = 4.0;
 
+/// |cos θ| below this counts as exactly grazing (R = 1, T = 0, every method). What it costs:
+/// below it the true T is O(cos θ) < 1e-11 and R is 1 to f32's precision, except on
+/// interference resonances narrower (~cos θ in phase) than an f32 phase resolves, where a
+/// free film's R dips to 0; the f32 terms of the Airy sum are O(cos² θ) and underflow from
+/// about 1e-19 on (denormal cosines gave NaN).
+pub const GRAZING_COS: f32 = 1e-12;
+
 /// Names of the `method` choices, in index order.
 pub const METHOD_NAMES: &[&str] = &["spectral", "belcour_barla", "rgb3", "table"];
 /// `method` choice: the spectral reference.
@@ -125,6 +132,13 @@ fn cos_in(cos_i: f32, eta: f32) -> C {
     }
 }
 
+/// A face's `1 − |r|²` from its pair (see [`faces`]): `4 Re(x ȳ) / |x + y|²`, which keeps its
+/// relative precision where `|r| → 1` (grazing, where `1 − |r|²` by subtraction is 0 or
+/// negative in f32); 0 under total internal reflection (`x ȳ` imaginary).
+fn face_t(x: C, y: C) -> f32 {
+    4.0 * (x.re * y.re + x.im * y.im) / x.add(y).norm2()
+}
+
 /// One polarisation of one face, from medium a (index `na`, cosine `ca`) into b, as the pair
 /// `(x, y)` with `r = (x − y)/(x + y)` and `t = 2 na ca/(x + y)` (Hecht, *Optics* eqs.
 /// 4.42–4.45): s `(na ca, nb cb)`, p `(nb ca, na cb)`.
@@ -153,10 +167,15 @@ pub struct Film {
     pub n0: [C; 2],
     /// `n3 Re(cosθ3) / (n1 cosθ1) · |t12 t23|²`, s and p.
     pub tau: [f32; 2],
+    /// `1 − |r12|²` without cancellation ([`face_t`]), s and p.
+    pub t12: [f32; 2],
+    /// `1 − |r23|²` without cancellation ([`face_t`]), s and p.
+    pub t23: [f32; 2],
     /// Optical path difference `2 n_f d cosθ_f` in nm; imaginary when the film is beyond
     /// its critical angle (the wave in it decays).
     pub opd: C,
-    /// Light arrives exactly grazing (`cosθ = 0`): all of it is reflected, at every λ.
+    /// Light arrives grazing (`|cosθ| <` [`GRAZING_COS`], 0 included): all of it is
+    /// reflected, at every λ (the other fields are those of `|cosθ| =` [`GRAZING_COS`]).
     pub grazing: bool,
     /// The film is beyond its critical angle (its cosine is imaginary: the wave in it
     /// decays), also at thickness 0 where `opd` is 0.
@@ -167,8 +186,9 @@ impl Film {
     /// The film for `cos_theta` in the outside medium; `cos_theta < 0` is light arriving from
     /// the substrate side (the outside and substrate indices swap, as in
     /// [`fresnel_dielectric`](crate::nodes::optics::fresnel_dielectric)). The thickness is
-    /// clamped to [0, [`THICKNESS_MAX_NM`]], the indices to [[`IOR_MIN`], [`IOR_MAX`]]. A face
-    /// between equal indices is no interface (`r = 0`, `t = 1`).
+    /// clamped to [0, [`THICKNESS_MAX_NM`]], the indices to [[`IOR_MIN`], [`IOR_MAX`]]; below
+    /// [`GRAZING_COS`] the light is grazing. A face between equal indices is no interface
+    /// (`r = 0`, `t = 1`).
     pub fn new(
         cos_theta: f32,
         thickness_nm: f32,
@@ -185,13 +205,15 @@ impl Film {
         } else {
             (ns, no, (-cos_theta).min(1.0))
         };
+        let grazing = c < GRAZING_COS;
+        let c = c.max(GRAZING_COS);
         let c1 = C { re: c, im: 0.0 };
         let cf = cos_in(c, n1 / nf);
         let c3 = cos_in(c, n1 / n3);
         let f12 = faces(n1, c1, nf, cf);
         let f23 = faces(nf, cf, n3, c3);
         // |t12|² ∝ cos²θ1: the quotient is finite down to the smallest normal cosine.
-        let k = n3 * c3.re / (n1 * c.max(f32::MIN_POSITIVE));
+        let k = n3 * c3.re / (n1 * c);
         let mut film = Film {
             r12: [C::ZERO; 2],
             r23: [C::ZERO; 2],
@@ -199,8 +221,10 @@ impl Film {
             q: [C::ONE; 2],
             n0: [C::ZERO; 2],
             tau: [0.0; 2],
+            t12: [1.0; 2],
+            t23: [1.0; 2],
             opd: cf.scale(2.0 * nf * d),
-            grazing: c == 0.0,
+            grazing,
             evanescent: cf.im != 0.0,
         };
         for j in 0..2 {
@@ -231,13 +255,20 @@ impl Film {
             film.q[j] = q;
             film.n0[j] = n0;
             film.tau[j] = k * (t12.norm2() * t23.norm2());
+            if n1 != nf {
+                film.t12[j] = face_t(x1, y1);
+            }
+            if nf != n3 {
+                film.t23[j] = face_t(x2, y2);
+            }
         }
         film
     }
 
     /// Unpolarised `(R, T)` at the wavelength `1 / inv_lambda_nm`. The half phase is reduced
     /// to [−π/2, π/2] in cycles (`δ/2π = opd/λ`) before the sine, so GPUs (whose `sin` is
-    /// only specified on [−π, π]) and the CPU agree for thick films.
+    /// only specified on [−π, π]) and the CPU agree for thick films. `R` is capped at 1 and `T`
+    /// at `1 − R`, which moves them by f32 rounding only (the exact sum has `R + T = 1`).
     #[inline]
     pub fn at(&self, inv_lambda_nm: f32) -> (f32, f32) {
         let cycles = self.opd.re * inv_lambda_nm;
@@ -269,12 +300,13 @@ impl Film {
             r += num.norm2() / den;
             t += self.tau[k] * decay / den;
         }
-        (0.5 * r, 0.5 * t)
+        let r = (0.5 * r).min(1.0);
+        (r, (0.5 * t).min(1.0 - r))
     }
 }
 
 /// Per-wavelength unpolarised reflectance and transmittance `(R, T)` of the film at `lambda_nm`
-/// (see [`Film::new`] for the inputs' conventions); exactly grazing light gives (1, 0).
+/// (see [`Film::new`] for the inputs' conventions); grazing light gives (1, 0).
 pub fn airy(
     cos_theta: f32,
     lambda_nm: f32,
@@ -296,8 +328,27 @@ pub fn airy(
     film.at(1.0 / lambda_nm)
 }
 
+/// [`SRGB_WEIGHTS`]' channel sums as [`spectral`]'s loop adds them in f32 (1 ± 1e-6; the f64
+/// weights sum to 1), so that a flat spectrum divided by them is exactly that value.
+pub const SRGB_WEIGHT_SUMS: [f32; 3] = weight_sums();
+
+/// [`SRGB_WEIGHT_SUMS`], summed in [`spectral`]'s order.
+const fn weight_sums() -> [f32; 3] {
+    let mut s = [0.0f32; 3];
+    let mut k = 0;
+    while k < LEN {
+        s[0] += SRGB_WEIGHTS[k][0];
+        s[1] += SRGB_WEIGHTS[k][1];
+        s[2] += SRGB_WEIGHTS[k][2];
+        k += 1;
+    }
+    s
+}
+
 /// The spectral reference: `Σ_λ w(λ) R(λ)` over 360–830 nm at 1 nm with the linear sRGB
-/// weights of D65 × CIE 1931 2° ([`SRGB_WEIGHTS`], each channel summing to 1), likewise `T`.
+/// weights of D65 × CIE 1931 2° ([`SRGB_WEIGHTS`], each channel summing to 1), likewise `T`,
+/// divided by the f32 sums of the weights ([`SRGB_WEIGHT_SUMS`]) so that a flat R of 1 (a
+/// grazing or totally reflecting film) is exactly white, not 1 + 1e-6.
 pub fn spectral(film: &Film) -> (Vec3, Vec3) {
     let mut r = Vec3::ZERO;
     let mut t = Vec3::ZERO;
@@ -307,7 +358,8 @@ pub fn spectral(film: &Film) -> (Vec3, Vec3) {
         r += wv * rl;
         t += wv * tl;
     }
-    (r, t)
+    let sums = Vec3::from(SRGB_WEIGHT_SUMS);
+    (r / sums, t / sums)
 }
 
 /// Three wavelengths, one per channel ([`RGB3_NM`]: 600.2, 539.1, 453.4 nm, each channel's
@@ -359,7 +411,9 @@ fn bb_sensitivities(opd_nm: f32) -> [Vec3; 4] {
 
 /// One polarisation's Airy reflectance as the Fourier series in the phase δ (Belcour & Barla
 /// 2017, eq. 9): `R(δ) = c0 + 2 Σ_{m≥1} c · root^m cos(m δ)`, with `c0 = R12 + Rs`,
-/// `c = Rs − T121`, `Rs = T121² R23 / (1 − R12 R23)`, `T121 = 1 − R12`, and
+/// `c = Rs − T121`, `Rs = T121² R23 / (1 − R12 R23)`, `T121 = 1 − R12`, the differences
+/// taken from the faces' cancellation-free `1 − R` ([`Film::t12`], [`Film::t23`]:
+/// `1 − R12 R23 = T12 + R12 T23`, which near grazing is 0 by subtraction), and
 /// `root = ±√(R12 R23)`: the phase φ = arg(r21 r23) = arg(−r12 r23) is π when r12 r23 > 0,
 /// which turns harmonic m by (−1)^m (the sign of `root`).
 #[derive(Clone, Copy, Debug)]
@@ -370,14 +424,19 @@ struct AirySeries {
 }
 
 impl AirySeries {
-    /// The series of the faces with amplitudes `r12`, `r23`.
+    /// The series of the faces with amplitudes `r12`, `r23` and `1 − |r|²` `t12`, `t23`.
     #[inline]
-    fn new(r12: C, r23: C) -> AirySeries {
+    fn new(r12: C, r23: C, t12: f32, t23: f32) -> AirySeries {
         let big_r12 = r12.norm2();
         let big_r23 = r23.norm2();
-        let t121 = 1.0 - big_r12;
+        let t121 = t12;
         let r123 = big_r12 * big_r23;
-        let rs = t121 * t121 * big_r23 / (1.0 - r123);
+        let den = t12 + big_r12 * t23;
+        let rs = if den > 0.0 {
+            t121 * t121 * big_r23 / den
+        } else {
+            0.0
+        };
         let root = if r12.re * r23.re > 0.0 {
             -sqrt(r123)
         } else {
@@ -393,8 +452,8 @@ impl AirySeries {
 
 /// One polarisation of [`belcour_barla`]: `C0 S(0) + Σ_{m=1..3} 2 Cm S(m·opd)` in XYZ.
 #[inline]
-fn bb_polarisation(r12: C, r23: C, s: &[Vec3; 4]) -> Vec3 {
-    let a = AirySeries::new(r12, r23);
+fn bb_polarisation(film: &Film, j: usize, s: &[Vec3; 4]) -> Vec3 {
+    let a = AirySeries::new(film.r12[j], film.r23[j], film.t12[j], film.t23[j]);
     let mut cm = a.c;
     let mut xyz = a.c0 * s[0];
     for sm in &s[1..] {
@@ -424,8 +483,8 @@ pub fn belcour_barla(film: &Film) -> Vec3 {
     }
     let s = bb_sensitivities(film.opd.re);
     let mut xyz = Vec3::ZERO;
-    xyz += bb_polarisation(film.r12[0], film.r23[0], &s);
-    xyz += bb_polarisation(film.r12[1], film.r23[1], &s);
+    xyz += bb_polarisation(film, 0, &s);
+    xyz += bb_polarisation(film, 1, &s);
     let xyz = 0.5 * xyz;
     Vec3::new(
         Vec3::from(BB_XYZ_TO_RGB[0]).dot(xyz),
@@ -465,8 +524,8 @@ pub fn table(film: &Film) -> Vec3 {
     if film.evanescent {
         return Vec3::ONE;
     }
-    let s = AirySeries::new(film.r12[0], film.r23[0]);
-    let p = AirySeries::new(film.r12[1], film.r23[1]);
+    let s = AirySeries::new(film.r12[0], film.r23[0], film.t12[0], film.t23[0]);
+    let p = AirySeries::new(film.r12[1], film.r23[1], film.t12[1], film.t23[1]);
     let mut rgb = Vec3::splat(0.5 * (s.c0 + p.c0));
     let (mut cs, mut cp) = (s.c, p.c);
     for m in 1..=TABLE_HARMONICS {
@@ -553,6 +612,8 @@ struct MgTfFilm {
     n0s: vec2<f32>,
     n0p: vec2<f32>,
     tau: vec2<f32>,
+    t12: vec2<f32>,
+    t23: vec2<f32>,
     opd: vec2<f32>,
     grazing: bool,
     evanescent: bool,
@@ -567,21 +628,30 @@ struct MgTfPol {
     q: vec2<f32>,
     n0: vec2<f32>,
     tau: f32,
+    t12: f32,
+    t23: f32,
+}
+fn mg_tf_face_t(x: vec2<f32>, y: vec2<f32>) -> f32 {
+    return 4.0 * (x.x * y.x + x.y * y.y) / mg_tf_norm2(x + y);
 }
 fn mg_tf_pol(x1: vec2<f32>, y1: vec2<f32>, x2: vec2<f32>, y2: vec2<f32>, c1: vec2<f32>, cf: vec2<f32>, n1: f32, nf: f32, n3: f32, k: f32) -> MgTfPol {
     let d1 = x1 + y1;
     let d2 = x2 + y2;
     var r12 = vec2<f32>(0.0);
     var t12 = vec2<f32>(1.0, 0.0);
+    var u12 = 1.0;
     if (n1 != nf) {
         r12 = mg_tf_div(x1 - y1, d1);
         t12 = mg_tf_div(c1 * (2.0 * n1), d1);
+        u12 = mg_tf_face_t(x1, y1);
     }
     var r23 = vec2<f32>(0.0);
     var t23 = vec2<f32>(1.0, 0.0);
+    var u23 = 1.0;
     if (nf != n3) {
         r23 = mg_tf_div(x2 - y2, d2);
         t23 = mg_tf_div(cf * (2.0 * nf), d2);
+        u23 = mg_tf_face_t(x2, y2);
     }
     var q = vec2<f32>(1.0, 0.0);
     var n0 = r12;
@@ -594,7 +664,7 @@ fn mg_tf_pol(x1: vec2<f32>, y1: vec2<f32>, x2: vec2<f32>, y2: vec2<f32>, c1: vec
         q = mg_tf_div((u + v) * 2.0, dd);
         n0 = mg_tf_div((u - v) * 2.0, dd);
     }
-    return MgTfPol(r12, r23, q, n0, k * (mg_tf_norm2(t12) * mg_tf_norm2(t23)));
+    return MgTfPol(r12, r23, q, n0, k * (mg_tf_norm2(t12) * mg_tf_norm2(t23)), u12, u23);
 }
 fn mg_tf_film(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32, substrate_ior: f32) -> MgTfFilm {
     let d = min(max(thickness_nm, 0.0), 10000.0);
@@ -603,19 +673,20 @@ fn mg_tf_film(cos_theta: f32, thickness_nm: f32, film_ior: f32, outside_ior: f32
     let ns = min(max(substrate_ior, 1.0), 4.0);
     var n1 = no;
     var n3 = ns;
-    var c = min(cos_theta, 1.0);
+    var c0 = min(cos_theta, 1.0);
     if (cos_theta < 0.0) {
         n1 = ns;
         n3 = no;
-        c = min(-cos_theta, 1.0);
+        c0 = min(-cos_theta, 1.0);
     }
+    let c = max(c0, 1e-12);
     let c1 = vec2<f32>(c, 0.0);
     let cf = mg_tf_cos_in(c, n1 / nf);
     let c3 = mg_tf_cos_in(c, n1 / n3);
-    let k = n3 * c3.x / (n1 * max(c, 1.17549435e-38));
+    let k = n3 * c3.x / (n1 * c);
     let s = mg_tf_pol(c1 * n1, cf * nf, cf * nf, c3 * n3, c1, cf, n1, nf, n3, k);
     let p = mg_tf_pol(c1 * nf, cf * n1, cf * n3, c3 * nf, c1, cf, n1, nf, n3, k);
-    return MgTfFilm(s.r12, p.r12, s.r23, p.r23, mg_tf_mul(s.r12, s.r23), mg_tf_mul(p.r12, p.r23), s.q, p.q, s.n0, p.n0, vec2<f32>(s.tau, p.tau), cf * (2.0 * nf * d), c == 0.0, cf.y != 0.0);
+    return MgTfFilm(s.r12, p.r12, s.r23, p.r23, mg_tf_mul(s.r12, s.r23), mg_tf_mul(p.r12, p.r23), s.q, p.q, s.n0, p.n0, vec2<f32>(s.tau, p.tau), vec2<f32>(s.t12, p.t12), vec2<f32>(s.t23, p.t23), cf * (2.0 * nf * d), c0 < 1e-12, cf.y != 0.0);
 }
 fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     let cycles = f.opd.x * inv_lambda_nm;
@@ -635,9 +706,9 @@ fn mg_tf_at(f: MgTfFilm, inv_lambda_nm: f32) -> vec2<f32> {
     let den_s = mg_tf_norm2(f.qs + mg_tf_mul(f.ps, em1));
     let num_p = f.n0p + mg_tf_mul(f.r23p, em1);
     let den_p = mg_tf_norm2(f.qp + mg_tf_mul(f.pp, em1));
-    let r = mg_tf_norm2(num_s) / den_s + mg_tf_norm2(num_p) / den_p;
-    let t = f.tau.x * decay / den_s + f.tau.y * decay / den_p;
-    return vec2<f32>(0.5 * r, 0.5 * t);
+    let r = min(0.5 * (mg_tf_norm2(num_s) / den_s + mg_tf_norm2(num_p) / den_p), 1.0);
+    let t = min(0.5 * (f.tau.x * decay / den_s + f.tau.y * decay / den_p), 1.0 - r);
+    return vec2<f32>(r, t);
 }
 "#;
 
@@ -648,12 +719,16 @@ struct MgTfSeries {
     c: f32,
     root: f32,
 }
-fn mg_tf_series(r12: vec2<f32>, r23: vec2<f32>) -> MgTfSeries {
+fn mg_tf_series(r12: vec2<f32>, r23: vec2<f32>, t12: f32, t23: f32) -> MgTfSeries {
     let big_r12 = mg_tf_norm2(r12);
     let big_r23 = mg_tf_norm2(r23);
-    let t121 = 1.0 - big_r12;
+    let t121 = t12;
     let r123 = big_r12 * big_r23;
-    let rs = t121 * t121 * big_r23 / (1.0 - r123);
+    let den = t12 + big_r12 * t23;
+    var rs = 0.0;
+    if (den > 0.0) {
+        rs = t121 * t121 * big_r23 / den;
+    }
     let root = select(sqrt(r123), -sqrt(r123), r12.x * r23.x > 0.0);
     return MgTfSeries(big_r12 + rs, rs - t121, root);
 }
@@ -677,8 +752,8 @@ fn mg_tf_table(f: MgTfFilm) -> vec3<f32> {
     if (f.evanescent) {
         return vec3<f32>(1.0);
     }
-    let s = mg_tf_series(f.r12s, f.r23s);
-    let p = mg_tf_series(f.r12p, f.r23p);
+    let s = mg_tf_series(f.r12s, f.r23s, f.t12.x, f.t23.x);
+    let p = mg_tf_series(f.r12p, f.r23p, f.t12.y, f.t23.y);
     var rgb = vec3<f32>(0.5 * (s.c0 + p.c0));
     var cs = s.c;
     var cp = p.c;
@@ -731,8 +806,8 @@ fn mg_tf_bb_sensitivities(opd_nm: f32) -> MgTfBbS {
     let xs = x + x2;
     return MgTfBbS(vec3<f32>(xs.x, y.x, z.x), vec3<f32>(xs.y, y.y, z.y), vec3<f32>(xs.z, y.z, z.z), vec3<f32>(xs.w, y.w, z.w));
 }
-fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, s: MgTfBbS) -> vec3<f32> {
-    let a = mg_tf_series(r12, r23);
+fn mg_tf_bb_pol(r12: vec2<f32>, r23: vec2<f32>, t12: f32, t23: f32, s: MgTfBbS) -> vec3<f32> {
+    let a = mg_tf_series(r12, r23, t12, t23);
     var cm = a.c;
     var xyz = a.c0 * s.s0;
     cm *= a.root;
@@ -749,8 +824,8 @@ fn mg_tf_belcour_barla(f: MgTfFilm) -> vec3<f32> {
     }
     let s = mg_tf_bb_sensitivities(f.opd.x);
     var xyz = vec3<f32>(0.0);
-    xyz += mg_tf_bb_pol(f.r12s, f.r23s, s);
-    xyz += mg_tf_bb_pol(f.r12p, f.r23p, s);
+    xyz += mg_tf_bb_pol(f.r12s, f.r23s, f.t12.x, f.t23.x, s);
+    xyz += mg_tf_bb_pol(f.r12p, f.r23p, f.t12.y, f.t23.y, s);
     xyz = 0.5 * xyz;
     return vec3<f32>(
         dot(vec3<f32>(2.688437, -1.2752778, -0.41364397), xyz),
@@ -766,6 +841,7 @@ fn mg_tf_method_belcour_barla(f: MgTfFilm, method: i32) -> MgTfRt {
 
 /// WGSL of [`spectral`], the node's method at `spectral`: `(R, T)` as `MgTfRt`.
 const SPECTRAL_WGSL: &str = r#"
+const MG_TF_W_SUMS = vec3<f32>(1.0, 1.000001, 1.0000006);
 fn mg_tf_method_spectral(f: MgTfFilm, method: i32) -> MgTfRt {
     var r = vec3<f32>(0.0);
     var t = vec3<f32>(0.0);
@@ -775,7 +851,7 @@ fn mg_tf_method_spectral(f: MgTfFilm, method: i32) -> MgTfRt {
         r += w.xyz * rt.x;
         t += w.xyz * rt.y;
     }
-    return MgTfRt(r, t);
+    return MgTfRt(r / MG_TF_W_SUMS, t / MG_TF_W_SUMS);
 }
 "#;
 
@@ -883,7 +959,10 @@ pub fn all() -> Vec<NodeType> {
                  weights through their tabulated cosine transform T(x) = Σ_λ w(λ) cos(2π x/λ) (every 5 nm of optical path to 10 235 nm, linear; 0 beyond, \
                  where |T| < 0.012), harmonics until the rest of the series is below 1e-5 (at most 64); R = 1 beyond the film's critical angle, T = 1 − R. rgb3: R at 600.2, 539.1, 453.4 nm (each channel's mean wavelength over its \
                  weight's positive lobe); wrong for films thicker than ~500 nm, where it aliases. cos_theta < 0: light from \
-                 the substrate side (indices swap); exactly grazing gives R = 1. Thickness is clamped to [0, 10000] nm and \
+                 the substrate side (indices swap); grazing (|cos_theta| < 1e-12, denormals and 0 included) gives R = 1, T = 0: \
+                 the true T there is below 1e-11 and R is 1 to f32 except on resonances narrower than an f32 phase resolves (below ~1e-19 \
+                 the Airy terms underflow). Per wavelength R is capped at 1 and T at 1 − R (f32 rounding only); spectral divides by the \
+                 f32 sums of its weights, so a flat spectrum is exactly white. Thickness is clamped to [0, 10000] nm and \
                  the indices to [1, 4]. Colours may leave [0, 1] where the film's colour is outside the sRGB gamut. \
                  f32 limits: the phase is good to ~1.5e-6 rad per cycle of 2 n_f d cosθ_f/λ (1e-5 in R at 10 µm); 1 + r12 r23 e^{iδ} is \
                  evaluated without cancellation near grazing (docs/models/thin_film.md).",
@@ -903,6 +982,12 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("thickest film", &[("thickness_nm", f(THICKNESS_MAX_NM))])
             .hard_case("exactly grazing", &[("cos_theta", f(0.0))])
             .hard_case("very grazing", &[("cos_theta", f(1e-6))])
+            .hard_case("denormal cosine, thick high-index film", &[("cos_theta", f(1e-45)), ("thickness_nm", f(2000.0)), ("film_ior", f(2.5))])
+            .hard_case("denormal cosine, thick high-index film, table", &[("cos_theta", f(1e-45)), ("thickness_nm", f(2000.0)), ("film_ior", f(2.5)), ("method", Value::int(TABLE))])
+            .hard_case("denormal cosine, belcour_barla", &[("cos_theta", f(-1e-40)), ("thickness_nm", f(2000.0)), ("film_ior", f(2.5)), ("method", Value::int(BELCOUR_BARLA))])
+            .hard_case("just below the grazing cut", &[("cos_theta", f(9e-13)), ("thickness_nm", f(0.0))])
+            .hard_case("just above the grazing cut, black film", &[("cos_theta", f(2e-12)), ("thickness_nm", f(0.0))])
+            .hard_case("1e-7 from grazing, thick high-index film, table", &[("cos_theta", f(1e-7)), ("thickness_nm", f(2000.0)), ("film_ior", f(2.5)), ("method", Value::int(TABLE))])
             .hard_case("beyond the film's critical angle (frustrated TIR)", &[("cos_theta", f(0.3)), ("outside_ior", f(1.5)), ("film_ior", f(1.0)), ("substrate_ior", f(1.5)), ("thickness_nm", f(100.0))])
             .hard_case("no film beyond its critical angle, belcour_barla", &[("cos_theta", f(0.5)), ("outside_ior", f(1.96)), ("film_ior", f(1.05)), ("substrate_ior", f(1.94)), ("thickness_nm", f(0.0)), ("method", Value::int(BELCOUR_BARLA))])
             .hard_case("no film beyond its critical angle, table", &[("cos_theta", f(0.5)), ("outside_ior", f(1.96)), ("film_ior", f(1.05)), ("substrate_ior", f(1.94)), ("thickness_nm", f(0.0)), ("method", Value::int(TABLE))])
@@ -912,4 +997,25 @@ pub fn all() -> Vec<NodeType> {
             .hard_case("film matched to the substrate", &[("film_ior", f(1.5)), ("substrate_ior", f(1.5))])
             .compute(thin_film),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The WGSL's `MG_TF_W_SUMS` are the CPU's [`SRGB_WEIGHT_SUMS`], bit for bit.
+    #[test]
+    fn wgsl_weight_sums_are_the_cpu_ones() {
+        let line = SPECTRAL_WGSL
+            .lines()
+            .find(|l| l.starts_with("const MG_TF_W_SUMS"))
+            .unwrap();
+        let inner = &line[line.find('(').unwrap() + 1..line.rfind(')').unwrap()];
+        let wgsl: Vec<f32> = inner
+            .split(',')
+            .map(|v| v.trim().parse().unwrap())
+            .collect();
+        assert_eq!(wgsl, SRGB_WEIGHT_SUMS.to_vec());
+        assert!(SRGB_WEIGHT_SUMS.iter().all(|s| (s - 1.0).abs() < 2e-6));
+    }
 }

@@ -3,7 +3,7 @@
 use super::{CliResult, count, read_graph_text, registry};
 use matgraph::Graph;
 use matgraph::error::GraphErrors;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Options of `matgraph check`.
 #[derive(clap::Args)]
@@ -64,12 +64,19 @@ pub fn run(args: &Args) -> CliResult {
                     f.display()
                 );
             }
-            Ok((g, _)) => outln!(
-                "{}: ok ({}, {})",
-                f.display(),
-                count(g.nodes().len(), "node"),
-                count(g.outputs().len(), "output")
-            )?,
+            Ok((g, _)) => match as_run(&g, f) {
+                Ok(()) => outln!(
+                    "{}: ok ({}, {})",
+                    f.display(),
+                    count(g.nodes().len(), "node"),
+                    count(g.outputs().len(), "output")
+                )?,
+                Err(e) => {
+                    failed += 1;
+                    outln!("{}: 1 error", f.display())?;
+                    errln!("{e}");
+                }
+            },
             Err(errors) => {
                 failed += 1;
                 let e = GraphErrors {
@@ -86,6 +93,20 @@ pub fn run(args: &Args) -> CliResult {
     } else {
         Ok(())
     }
+}
+
+/// What `eval` and `render` check after loading, with their messages: the plan (the file's
+/// parameter values against the hard ranges they reach through hoisted nodes), the images
+/// the graph samples, and its scene with its environment image (issue 37: `check` passed
+/// graphs those commands refuse).
+fn as_run(g: &Graph, f: &Path) -> Result<(), String> {
+    matgraph::Plan::compile(g, &matgraph::PlanOptions::default())
+        .map_err(|e| format!("{}: {e}", f.display()))?;
+    let policy = matgraph::io::PathPolicy::InsideGraphFolder;
+    let budget = matgraph::budget::MemoryBudget::new(matgraph::budget::DEFAULT_MEMORY_BUDGET);
+    super::graph_textures(g, f, policy, &budget)?;
+    super::scene::resolve(g, f, None, policy, &budget)?;
+    Ok(())
 }
 
 /// The problems inside each group `doc` declares, used or not: each is validated as one

@@ -55,7 +55,7 @@ pub fn run(args: &Args) -> CliResult {
                 outln!("{}: not canonical", f.display())?;
             } else {
                 matgraph::io::write_atomic(f, &canonical)
-                    .map_err(|e| format!("{}: {e}", f.display()))?;
+                    .map_err(|e| super::out_dir::write_error(f, &e))?;
                 outln!("{}: rewritten", f.display())?;
             }
         }

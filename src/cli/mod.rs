@@ -11,6 +11,7 @@ pub mod eval;
 pub mod flags;
 pub mod fmt;
 pub mod nodes;
+pub mod out_dir;
 pub mod outputs;
 pub mod render;
 pub mod report;

@@ -40,7 +40,10 @@ pub fn stdout_error(e: std::io::Error) -> String {
         CLOSED.store(true, Ordering::Relaxed);
         String::new()
     } else {
-        format!("cannot write to standard output: {e}")
+        format!(
+            "cannot write to standard output: {}",
+            super::out_dir::io_reason(&e)
+        )
     }
 }
 
@@ -58,8 +61,12 @@ pub fn stdout_fmt(args: std::fmt::Arguments) -> Result<(), String> {
     if stdout_closed() {
         return Err(String::new());
     }
+    // Control and bidirectional characters from user text (file, node, output names)
+    // are spelt out, never sent to the terminal (matgraph::visible).
+    let text = args.to_string();
     let mut out = std::io::stdout().lock();
-    out.write_fmt(args).map_err(stdout_error)
+    out.write_all(matgraph::visible::visible_lines(&text).as_bytes())
+        .map_err(stdout_error)
 }
 
 /// Flushes standard output (at the end of a command: what is still buffered).
@@ -72,7 +79,10 @@ pub fn flush_stdout() -> Result<(), String> {
 
 /// Writes formatted text to standard error, ignoring failures.
 pub fn stderr_fmt(args: std::fmt::Arguments) {
-    let _ = std::io::stderr().lock().write_fmt(args);
+    let text = args.to_string();
+    let _ = std::io::stderr()
+        .lock()
+        .write_all(matgraph::visible::visible_lines(&text).as_bytes());
 }
 
 /// `println!` that returns `Result<(), String>` instead of panicking (see the module doc).

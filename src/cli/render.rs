@@ -41,7 +41,7 @@ pub struct Args {
     #[arg(long)]
     pub scene: Option<String>,
     /// Scene time in seconds (the scene's own time by default); a finite number.
-    #[arg(long, value_parser = super::flags::finite_f32, allow_negative_numbers = true)]
+    #[arg(long, value_parser = super::flags::finite_f32, allow_negative_numbers = true, allow_hyphen_values = true)]
     pub time: Option<f32>,
     /// Samples per pixel (stratified, box-filtered).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
@@ -63,7 +63,7 @@ pub struct Args {
     #[arg(long)]
     pub exr: bool,
     /// Exposure in stops applied before tone mapping, -64 to 64.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true,
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, allow_hyphen_values = true,
           value_parser = super::flags::exposure)]
     pub exposure: f32,
     /// Override a parameter: NAME=VALUE.
@@ -78,14 +78,19 @@ pub struct Args {
     pub max_error: Option<f64>,
     /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
     /// an animated PNG (APNG) of all of them.
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        allow_hyphen_values = true
+    )]
     pub frames: Option<u32>,
     /// Frames per second of --frames [default: 24].
     #[arg(
         long,
         value_name = "FPS",
         requires = "frames",
-        allow_negative_numbers = true,
+        allow_negative_numbers = true, allow_hyphen_values = true,
         value_parser = super::flags::finite_f32
     )]
     pub fps: Option<f32>,
@@ -294,7 +299,7 @@ pub fn run(args: &Args) -> CliResult {
         files.output(sheet, "contact sheet")?;
     }
     if let Some(d) = &out_dir {
-        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+        super::out_dir::make_out_dir("--out-dir", d)?;
     }
     let backend = if args.gpu {
         matgraph::gpu::Backend::Gpu
@@ -456,7 +461,7 @@ pub fn run(args: &Args) -> CliResult {
             if let (Some(a), Some(out), Some(f)) = (animation, &target, &frames) {
                 let bytes = a.finish().map_err(|e| e.to_string())?;
                 matgraph::io::write_atomic(out, &bytes)
-                    .map_err(|e| format!("{}: cannot write: {e}", out.display()))?;
+                    .map_err(|e| super::out_dir::write_error(out, &e))?;
                 progress.suspend(|| {
                     outln!(
                         "{} -> {} (animated PNG, {}, {} fps)",

@@ -358,7 +358,7 @@ fn family_report(
 /// Writes `bytes` to `dir/name`.
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> Result<(), String> {
     let path = dir.join(name);
-    matgraph::io::write_atomic(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))
+    matgraph::io::write_atomic(&path, bytes).map_err(|e| super::out_dir::write_error(&path, &e))
 }
 
 /// Measures the families and writes the report.
@@ -420,7 +420,7 @@ pub fn run(args: &Args) -> CliResult {
         let path = args.out.join("README.md");
         files.output(&path, format!("report index {}", path.display()))?;
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    super::out_dir::make_out_dir("--out", &args.out)?;
     let mut reports = Vec::new();
     for f in families {
         let r = family_report(args, &plan, f, &settings)?;

@@ -77,7 +77,11 @@ pub fn resolve(
         return Ok((scene, None));
     };
     let opened = matgraph::io::open_reference(&base, "environment image", &img.path, policy)
-        .map_err(path_error)?;
+        .map_err(|e| {
+            // Named by a scene file: said of the scene's folder, not the graph's (issue 37).
+            let outside = matches!(e, PathError::Outside { .. });
+            path_message(e.message_for(file), outside)
+        })?;
     let texture = image_io::load_opened_texture(vec![opened], false, img.color_space, budget)
         .map_err(|e| format!("{}: environment: {e}", file.display()))?;
     Ok((scene, Some(Arc::new(texture))))

@@ -16,7 +16,7 @@ pub fn run(args: &Args) -> CliResult {
     let text = matgraph::document::json_schema();
     match &args.output {
         Some(p) => {
-            matgraph::io::write_atomic(p, &text).map_err(|e| format!("{}: {e}", p.display()))
+            matgraph::io::write_atomic(p, &text).map_err(|e| super::out_dir::write_error(p, &e))
         }
         None => {
             out!("{text}")

@@ -131,7 +131,7 @@ pub fn run(args: &Args) -> CliResult {
         material.bind_textures(&textures);
         if let Some(path) = &args.contract {
             matgraph::io::write_atomic(path, material.contract().to_json().as_bytes())
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+                .map_err(|e| super::out_dir::write_error(path, &e))?;
         }
         material
             .render_module()
@@ -165,7 +165,7 @@ pub fn run(args: &Args) -> CliResult {
     };
     match args.out.as_deref() {
         Some(p) => {
-            matgraph::io::write_atomic(p, &bytes).map_err(|e| format!("{}: {e}", p.display()))
+            matgraph::io::write_atomic(p, &bytes).map_err(|e| super::out_dir::write_error(p, &e))
         }
         None => super::out::stdout_bytes(&bytes),
     }

@@ -1164,7 +1164,7 @@ impl EditorApp {
                 if let Some(s) = &self.state.status {
                     ui.label(egui::RichText::new(s).color(Color32::from_rgb(230, 200, 120)));
                 }
-                let errors: Vec<(Option<String>, String)> = self
+                let mut errors: Vec<(Option<String>, String)> = self
                     .state
                     .doc
                     .errors()
@@ -1176,15 +1176,28 @@ impl EditorApp {
                         };
                         // A node inlined from a group instance (`g/f`): the instance.
                         let node = node.map(|n| super::model::owner(&n).to_owned());
-                        (node, e.to_string())
+                        (node, crate::visible::visible(&e.to_string()).into_owned())
                     })
                     .collect();
-                let shader = if errors.is_empty() {
+                let scene = super::scene_problems::scene_problems(
+                    self.state.doc.doc().scene.as_ref(),
+                    self.state.path.as_deref(),
+                );
+                let clean = errors.is_empty();
+                errors.extend(
+                    scene
+                        .into_iter()
+                        .map(|p| (None, crate::visible::visible(&p).into_owned())),
+                );
+                let shader = if clean {
                     let graph = self.state.doc.graph();
                     let generated = self.state.code.generated(graph);
                     generated.text.as_ref().err().map(|e| {
                         let node = generated.error_node.as_deref().map(super::model::owner);
-                        (node.map(str::to_owned), e.clone())
+                        (
+                            node.map(str::to_owned),
+                            crate::visible::visible(e).into_owned(),
+                        )
                     })
                 } else {
                     None

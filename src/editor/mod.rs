@@ -57,6 +57,7 @@ pub mod preview;
 pub mod preview_ui;
 pub mod ramp_ui;
 pub mod ramps;
+pub mod scene_problems;
 pub mod scope;
 pub mod search;
 pub mod search_ui;

@@ -198,6 +198,7 @@ pub fn expose(
         node: id,
         doc: doc_text,
         group: None,
+        range: None,
     });
     d.try_replace(candidate)?;
     Ok(name)
@@ -234,6 +235,7 @@ pub fn add(d: &mut EditorDoc, ty: SocketType, name: Option<&str>) -> Result<Stri
         node: id,
         doc: String::new(),
         group: None,
+        range: None,
     });
     d.try_replace(candidate)?;
     Ok(name)
@@ -255,6 +257,7 @@ pub fn list_node(d: &mut EditorDoc, id: &str) -> Result<String, String> {
         node: id.to_owned(),
         doc: String::new(),
         group: None,
+        range: None,
     });
     d.try_replace(candidate)?;
     Ok(name)

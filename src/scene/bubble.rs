@@ -31,6 +31,7 @@ use crate::texture::{Filter, Image, Texture, Wrap};
 /// The bubble scene's parameters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a bubble scene object")]
 pub struct BubbleSetup {
     /// Centre of the bubble at time 0, metres.
     pub start: [f32; 3],
@@ -77,6 +78,7 @@ impl BubbleSetup {
 /// `bubble_underwater_uv` and `bubble_underwater`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a bubble backdrop object")]
 pub struct BubbleBackdrop {
     /// Position of the backdrop plane along z, metres (it faces `+z`).
     pub z: f32,

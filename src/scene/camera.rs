@@ -15,6 +15,7 @@ pub const DEFAULT_NEAR: f32 = 0.05;
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a camera object")]
 pub struct Camera {
     /// Eye position in world space, metres.
     pub position: [f32; 3],

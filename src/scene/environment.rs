@@ -43,6 +43,9 @@ impl Default for Environment {
 /// How an environment is written in JSON.
 #[derive(Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[serde(
+    expecting = "an environment: \"sunrise\", \"day\", \"sunset\", \"night\", {\"sky\": …} or {\"image\": …}"
+)]
 enum EnvironmentDoc {
     Sunrise,
     Day,
@@ -69,6 +72,7 @@ impl From<EnvironmentDoc> for Environment {
 /// Where the sky's sun is.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
+#[serde(expecting = "a sun position object")]
 pub enum SunPosition {
     /// Along the scene's first directional light (straight up when there is none).
     #[default]
@@ -87,6 +91,7 @@ pub enum SunPosition {
 /// The procedural sky (the model is in the module docs). Colours are linear RGB radiance.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a sky object")]
 pub struct Sky {
     /// Radiance straight up.
     pub zenith_color: [f32; 3],
@@ -183,6 +188,7 @@ impl Sky {
 /// lookup (see [`EnvLookup`], [`equirect_uv`]); without one the default sky stands in.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "an environment image object { \"path\", … }")]
 pub struct ImageEnvironment {
     /// The image file, as written in the scene (resolved by the caller).
     pub path: String,

@@ -12,6 +12,7 @@ use super::light::Light;
 /// How a scene is written in JSON: kind-dependent defaults are filled in afterwards.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a scene object { \"kind\", \"camera\", \"lights\", … }")]
 pub(crate) struct SceneDoc {
     #[serde(default)]
     kind: SceneKind,
@@ -25,6 +26,7 @@ pub(crate) struct SceneDoc {
 
 #[derive(Default, Deserialize)]
 #[serde(deny_unknown_fields)]
+#[serde(expecting = "a camera object { \"position\", \"target\", … }")]
 struct CameraDoc {
     position: Option<[f32; 3]>,
     target: Option<[f32; 3]>,

@@ -87,6 +87,7 @@ impl<'de> Deserialize<'de> for SceneKind {
 /// checkered floor before a back wall.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a ball scene object")]
 pub struct BallSetup {
     /// What carries the material: the sphere (default) or the card.
     #[serde(skip_serializing_if = "BallShape::is_sphere")]
@@ -131,6 +132,7 @@ impl BallSetup {
 /// plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[serde(expecting = "a ball shape name")]
 pub enum BallShape {
     /// The UV sphere.
     #[default]
@@ -153,6 +155,7 @@ impl BallShape {
 /// do not follow the ball's centre).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a backdrop object")]
 pub struct Backdrop {
     /// Whether the backdrop is there (without it the environment shows).
     pub enabled: bool,
@@ -190,6 +193,7 @@ impl Default for Backdrop {
 /// The water scene: a water plane at `y = 0` over a seabed, with objects.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a water scene object")]
 pub struct WaterSetup {
     /// Extent of the water plane `[x, z]` in metres, centred on the origin.
     pub size: [f32; 2],
@@ -258,6 +262,7 @@ impl Default for WaterSetup {
 /// (35, 85, 135, 185 m) are flat beds: `depth_min = depth_max`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a seabed object")]
 pub struct Seabed {
     /// Smallest depth below the water surface, metres (≥ 0).
     pub depth_min: f32,
@@ -344,6 +349,7 @@ impl WaterSetup {
 /// An object of the water scene.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[serde(expecting = "a water object: a box, sphere or pole")]
 pub enum WaterObject {
     /// An axis-aligned box.
     Box(BoxObject),
@@ -356,6 +362,7 @@ pub enum WaterObject {
 /// An axis-aligned box.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a box object")]
 pub struct BoxObject {
     /// Centre, metres.
     pub center: [f32; 3],
@@ -378,6 +385,7 @@ impl Default for BoxObject {
 /// A sphere.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a sphere object")]
 pub struct SphereObject {
     /// Centre, metres.
     pub center: [f32; 3],
@@ -400,6 +408,7 @@ impl Default for SphereObject {
 /// A vertical pole.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a pole object")]
 pub struct PoleObject {
     /// Position `[x, z]` of its axis, metres.
     pub base: [f32; 2],

@@ -33,6 +33,7 @@ pub enum Light {
 /// A directional light.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a directional light object")]
 pub struct DirectionalLight {
     /// Direction towards the light (normalised on use); default: the `day` sun.
     pub direction: [f32; 3],
@@ -55,6 +56,7 @@ impl Default for DirectionalLight {
 /// A point light.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a point light object")]
 pub struct PointLight {
     /// Position in world space, metres.
     pub position: [f32; 3],
@@ -77,6 +79,7 @@ impl Default for PointLight {
 /// How a light is written in JSON: a full light or a preset's name.
 #[derive(Deserialize)]
 #[serde(rename_all = "snake_case")]
+#[serde(expecting = "a light object { \"directional\": … } or { \"point\": … }")]
 enum LightDoc {
     Sunrise,
     Day,

@@ -22,6 +22,7 @@ use super::mesh::Mesh;
 /// water setup's `"lod": {"levels": 5, "block": 8, "split_distance": 1.5}`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a water level-of-detail object")]
 pub struct WaterLod {
     /// Largest number of splits of the whole plane (0–10): the finest blocks are
     /// `size / 2^levels`.

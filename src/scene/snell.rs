@@ -27,6 +27,7 @@ use super::mesh::Mesh;
 /// `"refraction": {}`); without it the map looks straight along the camera rays.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
+#[serde(expecting = "a refraction object")]
 pub struct SnellRefraction {
     /// Index of refraction above the water (> 0; seed 004: air 1.00).
     pub ior_air: f32,

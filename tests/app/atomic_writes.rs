@@ -55,7 +55,8 @@ fn a_file_without_a_write_bit_is_refused_and_kept() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     assert_eq!(
         stderr(&out),
-        "locked.json: locked.json is read-only (mode 0444); refusing to replace it \
+        // The path once (issue 37: it was printed twice, "locked.json: locked.json is …").
+        "locked.json is read-only (mode 0444); refusing to replace it \
          (make it writable first: chmod u+w)\n"
     );
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "old");

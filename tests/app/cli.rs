@@ -315,6 +315,61 @@ fn check_a_missing_file() {
     assert_eq!(stdout, format!("{path}: 1 error\n"));
 }
 
+#[test]
+fn check_refuses_what_eval_and_render_refuse_with_their_message() {
+    // Issue 37: `check` passed (a) a parameter value whose hoisted product leaves a fed
+    // input's hard range (the planner's check), (b) an unknown scene texture, (c) a scene
+    // file that is not there; `eval` and `render` refused them.
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "hoisted.json",
+            r#"{ "version": 1, "name": "t",
+  "nodes": [ { "id": "k", "type": "parameter", "inputs": { "value": 5.0 } },
+             { "id": "m", "type": "mul", "inputs": { "a": { "link": "k.value" }, "b": 30.0 } },
+             { "id": "f", "type": "fresnel_dielectric", "inputs": { "ior_inside": { "link": "m.result" } } } ],
+  "outputs": [ { "name": "o", "from": "f.reflectance" } ],
+  "parameters": [ { "name": "ior", "node": "k" } ] }"#,
+            "parameter 'ior': input 'ior_inside' of node 'f', which it feeds, would get 150.0, outside its hard range [0.001, 100]",
+        ),
+        (
+            "bogus.json",
+            r#"{ "version": 1, "name": "t",
+  "nodes": [ { "id": "geo", "type": "geometry" },
+             { "id": "tex", "type": "image_texture", "texture": "scene:bogus", "inputs": { "uv": { "link": "geo.uv" } } } ],
+  "outputs": [ { "name": "o", "from": "tex.color" } ] }"#,
+            "node 'tex': unknown scene texture 'scene:bogus': a scene supplies scene:background, scene:refraction, scene:reflection, scene:environment, scene:environment_ggx, scene:brdf_lut, scene:environment_sh",
+        ),
+        (
+            "no_scene.json",
+            r#"{ "version": 1, "name": "t", "scene": "room.json",
+  "nodes": [ { "id": "k", "type": "parameter", "inputs": { "value": 1.0 } } ],
+  "outputs": [ { "name": "o", "from": "k.value" } ] }"#,
+            "room.json",
+        ),
+    ];
+    for (name, json, message) in cases {
+        let path = temp_copy(dir.path(), name, json);
+        let p = path.to_str().unwrap();
+        let (stdout, check) = fails(&["check", p], &[message]);
+        assert_eq!(stdout, format!("{p}: 1 error\n"));
+        let png = dir.path().join("x.png");
+        let (_, render) = fails(
+            &["render", p, "-o", png.to_str().unwrap(), "--size", "8x8"],
+            &[message],
+        );
+        // The same first line: the file, then the same words.
+        let first = |s: &str| s.lines().next().unwrap_or_default().to_owned();
+        assert_eq!(first(&check), first(&render), "{name}");
+        assert!(first(&check).starts_with(&format!("{p}: ")), "{check}");
+        if name != "no_scene.json" {
+            let (_, eval) = fails(&["eval", p], &[message]);
+            assert_eq!(first(&check), first(&eval), "{name}");
+        }
+        assert!(!check.contains("SampleBatch"), "{check}");
+    }
+}
+
 fn glass_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(GLASS)
 }

@@ -78,3 +78,33 @@ fn eval_accepts_a_parameter_inside_the_range() {
     let want = ((2.42f64 - 1.0) / (2.42 + 1.0)).powi(2);
     assert!((got - want).abs() < 1e-6, "{got} vs {want}");
 }
+
+#[test]
+fn eval_refuses_a_parameter_outside_its_own_range() {
+    // Issue 37: water_sunshine's `tiling` feeds no ranged input, and 1e38 gave NaN.
+    for (file, set, message) in [
+        (
+            "graphs/water_sunshine.json",
+            "tiling=1e38",
+            "graphs/water_sunshine.json: parameter 'tiling': 1e38 is outside its range [0, 100]",
+        ),
+        (
+            "graphs/water_sunshine_sunset.json",
+            "tiling=-1e38",
+            "graphs/water_sunshine_sunset.json: parameter 'tiling': -1e38 is outside its range [0, 100]",
+        ),
+        (
+            "graphs/skin.json",
+            "sheen_color=[0.5,2,0.5]",
+            "graphs/skin.json: parameter 'sheen_color': [0.5,2.0,0.5] is outside its range [0, 1]",
+        ),
+    ] {
+        let out = run(&["eval", file, "--set", set]);
+        assert!(!out.status.success(), "{file} --set {set}");
+        assert!(
+            out.stdout.is_empty(),
+            "{file} --set {set}: no outputs printed"
+        );
+        assert_eq!(stderr(&out).trim_end(), message);
+    }
+}

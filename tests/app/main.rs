@@ -11,6 +11,7 @@ mod atomic_writes;
 mod cli;
 mod cli_params;
 mod memory_budget;
+mod messages;
 mod numeric_flags;
 mod output_paths;
 mod report;

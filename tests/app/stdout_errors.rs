@@ -97,7 +97,7 @@ fn a_full_disk_is_named_as_standard_output() {
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "matgraph {args:?}: {stderr}");
         assert_eq!(
-            stderr, "cannot write to standard output: No space left on device (os error 28)\n",
+            stderr, "cannot write to standard output: the device is full (no space left)\n",
             "matgraph {args:?}"
         );
     }

@@ -745,18 +745,7 @@ pub fn shipped_graph_cases() -> Vec<GraphCase> {
         .into_iter()
         .map(|(name, path, graph)| {
             let plan = Plan::compile(&graph, &PlanOptions::default()).unwrap();
-            let mut batch = grid_batch();
-            let mut textures = matgraph::image_io::load_graph_textures(&graph, &path).unwrap();
-            for key in plan.textures() {
-                if textures.index_of(key).is_none() {
-                    let image = matgraph::texture::Image::from_fn(32, 16, |x, y| {
-                        [x as f32 / 31.0, y as f32 / 15.0, 0.5, 1.0]
-                    });
-                    let texture = matgraph::texture::Texture::new(image, true).unwrap();
-                    textures.insert(key.clone(), texture).unwrap();
-                }
-            }
-            batch.set_textures(std::sync::Arc::new(textures));
+            let batch = textured_grid_batch(&graph, &plan, &path);
             GraphCase {
                 name,
                 graph,
@@ -765,6 +754,24 @@ pub fn shipped_graph_cases() -> Vec<GraphCase> {
             }
         })
         .collect()
+}
+
+/// [`grid_batch`] with the images of `graph` (read from beside `path`) and a stand-in for
+/// each scene texture `plan` samples.
+pub fn textured_grid_batch(graph: &Graph, plan: &Plan, path: &std::path::Path) -> SampleBatch {
+    let mut batch = grid_batch();
+    let mut textures = matgraph::image_io::load_graph_textures(graph, path).unwrap();
+    for key in plan.textures() {
+        if textures.index_of(key).is_none() {
+            let image = matgraph::texture::Image::from_fn(32, 16, |x, y| {
+                [x as f32 / 31.0, y as f32 / 15.0, 0.5, 1.0]
+            });
+            let texture = matgraph::texture::Texture::new(image, true).unwrap();
+            textures.insert(key.clone(), texture).unwrap();
+        }
+    }
+    batch.set_textures(std::sync::Arc::new(textures));
+    batch
 }
 
 /// pbr_glass at `ibl` = `monte_carlo` (env_ggx_monte_carlo's loop of 64 filtered environment
@@ -939,4 +946,88 @@ pub fn compare_node_outputs(
             }
         }
     }
+}
+
+/// The values each parameter with a `range` is swept over (issue 37): its range's ends and
+/// middle, and 0, ±1e-45 (a denormal) and ±1e-38 where they lie inside it; set one parameter
+/// at a time (the others keep the file's values), every component alike for a vector.
+pub fn parameter_sweep(plan: &Plan) -> Vec<(String, ParamValues)> {
+    let mut points = Vec::new();
+    for p in plan.parameters() {
+        let Some(r) = p.range else { continue };
+        let mut values = vec![r.min, r.max, 0.5 * (r.min + r.max)];
+        for v in [0.0, 1e-45, -1e-45, 1.1754944e-38, -1.1754944e-38] {
+            if (r.min..=r.max).contains(&v) {
+                values.push(v);
+            }
+        }
+        for v in values {
+            let mut params = plan.default_parameters();
+            params
+                .set(&p.name, Value::float(v))
+                .unwrap_or_else(|e| panic!("{} = {v:e}: {e}", p.name));
+            points.push((format!("{} = {v:e}", p.name), params));
+        }
+    }
+    points
+}
+
+/// Values outside every range a sweep covers: ±1e38, ±∞ and NaN; with each range's
+/// neighbours just past its ends, [`parameter_sweep`]'s tests expect `set` to refuse them.
+pub fn refused_values(min: f32, max: f32) -> Vec<f32> {
+    let mut v = vec![1e38, -1e38, f32::INFINITY, f32::NEG_INFINITY, f32::NAN];
+    v.push(min - min.abs().max(1.0) * 1e-3);
+    v.push(max + max.abs().max(1.0) * 1e-3);
+    v
+}
+
+/// A batch of degenerate geometry: denormal and tiny normals and view vectors (each
+/// alone, the other unit), which a node must normalise without NaN (issue 37).
+pub fn degenerate_geometry_batch() -> SampleBatch {
+    let odd: [[f32; 3]; 6] = [
+        [1e-45, 0.0, 0.0],
+        [0.0, 0.0, 1e-45],
+        [1e-40, -1e-40, 1e-40],
+        [1e-20, 0.0, 1e-20],
+        [0.0, 1.1754944e-38, 0.0],
+        [0.0, 0.0, -1e-42],
+    ];
+    let unit = [0.0, 0.0, 1.0];
+    let (mut nor, mut view) = (Vec::new(), Vec::new());
+    for v in odd {
+        nor.push(v);
+        view.push(unit);
+        nor.push(unit);
+        view.push(v);
+        nor.push(v);
+        view.push(v);
+    }
+    let n = nor.len();
+    let mut batch = SampleBatch::new(n);
+    batch.set_values(Attribute::Normal, &nor).unwrap();
+    batch.set_values(Attribute::View, &view).unwrap();
+    batch
+        .set_values(Attribute::Light, &vec![[0.0, 0.6, 0.8]; n])
+        .unwrap();
+    batch
+        .set_values(Attribute::Uv, &vec![[0.25, 0.75, 0.0]; n])
+        .unwrap();
+    batch
+        .set_values(Attribute::Position, &vec![[0.1, 1.0, -0.2]; n])
+        .unwrap();
+    batch.set_time(1.25);
+    batch
+}
+
+/// The first non-finite value of `out`: `output[component] sample i = v`.
+pub fn first_non_finite(out: &OutputBatch) -> Option<String> {
+    for (k, name) in out.names().iter().enumerate() {
+        let n = out.len();
+        for (j, v) in out.planar(k).iter().enumerate() {
+            if !v.is_finite() {
+                return Some(format!("{name}[{}] sample {} = {v}", j / n, j % n));
+            }
+        }
+    }
+    None
 }

@@ -14,6 +14,7 @@ mod keymap;
 mod node_states;
 mod ramps;
 mod readable;
+mod scene_problems;
 mod selection;
 mod session;
 mod textures;

@@ -322,6 +322,61 @@ fn every_shipped_graph_matches_the_cpu_plan() {
     );
 }
 
+/// Issue 37: every bundled graph's parameters swept over their ranges (the points of
+/// tests/graphs/param_ranges.rs, [`parameter_sweep`]) and denormal and tiny normals and views
+/// ([`degenerate_geometry_batch`], where a GPU flushes denormals to 0) give finite outputs on
+/// the GPU too, one pipeline per graph.
+#[test]
+fn every_parameter_over_its_range_gives_finite_outputs_on_the_gpu() {
+    let Some(ctx) = context("every_parameter_over_its_range_gives_finite_outputs_on_the_gpu")
+    else {
+        return;
+    };
+    let mut failures = Vec::new();
+    let mut points = 0;
+    for case in shipped_graph_cases() {
+        let gpu = match GpuPlan::compile(ctx, &case.graph, &PlanOptions::default()) {
+            Ok(g) => g,
+            Err(e) => {
+                failures.push(format!("{}: {e}", case.name));
+                continue;
+            }
+        };
+        let mut odd = degenerate_geometry_batch();
+        if let Some(t) = case.batch.textures() {
+            odd.set_textures(std::sync::Arc::new(t.clone()));
+        }
+        let mut runs = vec![(
+            "degenerate geometry".to_owned(),
+            &odd,
+            case.plan.default_parameters(),
+        )];
+        runs.extend(
+            parameter_sweep(&case.plan)
+                .into_iter()
+                .map(|(what, p)| (what, &case.batch, p)),
+        );
+        for (what, batch, params) in runs {
+            points += 1;
+            match gpu.execute(batch, &params) {
+                Ok(out) => {
+                    if let Some(bad) = first_non_finite(&out) {
+                        failures.push(format!("{} {what}: {bad}", case.name));
+                    }
+                }
+                Err(e) => failures.push(format!("{} {what}: {e}", case.name)),
+            }
+        }
+        assert_eq!(gpu.pipelines_created(), 1, "{}", case.name);
+    }
+    eprintln!("{points} sweep points on the GPU");
+    assert!(
+        failures.is_empty(),
+        "non-finite GPU outputs:\n{}",
+        failures.join("\n")
+    );
+}
+
 /// The Monte Carlo variant of pbr_glass (`ibl` = `monte_carlo`: env_ggx_monte_carlo's loop
 /// of 64 filtered environment reads), which the default-variant graph parity above leaves
 /// out, with either Fresnel, over a 512 × 256 stand-in environment (the renderer's size,

@@ -80,3 +80,56 @@ fn a_split_fan_in_tree_runs_on_the_gpu() {
         1e-5 * s,
     );
 }
+
+/// Issue 37: past 256 outputs the module holds them in chunk structs, each built and
+/// stored by a function of its own. 600 outputs over 3 nodes (one material function, a
+/// value returned many times bound once) and over 300 (a split one, its chunks read from
+/// the state): every output on the GPU is the CPU plan's, `uv + k` or the uv itself.
+#[test]
+fn many_outputs_in_chunks_run_on_the_gpu() {
+    let Some(ctx) = common::gpu_context("many_outputs_in_chunks_run_on_the_gpu") else {
+        return;
+    };
+    for nodes in [3, 300] {
+        let adds: Vec<String> = (0..nodes)
+            .map(|k| {
+                format!(
+                    r#"{{"id":"a{k}","type":"add","inputs":{{"a":{{"link":"geo.uv"}},"b":{k}.0}}}}"#
+                )
+            })
+            .collect();
+        let outputs: Vec<String> = (0..600)
+            .map(|j| match j % 2 {
+                0 => format!(r#"{{"name":"o{j}","from":"a{}.result"}}"#, j % nodes),
+                _ => format!(r#"{{"name":"o{j}","from":"geo.uv"}}"#),
+            })
+            .collect();
+        let text = format!(
+            r#"{{"version":1,"name":"many","nodes":[{{"id":"geo","type":"geometry"}},{}],"outputs":[{}]}}"#,
+            adds.join(","),
+            outputs.join(",")
+        );
+        let graph = Graph::from_json(&text, Registry::builtin()).unwrap();
+        let gpu = GpuPlan::compile(ctx, &graph, &PlanOptions::default()).unwrap();
+        assert!(
+            gpu.shader().source.contains("struct MgOutputs2 {"),
+            "chunked"
+        );
+        let count = 70;
+        let uvs: Vec<[f32; 3]> = (0..count)
+            .map(|i| [i as f32 * 0.013 - 0.4, 0.25 + i as f32 * 0.007, 0.0])
+            .collect();
+        let mut batch = SampleBatch::new(count);
+        batch.set_values(Attribute::Uv, &uvs).unwrap();
+        let out = gpu.evaluate(&batch, &gpu.default_parameters()).unwrap();
+        for j in (0..600).step_by(7) {
+            let k = out.index(&format!("o{j}")).unwrap();
+            for (i, uv) in uvs.iter().enumerate() {
+                let add = if j % 2 == 0 { (j % nodes) as f32 } else { 0.0 };
+                let want = [uv[0] + add, uv[1] + add];
+                let got = out.value(k, i).lanes().to_vec();
+                assert_eq!(&got[..2], &want[..], "{nodes} nodes, o{j}, sample {i}");
+            }
+        }
+    }
+}

@@ -13,6 +13,7 @@ mod frames;
 mod fuzz;
 mod group_library;
 mod groups;
+mod param_ranges;
 mod scale;
 mod scene;
 mod specialise;

@@ -260,3 +260,91 @@ fn many_dangling_links_stay_fast_and_suggest_for_the_first_ones() {
         )
     );
 }
+
+/// A graph of `n` outputs over `nodes` `add` nodes (`a{k} = uv + k`): output `o{j}` reads
+/// node `j % nodes` when `j` is even, the geometry's uv when odd (one source for half).
+fn many_outputs(n: usize, nodes: usize) -> String {
+    let mut adds = Vec::new();
+    for k in 0..nodes {
+        adds.push(format!(
+            r#"{{"id":"a{k}","type":"add","inputs":{{"a":{{"link":"geo.uv"}},"b":{k}.0}}}}"#
+        ));
+    }
+    let outputs: Vec<String> = (0..n)
+        .map(|j| match j % 2 {
+            0 => format!(r#"{{"name":"o{j}","from":"a{}.result"}}"#, j % nodes),
+            _ => format!(r#"{{"name":"o{j}","from":"geo.uv"}}"#),
+        })
+        .collect();
+    format!(
+        r#"{{"version":1,"name":"many","nodes":[{{"id":"geo","type":"geometry"}},{}],"outputs":[{}]}}"#,
+        adds.join(","),
+        outputs.join(",")
+    )
+}
+
+/// The work naga's front end does on a module, as issue 37 measured it: the most
+/// expressions in one function (its type resolution walks them for each new one: E²) and
+/// the most members in one struct (each member access searches them).
+fn naga_work(m: &matgraph::wgsl::ShaderModule) -> (usize, usize) {
+    let functions = m
+        .module
+        .functions
+        .iter()
+        .map(|(_, f)| f.expressions.len())
+        .chain(
+            m.module
+                .entry_points
+                .iter()
+                .map(|e| e.function.expressions.len()),
+        )
+        .max()
+        .unwrap_or(0);
+    let members = m
+        .module
+        .types
+        .iter()
+        .map(|(_, t)| match &t.inner {
+            naga::TypeInner::Struct { members, .. } => members.len(),
+            _ => 0,
+        })
+        .max()
+        .unwrap_or(0);
+    (functions, members)
+}
+
+#[test]
+fn many_outputs_compile_with_bounded_functions_and_structs() {
+    // Issue 37: 16k outputs took 2.8 s and 200k over 300 s, as the entry (7 expressions per
+    // stored component) and the material's return grew with the outputs. Now every
+    // function and struct stays below a bound whatever the count: 4× the outputs, the same
+    // largest function and struct, so naga's work grows linearly. A few nodes (one
+    // material function) and 600 (a split one), on both sides of the chunk size.
+    for nodes in [3, 600] {
+        let mut seen = Vec::new();
+        for n in [1200, 4800] {
+            let graph = Graph::from_json(&many_outputs(n, nodes), Registry::builtin()).unwrap();
+            for entry in [
+                matgraph::wgsl::Entry::Compute,
+                matgraph::wgsl::Entry::Fragment,
+            ] {
+                let options = WgslOptions {
+                    entry,
+                    ..WgslOptions::default()
+                };
+                let m = generate(&graph, &options).unwrap();
+                let (functions, members) = naga_work(&m);
+                seen.push((n, functions, members));
+                assert!(
+                    functions <= 4000 && members <= 256,
+                    "{nodes} nodes, {n} outputs, {entry:?}: {functions} expressions in one function, {members} members in one struct"
+                );
+            }
+        }
+        eprintln!(
+            "{nodes} nodes: (outputs, most expressions in a function, most struct members) {seen:?}"
+        );
+        // 4× the outputs: the largest function within a tenth (the per-chunk calls).
+        assert!(seen[2].1 <= seen[0].1 + seen[0].1 / 10 + 64, "{seen:?}");
+    }
+}
