@@ -2,7 +2,7 @@
 //! of [`crate::group`]). Iterative over a work list of scopes (one per instance), so the
 //! time is linear in the nodes produced and the stack constant whatever the nesting.
 
-use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, REROUTE};
+use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, MAX_EXPANDED_NODES, REROUTE};
 use crate::document::{GraphDocument, GroupDocument, NodeDocument, OutputDocument, TextureSource};
 use crate::error::GraphError;
 use crate::graph::valid_id;
@@ -145,6 +145,20 @@ pub(crate) fn expand(
     }];
     let mut outputs = Vec::new();
     while let Some(scope) = work.pop() {
+        if let Some(def) = &scope.def {
+            // Checked before the copy: what this instance adds (its body, its outputs'
+            // reroutes) must fit, or the expansion stops here.
+            let adds = def.nodes().len() + def.output_docs().len();
+            if x.nodes.len() + adds > MAX_EXPANDED_NODES {
+                let node = scope.prefix.trim_end_matches('/').to_owned();
+                x.errors.push(GraphError::GroupTooLarge {
+                    group: x.scopes.get(&node).cloned().unwrap_or_default(),
+                    node,
+                    max: MAX_EXPANDED_NODES,
+                });
+                break;
+            }
+        }
         let (locals, mut inner) = x.scope(&scope);
         if scope.def.is_none() {
             for o in &doc.outputs {

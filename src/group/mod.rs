@@ -44,6 +44,13 @@ pub const INPUT_ID: &str = "@in";
 /// reported, not followed).
 pub const MAX_DEPTH: usize = 64;
 
+/// How many nodes a graph may have once its groups are inlined; more is an error
+/// ([`crate::GraphError::GroupTooLarge`]) raised before the nodes are copied, so that a group
+/// using another twice at each of 30 levels (2³⁰ copies) is refused, not allocated. Material
+/// graphs hold hundreds of nodes; 65 536 leaves room while keeping a refused expansion
+/// within a few MiB and milliseconds.
+pub const MAX_EXPANDED_NODES: usize = 1 << 16;
+
 /// A graph file a group reference names, as a [`GroupFiles`] gives it.
 #[derive(Clone, Debug)]
 pub struct GroupFile {
