@@ -119,6 +119,21 @@ pub enum GraphError {
         /// The limit.
         max: usize,
     },
+    /// Groups whose instances, once inlined, would make more than
+    /// [`crate::group::MAX_EXPANDED_NODES`] nodes (a group using another twice, many levels
+    /// deep, doubles at each level); refused before the nodes are copied.
+    #[error(
+        "node '{node}': group {group} makes the graph larger than {max} nodes once inlined \
+         (each instance copies its group's nodes, so groups using groups multiply)"
+    )]
+    GroupTooLarge {
+        /// The instance whose copy would pass the limit.
+        node: String,
+        /// The group it uses, as written on it.
+        group: String,
+        /// The limit.
+        max: usize,
+    },
     /// An input of a group's interface that is malformed (unknown type, default of the wrong
     /// type or outside its hard range, ranges the wrong way round, a repeated name).
     #[error("group '{group}': input '{input}': {message}")]
@@ -417,6 +432,7 @@ impl GraphError {
             InGroup { node, .. }
             | BadGroup { node, .. }
             | GroupTooDeep { node, .. }
+            | GroupTooLarge { node, .. }
             | GroupLink { node, .. } => Some(node),
             Cycle { nodes } => nodes.first().map(String::as_str),
             _ => None,
@@ -457,6 +473,7 @@ impl GraphError {
             | InGroup { node, .. }
             | BadGroup { node, .. }
             | GroupTooDeep { node, .. }
+            | GroupTooLarge { node, .. }
             | GroupLink { node, .. } => Some(node),
             ParameterOutOfRange { target, .. } => Some(target),
             _ => None,

@@ -24,6 +24,7 @@ pub mod kernel;
 pub mod material;
 pub(crate) mod memo;
 pub mod node;
+pub mod overrides;
 pub mod plan;
 pub mod precision;
 pub mod pretty;

@@ -1,11 +1,10 @@
 //! `matgraph eval`: evaluate a graph (or one node type) at one sample.
 
-use super::{CliResult, registry, split_set};
+use super::{CliResult, registry};
 use matgraph::document::GraphDocument;
 use matgraph::error::GraphErrors;
-use matgraph::node::Attribute;
+use matgraph::overrides;
 use matgraph::{Graph, OutputBatch, Plan, PlanOptions, SampleBatch, Value};
-use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// Help text after the options of `matgraph eval`.
@@ -105,24 +104,21 @@ pub fn run(args: &Args) -> CliResult {
         &args.outputs,
         args.json,
     );
-    let mut attrs: Vec<(Attribute, Value)> = Vec::new();
-    let mut params: Vec<(String, serde_json::Value)> = Vec::new();
+    let mut rest = overrides::Remaining::default();
     let (graph, source) = if let Some(type_name) = node {
         if registry().get(type_name).is_none() {
             return Err(unknown_type(type_name));
         }
-        let mut inputs = BTreeMap::new();
-        for s in sets {
-            let (name, value) = split_set(s)?;
-            inputs.insert(name.to_owned(), value);
-        }
-        let g = Graph::single_node(registry(), type_name, inputs).map_err(|errors| {
-            GraphErrors {
-                source: PathBuf::from(format!("--node {type_name}")),
-                errors,
-            }
-            .to_string()
-        })?;
+        let given = overrides::parse_all(sets).map_err(|e| format!("--node {type_name}: {e}"))?;
+        let g = Graph::single_node(registry(), type_name, overrides::node_inputs(&given)).map_err(
+            |errors| {
+                GraphErrors {
+                    source: PathBuf::from(format!("--node {type_name}")),
+                    errors,
+                }
+                .to_string()
+            },
+        )?;
         (g, PathBuf::from(type_name))
     } else {
         let path = file.ok_or("no graph file")?;
@@ -135,30 +131,9 @@ pub fn run(args: &Args) -> CliResult {
             .to_string()
         };
         let mut doc = GraphDocument::parse(&text).map_err(wrap)?;
-        for s in sets {
-            let (name, value) = split_set(s)?;
-            if let Some((node_id, input)) = name.split_once('.') {
-                let n = doc
-                    .nodes
-                    .iter_mut()
-                    .find(|n| n.id == node_id)
-                    .ok_or_else(|| {
-                        format!("{}: --set {name}: no node '{node_id}'", path.display())
-                    })?;
-                n.inputs.insert(input.to_owned(), value);
-            } else if let Some(a) = Attribute::from_name(name) {
-                let v = Value::from_json(a.ty(), &value).ok_or_else(|| {
-                    format!(
-                        "--set {name}: expected a {} value{}",
-                        a.ty(),
-                        super::flags::set_value_hint(&value)
-                    )
-                })?;
-                attrs.push((a, v));
-            } else {
-                params.push((name.to_owned(), value));
-            }
-        }
+        let at = |e: overrides::OverrideError| format!("{}: {e}", path.display());
+        let given = overrides::parse_all(sets).map_err(at)?;
+        rest = overrides::apply_to_document(&mut doc, &given).map_err(at)?;
         let selection = args
             .variants
             .iter()
@@ -185,36 +160,10 @@ pub fn run(args: &Args) -> CliResult {
         err!("{}", plan.listing());
     }
     let mut values = plan.default_parameters();
-    for (name, json) in &params {
-        let ty = plan
-            .parameters()
-            .iter()
-            .find(|p| &p.name == name)
-            .map(|p| p.ty)
-            .ok_or_else(|| {
-                let e = values
-                    .set(name, Value::float(0.0))
-                    .err()
-                    .map(|e| e.to_string())
-                    .unwrap_or_default();
-                format!(
-                    "{}: --set {name}: {e} (not a node input, parameter or attribute)",
-                    source.display()
-                )
-            })?;
-        let v = Value::from_json(ty, json).ok_or_else(|| {
-            format!(
-                "{}: --set {name}: expected a {ty} value{}",
-                source.display(),
-                super::flags::set_value_hint(json)
-            )
-        })?;
-        values
-            .set(name, v)
-            .map_err(|e| format!("{}: {e}", source.display()))?;
-    }
+    overrides::set_parameters(&plan, &mut values, &rest.parameters)
+        .map_err(|e| format!("{}: {e}", source.display()))?;
     let mut batch = SampleBatch::new(1);
-    for (a, v) in attrs {
+    for (a, v) in rest.attributes {
         batch.fill(a, v).map_err(|e| e.to_string())?;
     }
     if let Some(path) = file {

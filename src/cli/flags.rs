@@ -67,29 +67,6 @@ pub fn max_error(text: &str) -> Result<f64, String> {
     Ok(x)
 }
 
-/// What is wrong with the numbers of a `--set` value, for its message: NaN or an infinity
-/// written as a word (`NaN`, `inf`), or a number beyond the f32 range; empty where its
-/// numbers are fine.
-pub fn set_value_hint(value: &serde_json::Value) -> String {
-    use serde_json::Value as J;
-    match value {
-        J::String(s) if s.trim().parse::<f64>().is_ok_and(|x| !x.is_finite()) => {
-            format!(" ({s} is not a finite number: NaN and infinities are refused)")
-        }
-        J::Number(n) => n
-            .as_f64()
-            .and_then(|x| not_finite(&n.to_string(), x))
-            .map(|why| format!(" ({why})"))
-            .unwrap_or_default(),
-        J::Array(items) => items
-            .iter()
-            .map(set_value_hint)
-            .find(|h| !h.is_empty())
-            .unwrap_or_default(),
-        _ => String::new(),
-    }
-}
-
 /// Smallest `--memory-budget`: 16 MiB (the scenes' fixed meshes alone are reserved at
 /// [`matgraph::scene::FIXED_MESH_BYTES`]).
 pub const MIN_MEMORY_BUDGET: u64 = 16 << 20;

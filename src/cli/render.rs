@@ -1,7 +1,6 @@
 //! `matgraph render`: render graphs in a scene to PNG (and EXR).
 
-use super::{CliResult, count, graph_textures, load_graph_with, path_policy, split_set};
-use matgraph::Value;
+use super::{CliResult, count, graph_textures, load_graph_with, path_policy};
 use matgraph::image_io::SaveFormat;
 use std::path::{Path, PathBuf};
 
@@ -182,14 +181,9 @@ pub fn run(args: &Args) -> CliResult {
         .transpose()?;
     let mut parameters = Vec::new();
     for s in &args.sets {
-        let (name, json) = split_set(s)?;
-        let v = Value::infer_json(&json).ok_or_else(|| {
-            format!(
-                "--set {s}: expected a number, an array of 2-4 numbers or a bool{}",
-                super::flags::set_value_hint(&json)
-            )
-        })?;
-        parameters.push((name.to_owned(), v));
+        let o = matgraph::overrides::Override::parse(s).map_err(|e| e.to_string())?;
+        let v = o.inferred().map_err(|e| e.to_string())?;
+        parameters.push((o.name, v));
     }
     let several = args.files.len() > 1;
     let (out_dir, sheet_path) = match (&args.out, &args.out_dir) {

@@ -2,7 +2,7 @@
 //! of [`crate::group`]). Iterative over a work list of scopes (one per instance), so the
 //! time is linear in the nodes produced and the stack constant whatever the nesting.
 
-use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, REROUTE};
+use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, MAX_EXPANDED_NODES, REROUTE};
 use crate::document::{GraphDocument, GroupDocument, NodeDocument, OutputDocument, TextureSource};
 use crate::error::GraphError;
 use crate::graph::valid_id;
@@ -136,15 +136,40 @@ pub(crate) fn expand(
     for name in doc.groups.keys() {
         x.def_in(&top, name);
     }
-    let mut work = vec![Scope {
-        prefix: String::new(),
-        file: top.clone(),
-        def: None,
-        chain: Vec::new(),
-        passed: HashMap::new(),
-    }];
+    // The size once inlined, counted from the groups before anything is copied: too large,
+    // and nothing is.
+    let mut work = Vec::new();
+    match x.too_large(&top, &doc.nodes) {
+        Some((node, group)) => x.errors.push(GraphError::GroupTooLarge {
+            node,
+            group,
+            max: MAX_EXPANDED_NODES,
+        }),
+        None => work.push(Scope {
+            prefix: String::new(),
+            file: top.clone(),
+            def: None,
+            chain: Vec::new(),
+            passed: HashMap::new(),
+        }),
+    }
     let mut outputs = Vec::new();
     while let Some(scope) = work.pop() {
+        if let Some(def) = &scope.def {
+            // Checked again before each copy (the count above skips what does not resolve):
+            // what this instance adds (its body, its outputs' reroutes) must fit, or the
+            // expansion stops here.
+            let adds = def.nodes().len() + def.output_docs().len();
+            if x.nodes.len() + adds > MAX_EXPANDED_NODES {
+                let node = scope.prefix.trim_end_matches('/').to_owned();
+                x.errors.push(GraphError::GroupTooLarge {
+                    group: x.scopes.get(&node).cloned().unwrap_or_default(),
+                    node,
+                    max: MAX_EXPANDED_NODES,
+                });
+                break;
+            }
+        }
         let (locals, mut inner) = x.scope(&scope);
         if scope.def.is_none() {
             for o in &doc.outputs {
@@ -185,6 +210,66 @@ pub(crate) fn expand(
 }
 
 impl Expander<'_> {
+    /// The first instance of the top graph's `nodes` at which the inlined graph passes
+    /// [`MAX_EXPANDED_NODES`], and its group reference; `None` when it fits. Counted from
+    /// each group's size once (memoised), so a group doubling at each of 30 levels costs
+    /// 30 steps, not 2³⁰.
+    fn too_large(&mut self, top: &Arc<File>, nodes: &[NodeDocument]) -> Option<(String, String)> {
+        let mut sizes = HashMap::new();
+        let mut total = nodes.len();
+        for n in nodes {
+            let Some(reference) = n.group.as_deref().filter(|_| n.node_type == GROUP) else {
+                continue;
+            };
+            let Ok(def) = self.resolve(top, reference) else {
+                continue;
+            };
+            let size = self.inlined_size(&def, &mut sizes, &mut Vec::new());
+            total = total.saturating_add(size);
+            if total > MAX_EXPANDED_NODES {
+                return Some((n.id.clone(), reference.to_owned()));
+            }
+        }
+        None
+    }
+
+    /// The nodes one instance of `def` adds once inlined: its inputs' and outputs'
+    /// reroutes, its body, its instances' (saturating, stopped past the limit). A group
+    /// that reaches itself or nests past [`MAX_DEPTH`] counts no further (the expansion
+    /// reports it); one that does not resolve counts nothing.
+    fn inlined_size(
+        &mut self,
+        def: &Arc<Def>,
+        sizes: &mut HashMap<String, usize>,
+        visiting: &mut Vec<String>,
+    ) -> usize {
+        if let Some(&s) = sizes.get(&def.key) {
+            return s;
+        }
+        if visiting.contains(&def.key) || visiting.len() > MAX_DEPTH {
+            return 0;
+        }
+        visiting.push(def.key.clone());
+        let mut size = def.inputs.len() + def.nodes().len() + def.output_docs().len();
+        let references: Vec<String> = def
+            .nodes()
+            .iter()
+            .filter(|n| n.node_type == GROUP)
+            .filter_map(|n| n.group.clone())
+            .collect();
+        for reference in references {
+            if size > MAX_EXPANDED_NODES {
+                break;
+            }
+            if let Ok(inner) = self.resolve(&def.file, &reference) {
+                size = size.saturating_add(self.inlined_size(&inner, sizes, visiting));
+            }
+        }
+        visiting.pop();
+        sizes.insert(def.key.clone(), size);
+        size
+    }
+
     /// Copies one scope's nodes into the flat document; returns what its ids name and the
     /// scopes of its instances.
     fn scope(&mut self, scope: &Scope) -> (HashMap<String, Local>, Vec<Scope>) {

@@ -135,3 +135,49 @@ fn set_values_say_which_number_is_not_finite() {
         );
     }
 }
+
+#[test]
+fn set_numbers_beyond_f32_are_called_out_of_range_not_the_wrong_type() {
+    // Parameters, node inputs, attributes and `eval --node` inputs alike: the number as
+    // written, said to be beyond the f32 range; never "expected a float value".
+    for (args, want) in [
+        (
+            vec!["eval", GLASS, "--set", "ior=1e39"],
+            "--set ior=1e39: 1e39 is beyond the f32 range of ±3.4028235e38",
+        ),
+        (
+            vec!["eval", GLASS, "--set", "exact.ior_outside=-1e39"],
+            "--set exact.ior_outside=-1e39: -1e39 is beyond the f32 range",
+        ),
+        (
+            vec!["eval", GLASS, "--set", "view=[0,1e400,0]"],
+            "--set view=[0,1e400,0]: 1e400 is beyond the f32 range",
+        ),
+        (
+            vec!["eval", "--node", "add", "--set", "a=3.5e38"],
+            "--set a=3.5e38: 3.5e38 is beyond the f32 range",
+        ),
+        (
+            vec!["eval", GLASS, "--set", "ior=-Infinity"],
+            "--set ior=-Infinity: -Infinity is not a finite number",
+        ),
+    ] {
+        let out = run(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(want),
+            "{args:?}: stderr lacks {want:?}:\n{stderr}"
+        );
+        for wrong in ["expected a float value", "expected float", "found number"] {
+            assert!(!stderr.contains(wrong), "{args:?}: {stderr}");
+        }
+    }
+    // f32::MAX itself is a value.
+    let out = run(&["eval", "--node", "add", "--set", "a=3.4028235e38", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

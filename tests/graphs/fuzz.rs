@@ -1,17 +1,21 @@
-//! A short run of the mutation fuzzer (`examples/fuzz.rs`): a few thousand seeded cases over
-//! load → save → plan → evaluate → WGSL → naga, with no panic and no finding. The long run
-//! (`cargo run --release --example fuzz -- --cases 1000000`) is documented in
-//! docs/reliability.md.
+//! A short run of the mutation fuzzer (`examples/fuzz/`): a few hundred seeded cases of each
+//! family (version-1 graphs, version-2 graphs with groups and library files in memory,
+//! scenes, `--set` values) through every stage, with no panic, no finding and no case
+//! over a second. The long run (`cargo run --release --example fuzz -- --cases 10000000`)
+//! is recorded in docs/benchmarks.md.
 
-#[path = "../../examples/fuzz.rs"]
+#[path = "../../examples/fuzz/main.rs"]
 #[allow(dead_code)]
 mod fuzz;
 
+use fuzz::{Corpus, Family};
+
 #[test]
-fn a_short_fuzz_run_finds_nothing() {
-    let cases = 3_000;
+fn a_short_fuzz_run_finds_nothing_in_any_family() {
+    let corpus = Corpus::bundled();
+    let cases = 1_200;
     let out = std::env::temp_dir().join(format!("matgraph-fuzz-{}", std::process::id()));
-    let report = fuzz::run(20_261_201, cases, Some(&out));
+    let report = fuzz::run(&corpus, 20_261_201, 0, cases, Some(&out), 0, None, None);
     assert_eq!(report.cases, cases);
     assert!(
         report.findings.is_empty(),
@@ -19,23 +23,54 @@ fn a_short_fuzz_run_finds_nothing() {
         out.display(),
         report.findings
     );
+    for family in Family::ALL {
+        let n = report.families.get(&family).copied().unwrap_or(0);
+        assert!(n >= 60, "{}: {n} cases of {cases}", family.name());
+    }
+    assert_eq!(report.families.values().sum::<u64>(), cases);
 }
 
 #[test]
 fn cases_are_reproducible_and_varied() {
-    let seeds = fuzz::seeds();
-    assert!(seeds.len() >= 5, "the bundled graphs seed the fuzzer");
-    let a: Vec<String> = (0..50).map(|c| fuzz::case_text(&seeds, 3, c)).collect();
-    let b: Vec<String> = (0..50).map(|c| fuzz::case_text(&seeds, 3, c)).collect();
+    let corpus = Corpus::bundled();
+    assert!(corpus.flat.len() >= 5, "the bundled graphs seed the fuzzer");
+    assert!(!corpus.grouped.is_empty() && !corpus.libs.is_empty());
+    assert!(corpus.scenes.len() >= 4, "the presets seed the scene cases");
+    let a: Vec<fuzz::Case> = (0..200).map(|c| corpus.case(3, c)).collect();
+    let b: Vec<fuzz::Case> = (0..200).map(|c| corpus.case(3, c)).collect();
     assert_eq!(a, b);
-    let mut distinct = a.clone();
+    let mut distinct: Vec<String> = a.iter().map(|c| c.to_json(3, 0)).collect();
     distinct.sort();
     distinct.dedup();
-    assert!(distinct.len() >= 45, "{}", distinct.len());
-    // Some cases load and some do not: the mutations reach past the parser.
-    let loads = a
+    assert!(distinct.len() >= 190, "{}", distinct.len());
+    // In every family some cases get past the parser and some do not.
+    let registry = matgraph::Registry::builtin();
+    for family in [Family::Graph, Family::Grouped] {
+        let of: Vec<&fuzz::Case> = a.iter().filter(|c| c.family == family).collect();
+        let loads = of
+            .iter()
+            .filter(|c| {
+                let files = std::sync::Arc::new(fuzz::files::MemFiles::new(c.files.clone()));
+                matgraph::Graph::from_json_in(&c.text, registry, files).is_ok()
+            })
+            .count();
+        assert!(
+            loads > 0 && loads < of.len(),
+            "{family:?}: {loads} of {} load",
+            of.len()
+        );
+    }
+    let scenes: Vec<&fuzz::Case> = a.iter().filter(|c| c.family == Family::Scene).collect();
+    let valid = scenes
         .iter()
-        .filter(|t| matgraph::Graph::from_json(t, matgraph::Registry::builtin()).is_ok())
+        .filter(|c| matgraph::scene::Scene::from_json(&c.text).is_ok())
         .count();
-    assert!(loads > 0 && loads < a.len(), "{loads} of {} load", a.len());
+    assert!(
+        valid > 0 && valid < scenes.len(),
+        "{valid} of {} scenes",
+        scenes.len()
+    );
+    // A case replays from its reproducer.
+    let c = &a[7];
+    assert_eq!(fuzz::replay_case(&c.to_json(3, 7)), *c);
 }

@@ -1227,3 +1227,76 @@ fn every_muted_node_type_passes_its_first_input_of_each_outputs_type() {
     }
     assert!(checked > 50, "{checked}");
 }
+
+/// A version-2 graph whose group `g0` uses `g1` twice, `g1` uses `g2` twice, … down to
+/// `g{levels-1}`, one `negate`: inlined, 2^levels copies of it.
+fn doubling_groups(levels: usize) -> serde_json::Value {
+    let x = json!({ "name": "x", "type": "float" });
+    let mut groups = serde_json::Map::new();
+    for k in 0..levels {
+        let body = if k + 1 == levels {
+            json!({ "inputs": [x], "nodes": [
+                { "id": "n", "type": "negate", "inputs": { "x": { "link": "@in.x" } } } ],
+                "outputs": [ { "name": "y", "from": "n.result" } ] })
+        } else {
+            let next = format!("g{}", k + 1);
+            json!({ "inputs": [x], "nodes": [
+                { "id": "a", "type": "group", "group": next, "inputs": { "x": { "link": "@in.x" } } },
+                { "id": "b", "type": "group", "group": next, "inputs": { "x": { "link": "a.y" } } } ],
+                "outputs": [ { "name": "y", "from": "b.y" } ] })
+        };
+        groups.insert(format!("g{k}"), body);
+    }
+    json!({ "version": 2, "name": "doubling",
+        "nodes": [ { "id": "i", "type": "group", "group": "g0", "inputs": { "x": 0.5 } } ],
+        "outputs": [ { "name": "o", "from": "i.y" } ],
+        "groups": groups })
+}
+
+#[test]
+fn groups_that_multiply_past_the_node_cap_are_refused_before_they_are_copied() {
+    // 2^30 copies would take hundreds of GiB; the groups' sizes are counted first, and
+    // nothing is copied.
+    let start = std::time::Instant::now();
+    let errors = Graph::from_json(&doubling_groups(30).to_string(), Registry::builtin())
+        .expect_err("2^30 nodes are refused");
+    assert!(start.elapsed().as_secs_f64() < 0.5, "{:?}", start.elapsed());
+    fn innermost(e: &GraphError) -> &GraphError {
+        match e {
+            GraphError::InGroup { error, .. } => innermost(error),
+            e => e,
+        }
+    }
+    let too_large: Vec<&GraphError> = errors
+        .iter()
+        .filter(|e| matches!(innermost(e), GraphError::GroupTooLarge { .. }))
+        .collect();
+    assert_eq!(too_large.len(), 1, "{errors:#?}");
+    let message = too_large[0].to_string();
+    assert!(
+        message
+            .starts_with("node 'i': group g0 makes the graph larger than 16384 nodes once inlined"),
+        "{message}"
+    );
+    assert_eq!(matgraph::group::MAX_EXPANDED_NODES, 16_384);
+    // Below the cap the same shape loads and evaluates: 2^10 negations of 0.5.
+    let graph = Graph::from_json(&doubling_groups(10).to_string(), Registry::builtin())
+        .expect("1024 copies fit");
+    let (values, _) = eval_first(&graph);
+    assert!(values.iter().all(|&v| v == 0.5), "{values:?}");
+    // 2^12 copies of the body with their reroutes fit (14 333 nodes); 2^13 do not (28 669).
+    Graph::from_json(&doubling_groups(12).to_string(), Registry::builtin())
+        .expect("14 333 nodes fit");
+    let errors = Graph::from_json(&doubling_groups(13).to_string(), Registry::builtin())
+        .expect_err("2^13 bodies and their reroutes pass the cap");
+    assert!(
+        errors.iter().any(|e| {
+            let mut e = e;
+            while let GraphError::InGroup { error, .. } = e {
+                e = error;
+            }
+            matches!(e, GraphError::GroupTooLarge { max: 16_384, .. })
+        }),
+        "{errors:#?}"
+    );
+}

@@ -1,0 +1,228 @@
+//! Running many cases on all cores, and what a run found: findings by message (with their
+//! reproducers written to a folder), known signatures, cases per family, per-case wall
+//! time (the slowest case and how many took over a second).
+
+use super::cases::{Corpus, Family};
+use super::stages::run_case;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+use std::panic::catch_unwind;
+use std::path::Path;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+/// A case slower than this is a finding.
+pub const SLOW_SECONDS: f64 = 1.0;
+
+/// No case yet.
+const SLOWEST_NONE: (f64, u64, Option<Family>) = (0.0, 0, None);
+
+/// At most this many reproducers are written per distinct message.
+const KEEP: usize = 5;
+
+/// The outcome of a run.
+#[derive(Debug, Default)]
+pub struct Report {
+    /// The run's seed.
+    pub seed: u64,
+    /// Cases run.
+    pub cases: u64,
+    /// Seconds taken.
+    pub seconds: f64,
+    /// Findings by `stage: message`: how many, and the first few case numbers.
+    pub findings: BTreeMap<String, (u64, Vec<u64>)>,
+    /// Known signatures matched (not findings), by signature: how many, first cases.
+    pub known: BTreeMap<String, (u64, Vec<u64>)>,
+    /// Cases run per family.
+    pub families: BTreeMap<Family, u64>,
+    /// The slowest case: seconds, case number, family.
+    pub slowest: (f64, u64, Option<Family>),
+    /// Cases over [`SLOW_SECONDS`].
+    pub over_a_second: u64,
+}
+
+impl Report {
+    /// Cases per second.
+    pub fn rate(&self) -> f64 {
+        self.cases as f64 / self.seconds.max(1e-9)
+    }
+
+    /// The report as text: counts, rate, slowest case, findings.
+    pub fn summary(&self) -> String {
+        let mut s = format!(
+            "{} cases (seed {}) in {:.1} s: {:.0} cases/s on {} threads\n",
+            self.cases,
+            self.seed,
+            self.seconds,
+            self.rate(),
+            rayon::current_num_threads()
+        );
+        let fam: Vec<String> = self
+            .families
+            .iter()
+            .map(|(f, n)| format!("{} {n}", f.name()))
+            .collect();
+        s += &format!("families: {}\n", fam.join(", "));
+        let (secs, case, family) = self.slowest;
+        s += &format!(
+            "slowest case: {:.3} s, case {case} ({}; replay with --seed {} --case {case})\n",
+            secs,
+            family.map_or("-", Family::name),
+            self.seed
+        );
+        s += &format!("cases over {SLOW_SECONDS} s: {}\n", self.over_a_second);
+        s += &format!("findings: {} distinct\n", self.findings.len());
+        for (message, (count, cases)) in &self.findings {
+            s += &format!("  {count} × {message} (cases {cases:?})\n");
+        }
+        for (message, (count, cases)) in &self.known {
+            s += &format!("known, not counted: {count} × {message} (cases {cases:?})\n");
+        }
+        s
+    }
+}
+
+/// Records one case's finding (or known signature) in `map`, writing its reproducer to
+/// `out` when it is among the first few of its message.
+fn record(
+    map: &Mutex<BTreeMap<String, (u64, Vec<u64>)>>,
+    key: String,
+    case: u64,
+    reproducer: impl FnOnce() -> (String, String),
+    out: Option<&Path>,
+    prefix: &str,
+) {
+    let mut m = map.lock().unwrap_or_else(|e| e.into_inner());
+    let entry = m.entry(key).or_default();
+    entry.0 += 1;
+    if entry.1.len() < KEEP {
+        entry.1.push(case);
+        if let Some(dir) = out {
+            let (json, txt) = reproducer();
+            let _ = std::fs::create_dir_all(dir);
+            let base = dir.join(format!("{prefix}-{case}"));
+            let _ = std::fs::write(base.with_extension("json"), json);
+            let _ = std::fs::write(base.with_extension("txt"), txt);
+        }
+    }
+}
+
+/// Runs cases `first..first + cases` of run `seed` on all threads; findings (at most 5 per
+/// message) are saved under `out` as `<stage>-<case>.json` (the case, replayable with
+/// `--replay`) plus a `.txt` with the message. Every `progress` cases (0: never) a line
+/// goes to stderr. With `only`, the cases of other families are skipped (not counted);
+/// with `max_seconds`, the cases not started by then are (the report counts what ran).
+pub fn run(
+    corpus: &Corpus,
+    seed: u64,
+    first: u64,
+    cases: u64,
+    out: Option<&Path>,
+    progress: u64,
+    only: Option<Family>,
+    max_seconds: Option<f64>,
+) -> Report {
+    let findings = Mutex::new(BTreeMap::new());
+    let known = Mutex::new(BTreeMap::new());
+    let stats = Mutex::new((BTreeMap::<Family, u64>::new(), (0.0f64, 0u64, None), 0u64));
+    let done = AtomicU64::new(0);
+    let start = Instant::now();
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {})); // panics are caught and reported per case
+    (first..first + cases).into_par_iter().for_each(|case| {
+        if max_seconds.is_some_and(|m| start.elapsed().as_secs_f64() > m) {
+            return;
+        }
+        let t = Instant::now();
+        let Ok(c) = catch_unwind(|| corpus.case(seed, case)) else {
+            record(
+                &findings,
+                "mutate: the fuzzer itself panicked".into(),
+                case,
+                || (String::new(), format!("seed {seed} case {case}\n")),
+                out,
+                "mutate",
+            );
+            return;
+        };
+        if only.is_some_and(|f| f != c.family) {
+            return;
+        }
+        let outcome = run_case(&c);
+        let secs = t.elapsed().as_secs_f64();
+        if let Some(f) = outcome.finding {
+            let key = format!("{}: {}", f.stage, f.message.lines().next().unwrap_or(""));
+            let txt = format!("seed {seed} case {case}\n{}\n", f.message);
+            record(
+                &findings,
+                key,
+                case,
+                || (c.to_json(seed, case), txt),
+                out,
+                f.stage,
+            );
+        }
+        if let Some(k) = outcome.known {
+            record(
+                &known,
+                k.to_owned(),
+                case,
+                || (String::new(), String::new()),
+                None,
+                "",
+            );
+        }
+        if secs > SLOW_SECONDS {
+            let txt = format!("seed {seed} case {case}\ntook {secs:.3} s\n");
+            record(
+                &findings,
+                format!(
+                    "slow: a {} case took over {SLOW_SECONDS} s",
+                    c.family.name()
+                ),
+                case,
+                || (c.to_json(seed, case), txt),
+                out,
+                "slow",
+            );
+        }
+        {
+            let mut s = stats.lock().unwrap_or_else(|e| e.into_inner());
+            *s.0.entry(c.family).or_default() += 1;
+            if secs > s.1.0 {
+                s.1 = (secs, case, Some(c.family));
+            }
+            if secs > SLOW_SECONDS {
+                s.2 += 1;
+            }
+        }
+        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if progress > 0 && n % progress == 0 {
+            let e = start.elapsed().as_secs_f64();
+            let f = findings.lock().map(|m| m.len()).unwrap_or(0);
+            let (slow, over) = stats
+                .lock()
+                .map(|s| (s.1, s.2))
+                .unwrap_or((SLOWEST_NONE, 0));
+            eprintln!(
+                "{n} cases, {e:.0} s, {:.0} cases/s, {f} distinct findings, slowest {:.3} s (case {}), {over} over {SLOW_SECONDS} s",
+                n as f64 / e,
+                slow.0,
+                slow.1
+            );
+        }
+    });
+    std::panic::set_hook(previous);
+    let (families, slowest, over_a_second) = stats.into_inner().unwrap_or_else(|e| e.into_inner());
+    Report {
+        seed,
+        cases: families.values().sum(),
+        seconds: start.elapsed().as_secs_f64(),
+        findings: findings.into_inner().unwrap_or_else(|e| e.into_inner()),
+        known: known.into_inner().unwrap_or_else(|e| e.into_inner()),
+        families,
+        slowest,
+        over_a_second,
+    }
+}
