@@ -282,8 +282,8 @@ fn a_linear_height_tilts_by_its_surface_gradient() {
     batch.set_values(Attribute::PositionDy, &dy).unwrap();
     let mut worst = 0.0f64;
     for out in run(&graph, &batch, "bump linear height (GPU half)") {
-        for i in 0..m {
-            let n = Vec3::from(nn[i]).as_dvec3();
+        for (i, &normal) in nn.iter().enumerate() {
+            let n = Vec3::from(normal).as_dvec3();
             let want = (n - (g - n * g.dot(n)) * distance).normalize();
             let got = vec3_at(&out, m, i);
             let err = (got - want).length();
