@@ -745,7 +745,7 @@ const SWEEP_COS: [f32; 17] = [
     1e-3,
     0.1,
     0.5,
-    0.7071068,
+    std::f32::consts::FRAC_1_SQRT_2,
     1.0,
 ];
 /// Thicknesses (nm): 0, a denormal, a fraction of a nm, the soft range's end, the hard range's.
