@@ -34,8 +34,8 @@ pub mod set_values;
 pub mod stages;
 
 pub use cases::{Case, Corpus, Family};
-pub use report::{Report, run};
-pub use stages::{Outcome, run_case};
+pub use report::run;
+pub use stages::run_case;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
