@@ -5,7 +5,7 @@
 //! is recorded in docs/benchmarks.md.
 
 #[path = "../../examples/fuzz/main.rs"]
-#[allow(dead_code)]
+#[allow(dead_code, clippy::module_inception)]
 mod fuzz;
 
 use fuzz::{Corpus, Family};
@@ -15,7 +15,12 @@ fn a_short_fuzz_run_finds_nothing_in_any_family() {
     let corpus = Corpus::bundled();
     let cases = 300;
     let out = std::env::temp_dir().join(format!("matgraph-fuzz-{}", std::process::id()));
-    let report = fuzz::run(&corpus, 20_261_201, 0, cases, Some(&out), 0, None, None);
+    let options = fuzz::RunOptions {
+        cases,
+        out: Some(&out),
+        ..Default::default()
+    };
+    let report = fuzz::run(&corpus, 20_261_201, &options);
     assert_eq!(report.cases, cases);
     assert!(
         report.findings.is_empty(),
