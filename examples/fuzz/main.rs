@@ -34,8 +34,8 @@ pub mod set_values;
 pub mod stages;
 
 pub use cases::{Case, Corpus, Family};
-pub use report::{Report, run};
-pub use stages::{Outcome, run_case};
+pub use report::{RunOptions, run};
+pub use stages::run_case;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -130,16 +130,15 @@ fn main() {
             other => panic!("unknown argument {other}"),
         }
     }
-    let r = run(
-        &corpus,
-        seed,
+    let options = RunOptions {
         first,
         cases,
-        Some(Path::new(&out)),
+        out: Some(Path::new(&out)),
         progress,
         only,
         max_seconds,
-    );
+    };
+    let r = run(&corpus, seed, &options);
     print!("{}", r.summary());
     if !r.findings.is_empty() {
         println!("reproducers in {}", out.display());

@@ -229,7 +229,7 @@ fn scene_stages(text: &str, stage: &Cell<&'static str>) -> Result<(), Stop> {
         .into());
     }
     // A 4 × 4 frame now and then (the text's length picks it, so replays agree).
-    if text.len() % 64 == 0 {
+    if text.len().is_multiple_of(64) {
         stage.set("render");
         let options = matgraph::render::RenderOptions {
             width: 4,

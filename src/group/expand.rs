@@ -99,6 +99,9 @@ struct Expander<'a> {
     defs: HashMap<String, Option<Arc<Def>>>,
     errors: Vec<GraphError>,
     recursions: HashSet<String>,
+    /// The unresolved references reported: (the key of the group they are written in,
+    /// the instance node's id, the reference), so each is reported once, not once per copy.
+    unresolved: HashSet<(String, String, String)>,
     nodes: Vec<NodeDocument>,
     variants: BTreeMap<String, crate::document::VariantDocument>,
     scopes: HashMap<String, String>,
@@ -126,6 +129,7 @@ pub(crate) fn expand(
         defs: HashMap::new(),
         errors: Vec::new(),
         recursions: HashSet::new(),
+        unresolved: HashSet::new(),
         nodes: Vec::with_capacity(doc.nodes.len()),
         variants: doc.variants.clone(),
         scopes: HashMap::new(),
@@ -154,8 +158,14 @@ pub(crate) fn expand(
         }),
     }
     let mut outputs = Vec::new();
+    // The groups copied once: after an error, further copies of a body would only repeat
+    // its errors (reported once per place written), so they are skipped.
+    let mut copied: HashSet<String> = HashSet::new();
     while let Some(scope) = work.pop() {
         if let Some(def) = &scope.def {
+            if !copied.insert(def.key.clone()) && !x.errors.is_empty() {
+                continue;
+            }
             // Checked again before each copy (the count above skips what does not resolve):
             // what this instance adds (its body, its outputs' reroutes) must fit, or the
             // expansion stops here.
@@ -415,6 +425,13 @@ impl Expander<'_> {
         let def = match self.resolve(&scope.file, reference) {
             Ok(d) => d,
             Err((message, suggestion)) => {
+                // Once per place written: a group copied 4 096 times with a reference that
+                // does not resolve is one error, on its first copy.
+                let written = scope.def.as_ref().map_or("", |d| d.key.as_str());
+                let place = (written.to_owned(), n.id.clone(), reference.to_owned());
+                if !self.unresolved.insert(place) {
+                    return None;
+                }
                 self.errors.push(GraphError::BadGroup {
                     node,
                     group: reference.to_owned(),

@@ -45,12 +45,13 @@ pub const INPUT_ID: &str = "@in";
 pub const MAX_DEPTH: usize = 64;
 
 /// How many nodes a graph may have once its groups are inlined; more is an error
-/// ([`crate::GraphError::GroupTooLarge`]) raised before the nodes are copied, so that a group
-/// using another twice at each of 30 levels (2³⁰ copies) is refused, not allocated. Material
-/// graphs hold hundreds of nodes; 16 384 leaves room while keeping the largest accepted
-/// graph's load, plan and WGSL within half a second (measured in release: 10 000 inlined
-/// nodes 0.4 s, 20 000 0.8 s, for load, save, plan, evaluation, WGSL and the contract).
-pub const MAX_EXPANDED_NODES: usize = 1 << 14;
+/// ([`crate::GraphError::GroupTooLarge`]) raised before any node is copied, so that a group
+/// using another twice at each of 30 levels (2³⁰ copies) is refused, not allocated. The
+/// limit keeps what is accepted within linear time and a 4 GiB address space: 524 288
+/// nodes; 100 000 instances of a one-node group (300 001 nodes) load, plan and evaluate
+/// (`tests/graphs/groups.rs`), and `matgraph wgsl` on 170 000 of them (510 001 nodes) took
+/// 49 s and 1.9 GiB (release build, 2-core Xeon).
+pub const MAX_EXPANDED_NODES: usize = 1 << 19;
 
 /// A graph file a group reference names, as a [`GroupFiles`] gives it.
 #[derive(Clone, Debug)]

@@ -1,11 +1,11 @@
-//! A short run of the mutation fuzzer (`examples/fuzz/`): a few hundred seeded cases of each
+//! A short run of the mutation fuzzer (`examples/fuzz/`): 300 seeded cases, at least 20 of each
 //! family (version-1 graphs, version-2 graphs with groups and library files in memory,
 //! scenes, `--set` values) through every stage, with no panic, no finding and no case
-//! over a second. The long run (`cargo run --release --example fuzz -- --cases 10000000`)
+//! over the slow bound (30 s in debug builds). The long run (`cargo run --release --example fuzz -- --cases 10000000`)
 //! is recorded in docs/benchmarks.md.
 
 #[path = "../../examples/fuzz/main.rs"]
-#[allow(dead_code)]
+#[allow(dead_code, clippy::module_inception)]
 mod fuzz;
 
 use fuzz::{Corpus, Family};
@@ -13,9 +13,14 @@ use fuzz::{Corpus, Family};
 #[test]
 fn a_short_fuzz_run_finds_nothing_in_any_family() {
     let corpus = Corpus::bundled();
-    let cases = 1_200;
+    let cases = 300;
     let out = std::env::temp_dir().join(format!("matgraph-fuzz-{}", std::process::id()));
-    let report = fuzz::run(&corpus, 20_261_201, 0, cases, Some(&out), 0, None, None);
+    let options = fuzz::RunOptions {
+        cases,
+        out: Some(&out),
+        ..Default::default()
+    };
+    let report = fuzz::run(&corpus, 20_261_201, &options);
     assert_eq!(report.cases, cases);
     assert!(
         report.findings.is_empty(),
@@ -25,7 +30,7 @@ fn a_short_fuzz_run_finds_nothing_in_any_family() {
     );
     for family in Family::ALL {
         let n = report.families.get(&family).copied().unwrap_or(0);
-        assert!(n >= 60, "{}: {n} cases of {cases}", family.name());
+        assert!(n >= 20, "{}: {n} cases of {cases}", family.name());
     }
     assert_eq!(report.families.values().sum::<u64>(), cases);
 }

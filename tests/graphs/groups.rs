@@ -1274,29 +1274,57 @@ fn groups_that_multiply_past_the_node_cap_are_refused_before_they_are_copied() {
     assert_eq!(too_large.len(), 1, "{errors:#?}");
     let message = too_large[0].to_string();
     assert!(
-        message
-            .starts_with("node 'i': group g0 makes the graph larger than 16384 nodes once inlined"),
+        message.starts_with(
+            "node 'i': group g0 makes the graph larger than 524288 nodes once inlined"
+        ),
         "{message}"
     );
-    assert_eq!(matgraph::group::MAX_EXPANDED_NODES, 16_384);
-    // Below the cap the same shape loads and evaluates: 2^10 negations of 0.5.
+    assert_eq!(matgraph::group::MAX_EXPANDED_NODES, 524_288);
+    // Below the cap the same shape loads and evaluates: 2^9 negations of 0.5.
     let graph = Graph::from_json(&doubling_groups(10).to_string(), Registry::builtin())
-        .expect("1024 copies fit");
+        .expect("512 copies fit");
     let (values, _) = eval_first(&graph);
     assert!(values.iter().all(|&v| v == 0.5), "{values:?}");
-    // 2^12 copies of the body with their reroutes fit (14 333 nodes); 2^13 do not (28 669).
-    Graph::from_json(&doubling_groups(12).to_string(), Registry::builtin())
-        .expect("14 333 nodes fit");
-    let errors = Graph::from_json(&doubling_groups(13).to_string(), Registry::builtin())
-        .expect_err("2^13 bodies and their reroutes pass the cap");
+    // Counted before copying: 17 levels, 2^16 copies of the body with their reroutes, fit
+    // (458 749 nodes, not built here); 18 levels, 2^17 copies (917 501), are refused at once.
+    let start = std::time::Instant::now();
+    let errors = Graph::from_json(&doubling_groups(18).to_string(), Registry::builtin())
+        .expect_err("2^17 bodies and their reroutes pass the cap");
+    assert!(start.elapsed().as_secs_f64() < 0.5, "{:?}", start.elapsed());
     assert!(
         errors.iter().any(|e| {
             let mut e = e;
             while let GraphError::InGroup { error, .. } = e {
                 e = error;
             }
-            matches!(e, GraphError::GroupTooLarge { max: 16_384, .. })
+            matches!(e, GraphError::GroupTooLarge { max: 524_288, .. })
         }),
         "{errors:#?}"
     );
+}
+
+#[test]
+fn a_reference_that_does_not_resolve_is_one_error_not_one_per_copy() {
+    // g16 is copied 2^16 times; its two instances name g17, which is gone. Reported once
+    // per place written (2 errors), not once per copy (131 072 errors after copying
+    // 400 000 nodes, seconds of work): after the first error, further copies of a body are
+    // skipped.
+    let mut doc = doubling_groups(18);
+    doc["groups"].as_object_mut().unwrap().remove("g17");
+    let start = std::time::Instant::now();
+    let errors =
+        Graph::from_json(&doc.to_string(), Registry::builtin()).expect_err("g17 is missing");
+    assert!(start.elapsed().as_secs_f64() < 1.0, "{:?}", start.elapsed());
+    assert_eq!(errors.len(), 2, "{:#?}", &errors[..errors.len().min(3)]);
+    for e in &errors {
+        let mut inner = e;
+        while let GraphError::InGroup { error, .. } = inner {
+            inner = error;
+        }
+        assert!(
+            matches!(inner, GraphError::BadGroup { group, .. } if group == "g17"),
+            "{inner:?}"
+        );
+        assert!(e.to_string().contains("no group 'g17' in this file"), "{e}");
+    }
 }
