@@ -21,7 +21,7 @@
 //! JSON twice, a scene mesh larger than its memory reservation, a `--set` value accepted
 //! with a number past f32, or a case that takes over a second. Each is written, as a
 //! replayable case, to the `--out` folder (default `fuzz-findings/`), at most 5 per
-//! distinct message. One known finding is counted apart ([`stages::KNOWN_CR_IN_NAME`]).
+//! distinct message.
 
 pub mod cases;
 pub mod files;

@@ -25,18 +25,6 @@ use std::sync::{Arc, OnceLock};
 /// builds at most ~45 000 vertices and larger scenes are refused by the budget.
 pub const SCENE_BUDGET: u64 = 32 << 20;
 
-/// The one finding this fuzzer knows and leaves to another branch (`rel`, which escapes
-/// control characters in messages and WGSL comments): a graph whose `name` holds a line
-/// break (`\r` as reported, or `\n`, VT, FF, NEL, LS, PS: WGSL's line breaks) ends the
-/// comment line the emitter writes, and naga rejects the module. Counted apart, not
-/// reported, while that fix is unmerged; drop it after merging both branches.
-pub const KNOWN_CR_IN_NAME: &str = "wgsl: a graph name holding a line break ('\\r', '\\n', …) ends the emitter's comment and naga rejects the module (fixed on branch rel)";
-
-/// WGSL's line breaks (the WGSL specification, §3.2 "Comments" and "Blankspace").
-const LINE_BREAKS: &[char] = &[
-    '\n', '\r', '\u{b}', '\u{c}', '\u{85}', '\u{2028}', '\u{2029}',
-];
-
 /// What went wrong in one case.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Finding {
@@ -58,7 +46,6 @@ pub struct Outcome {
 /// Why a stage stopped: a finding or a known signature.
 enum Stop {
     Finding(String),
-    Known(&'static str),
 }
 
 impl From<String> for Stop {
@@ -77,10 +64,6 @@ pub fn run_case(case: &Case) -> Outcome {
     }));
     match result {
         Ok(Ok(())) => Outcome::default(),
-        Ok(Err(Stop::Known(k))) => Outcome {
-            finding: None,
-            known: Some(k),
-        },
         Ok(Err(Stop::Finding(message))) => Outcome {
             finding: Some(Finding {
                 stage: stage.get(),
@@ -103,11 +86,6 @@ pub fn run_case(case: &Case) -> Outcome {
             known: None,
         },
     }
-}
-
-/// Whether naga's rejection of `graph`'s WGSL is the known `\r` finding.
-fn known_cr(graph: &Graph) -> bool {
-    graph.name.contains(LINE_BREAKS)
 }
 
 fn graph_stages(case: &Case, stage: &Cell<&'static str>) -> Result<(), Stop> {
@@ -146,9 +124,6 @@ fn compiled_stages(graph: &Graph, stage: &Cell<&'static str>) -> Result<(), Stop
             ..Default::default()
         };
         match generate(graph, &options) {
-            Err(ShaderError::Naga { .. }) if known_cr(graph) => {
-                return Err(Stop::Known(KNOWN_CR_IN_NAME));
-            }
             Err(e @ ShaderError::Naga { .. }) => {
                 return Err(
                     format!("loads and plans, naga rejects its WGSL ({entry:?}): {e}").into(),
@@ -172,9 +147,6 @@ fn compiled_stages(graph: &Graph, stage: &Cell<&'static str>) -> Result<(), Stop
         Err(MaterialError::Shader { source, .. })
             if matches!(*source, ShaderError::Naga { .. }) =>
         {
-            if known_cr(graph) {
-                return Err(Stop::Known(KNOWN_CR_IN_NAME));
-            }
             return Err(
                 format!("loads and plans, naga rejects its render module: {source}").into(),
             );
