@@ -86,17 +86,17 @@ fn eval_refuses_a_parameter_outside_its_own_range() {
         (
             "graphs/water_sunshine.json",
             "tiling=1e38",
-            "graphs/water_sunshine.json: parameter 'tiling': 1e38 is outside its range [0, 100]",
+            "graphs/water_sunshine.json: --set tiling: parameter 'tiling': 1e38 is outside its range [0, 100]",
         ),
         (
             "graphs/water_sunshine_sunset.json",
             "tiling=-1e38",
-            "graphs/water_sunshine_sunset.json: parameter 'tiling': -1e38 is outside its range [0, 100]",
+            "graphs/water_sunshine_sunset.json: --set tiling: parameter 'tiling': -1e38 is outside its range [0, 100]",
         ),
         (
             "graphs/skin.json",
             "sheen_color=[0.5,2,0.5]",
-            "graphs/skin.json: parameter 'sheen_color': [0.5,2.0,0.5] is outside its range [0, 1]",
+            "graphs/skin.json: --set sheen_color: parameter 'sheen_color': [0.5,2.0,0.5] is outside its range [0, 1]",
         ),
     ] {
         let out = run(&["eval", file, "--set", set]);
