@@ -360,81 +360,84 @@ fn mgr_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
 }
 
-// gbuffer.rs uv_derivatives (there in f64): the 2 × 2 quad's fine differences of the uv on
-// the plane of the triangle (p0, p1, p2) with uvs (u0, u1, u2) between pixel centres, at
-// pixel `pixel`, as dpdxFine/dpdyFine give them; (dx, dy) packed in a vec4, 0 where a ray is
+// gbuffer.rs surface_derivatives (there in f64): the points of the plane of the triangle
+// (p0, p1, p2), relative to p0, under the centres of the pixel's 2 × 2 quad along its row
+// (q[0], q[1]) and its column (q[2], q[3]) at pixel `pixel`; `ok` false where a ray is
 // parallel to the plane or the triangle is degenerate.
-// The position's derivatives (x, y) on the triangle's plane across the pixel's 2 × 2 quad, as
-// mgr_uv_derivatives takes the uv's (gbuffer.rs surface_derivatives): zero where that gives
-// none.
+struct MgrQuadPoints {
+    q: array<vec3<f32>, 4>,
+    ok: bool,
+}
+
+fn mgr_quad_points(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, pixel: vec2<u32>) -> MgrQuadPoints {
+    let f = mgr_frame;
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let n = cross(e1, e2);
+    let g12 = dot(e1, e2);
+    let det = dot(e1, e1) * dot(e2, e2) - g12 * g12;
+    // The frame's pixel of the tile's `pixel` (tiles start on even pixels: the quads stay).
+    let c = pixel + vec2<u32>(f.tile_offset.zw);
+    let x0 = f32(c.x & ~1u) + 0.5;
+    let y0 = f32(c.y & ~1u) + 0.5;
+    let xc = f32(c.x) + 0.5;
+    let yc = f32(c.y) + 0.5;
+    let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
+    var r: MgrQuadPoints;
+    r.ok = det != 0.0;
+    for (var k = 0; k < 4; k++) {
+        let d = mgr_ray_frame(at[k]);
+        let nd = dot(n, d);
+        r.ok = r.ok && nd != 0.0;
+        r.q[k] = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
+    }
+    return r;
+}
+
+// The position's fine differences across the quad (the bump node's offsets): zero where
+// mgr_quad_points gives none.
 struct MgrPositionDerivatives {
     dx: vec3<f32>,
     dy: vec3<f32>,
 }
 
 fn mgr_position_derivatives(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, pixel: vec2<u32>) -> MgrPositionDerivatives {
-    let f = mgr_frame;
-    let e1 = p1 - p0;
-    let e2 = p2 - p0;
-    let n = cross(e1, e2);
-    let det = dot(e1, e1) * dot(e2, e2) - dot(e1, e2) * dot(e1, e2);
-    let q = pixel + vec2<u32>(f.tile_offset.zw);
-    let x0 = f32(q.x & ~1u) + 0.5;
-    let y0 = f32(q.y & ~1u) + 0.5;
-    let xc = f32(q.x) + 0.5;
-    let yc = f32(q.y) + 0.5;
-    let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
-    var p = array<vec3<f32>, 4>();
-    var ok = det != 0.0;
-    for (var k = 0; k < 4; k++) {
-        let d = mgr_ray_frame(at[k]);
-        let nd = dot(n, d);
-        ok = ok && nd != 0.0;
-        p[k] = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
-    }
+    let m = mgr_quad_points(p0, p1, p2, pixel);
     var r: MgrPositionDerivatives;
-    if (ok) {
-        r.dx = p[1] - p[0];
-        r.dy = p[3] - p[2];
+    if (m.ok) {
+        r.dx = m.q[1] - m.q[0];
+        r.dy = m.q[3] - m.q[2];
     }
     return r;
 }
 
+// The uv's fine differences across the quad, with uvs (u0, u1, u2) at the corners, as
+// dpdxFine/dpdyFine give them; (dx, dy) packed in a vec4, zero where mgr_quad_points gives
+// none.
 fn mgr_uv_derivatives(
     p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>,
     u0: vec2<f32>, u1: vec2<f32>, u2: vec2<f32>,
     pixel: vec2<u32>,
 ) -> vec4<f32> {
-    let f = mgr_frame;
     let e1 = p1 - p0;
     let e2 = p2 - p0;
     let du1 = u1 - u0;
     let du2 = u2 - u0;
-    let n = cross(e1, e2);
     let g11 = dot(e1, e1);
     let g12 = dot(e1, e2);
     let g22 = dot(e2, e2);
     let det = g11 * g22 - g12 * g12;
-    // The frame's pixel of the tile's `pixel` (tiles start on even pixels: the quads stay).
-    let q = pixel + vec2<u32>(f.tile_offset.zw);
-    let x0 = f32(q.x & ~1u) + 0.5;
-    let y0 = f32(q.y & ~1u) + 0.5;
-    let xc = f32(q.x) + 0.5;
-    let yc = f32(q.y) + 0.5;
-    let at = array<vec2<f32>, 4>(vec2<f32>(x0, yc), vec2<f32>(x0 + 1.0, yc), vec2<f32>(xc, y0), vec2<f32>(xc, y0 + 1.0));
+    let m = mgr_quad_points(p0, p1, p2, pixel);
     var uv = array<vec2<f32>, 4>();
-    var ok = det != 0.0;
     for (var k = 0; k < 4; k++) {
-        let d = mgr_ray_frame(at[k]);
-        let nd = dot(n, d);
-        ok = ok && nd != 0.0;
-        let q = f.origin + d * (dot(n, p0 - f.origin) / nd) - p0;
+        let q = m.q[k];
         let r1 = dot(e1, q);
         let r2 = dot(e2, q);
         let a = (g22 * r1 - g12 * r2) / det;
         let b = (g11 * r2 - g12 * r1) / det;
         uv[k] = du1 * a + du2 * b;
     }
+    let ok = m.ok;
     if (!ok) {
         return vec4<f32>(0.0);
     }
