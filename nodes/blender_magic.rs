@@ -172,6 +172,7 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::color("color").doc("½ − (x, y, z): interference colours about 0.5."))
         .output(Out::float("fac").doc("The mean of the colour's channels."))
         .wgsl(MAGIC_TEXTURE_WGSL)
+        .wgsl_constant_inputs(&["depth"])
         .wgsl_uses(&[SIN_COS_WGSL, CLAMPED_SIN_COS_WGSL])
         .hard_case("distortion 0", &[("vector", v3([0.3, 0.7, -0.2])), ("distortion", f(0.0)), ("depth", i(10))])
         .hard_case("depth 0", &[("vector", v3([0.3, 0.7, -0.2])), ("depth", i(0))])

@@ -794,6 +794,7 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::float("w").doc("The point's fourth coordinate (1D and 4D)."))
         .output(Out::float("radius").doc("n-sphere radius only: half the distance from the nearest point to its own nearest."))
         .wgsl(VORONOI_TEXTURE_WGSL)
+        .wgsl_constant_inputs(&["dimensions", "feature", "metric", "normalize"])
         .wgsl_uses(&[super::blender_noise::BLENDER_NOISE_WGSL, super::blender_noise::HASH_FLOATS_WGSL, VORONOI_WGSL])
         .hard_case("lattice corner", &[("vector", v3([1.0, 2.0, 3.0])), ("scale", f(1.0))])
         .hard_case("randomness 0: a regular grid", &[("vector", v3([0.5, 0.5, 0.5])), ("scale", f(1.0)), ("randomness", f(0.0)), ("feature", i(3))])

@@ -185,6 +185,7 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::color("color").doc("fac as a grey."))
         .output(Out::float("fac").doc("The wave in [0, 1]."))
         .wgsl(WAVE_TEXTURE_WGSL)
+        .wgsl_constant_inputs(&["type", "bands_direction", "rings_direction", "profile"])
         .wgsl_uses(&[BLENDER_NOISE_WGSL, SIN_COS_WGSL])
         .hard_case("a unit coordinate (Blender's nudge)", &[("vector", v3([1.0, 1.0, 1.0])), ("scale", f(1.0)), ("profile", i(1))])
         .hard_case("rings about the axis itself", &[("type", i(1)), ("vector", v3([0.5, 0.0, 0.0]))])

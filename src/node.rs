@@ -595,6 +595,7 @@ pub struct NodeType {
     wgsl_helpers: Vec<&'static str>,
     wgsl_tables: Vec<&'static WgslTable>,
     wgsl_choices: Option<WgslChoices>,
+    wgsl_constants: Vec<&'static str>,
     texture_kernel: Option<TextureKernel>,
 }
 
@@ -616,6 +617,7 @@ impl NodeType {
             wgsl_helpers: Vec::new(),
             wgsl_tables: Vec::new(),
             wgsl_choices: None,
+            wgsl_constants: Vec::new(),
             texture_kernel: None,
         }
     }
@@ -748,6 +750,34 @@ impl NodeType {
         });
         self
     }
+    /// Declares the int and bool inputs whose value, where the file writes it (not linked),
+    /// the emitter compiles into the node's WGSL function as a function-scope `const` in
+    /// place of the parameter (see `docs/benchmarks.md`, procedural textures): the GPU
+    /// compiler then drops the branches and loop trips that value rules out, as Blender's
+    /// GLSL does with one function per dimension and type. Each written combination is its
+    /// own function (`mg_<type>_<input>_<value>…`); a linked input stays a parameter.
+    ///
+    /// # Panics
+    /// If an input is not an int or bool input of the node (a declaration error, caught by
+    /// the registry's tests).
+    pub fn wgsl_constant_inputs(mut self, inputs: &[&'static str]) -> NodeType {
+        for name in inputs {
+            let ok = self.inputs.iter().any(|i| {
+                i.name == *name
+                    && matches!(
+                        i.ty,
+                        PortType::Fixed(SocketType::Int) | PortType::Fixed(SocketType::Bool)
+                    )
+            });
+            assert!(
+                ok,
+                "{}: wgsl_constant_inputs {name} is not an int or bool input",
+                self.name
+            );
+        }
+        self.wgsl_constants.extend_from_slice(inputs);
+        self
+    }
 
     /// Stable snake_case type name.
     pub fn name(&self) -> &'static str {
@@ -813,6 +843,10 @@ impl NodeType {
     /// The per-choice WGSL (see [`WgslChoices`]).
     pub fn wgsl_choices(&self) -> Option<&WgslChoices> {
         self.wgsl_choices.as_ref()
+    }
+    /// The inputs compiled as constants where written (see [`NodeType::wgsl_constant_inputs`]).
+    pub fn wgsl_constants(&self) -> &[&'static str] {
+        &self.wgsl_constants
     }
     /// The per-choice WGSL of the choice input's literal `value` (an enum's index, a bool).
     pub fn wgsl_choice_at(&self, value: Value) -> Option<&WgslChoice> {

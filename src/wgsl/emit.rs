@@ -179,6 +179,8 @@ pub(super) fn literal(v: &Value) -> String {
 }
 
 #[cfg(test)]
+mod constant_tests;
+#[cfg(test)]
 mod literal_tests;
 
 /// `e` of type `from` converted to `to` along a link (the table of [`crate::types`]).
@@ -249,25 +251,96 @@ pub(super) fn literal_choice(n: &Node) -> Option<&WgslChoice> {
     }
 }
 
+/// The inputs of `n` compiled into its function as constants (see
+/// [`NodeType::wgsl_constant_inputs`]): each such input the file writes, by index, with its
+/// value, in input order.
+pub(super) fn literal_constants(n: &Node) -> Vec<(usize, Value)> {
+    let t = &n.node_type;
+    let mut out: Vec<(usize, Value)> = t
+        .wgsl_constants()
+        .iter()
+        .filter_map(|name| {
+            let k = t.input_index(name)?;
+            match &n.inputs[k] {
+                InputSource::Default(v) | InputSource::Value { value: v, .. } => Some((k, *v)),
+                InputSource::Link(..) => None,
+            }
+        })
+        .collect();
+    out.sort_by_key(|(k, _)| *k);
+    out
+}
+
+/// What one emitted form of a node type's function fixes: the written choice of its
+/// per-choice input and the values of its constant inputs.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Form<'a> {
+    /// The per-choice WGSL at the written choice ([`literal_choice`]).
+    pub(super) choice: Option<&'a WgslChoice>,
+    /// The constant inputs, by index ([`literal_constants`]).
+    pub(super) constants: &'a [(usize, Value)],
+}
+
+/// The name part of a constant input's value: the choice's name, `true`/`false`, or the
+/// integer (`m` for minus).
+fn constant_suffix(t: &NodeType, k: usize, v: &Value) -> String {
+    let decl = &t.inputs()[k];
+    let value = match v.ty() {
+        SocketType::Bool => v.as_bool().to_string(),
+        _ => usize::try_from(v.as_i32())
+            .ok()
+            .and_then(|c| decl.choices.get(c))
+            .map_or_else(
+                || v.as_i32().to_string().replace('-', "m"),
+                |c| c.to_string(),
+            ),
+    };
+    // Inside a name that starts `mg_`: any ASCII letter, digit or `_` is an identifier's.
+    let clean = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_lowercase()
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    format!("_{}_{}", clean(decl.name), clean(&value))
+}
+
 /// The emitted name of `t`'s function: [`function_name`], suffixed `_is_<choice>` for a
-/// per-choice template.
-fn emitted_name(t: &NodeType, generic: SocketType, choice: Option<&WgslChoice>) -> String {
-    let base = function_name(t, generic);
-    match choice {
-        Some(c) => format!("{base}_is_{}", c.choice),
-        None => base,
+/// per-choice template and `_<input>_<value>` for each constant input.
+fn emitted_name(t: &NodeType, generic: SocketType, form: Form) -> String {
+    let mut name = function_name(t, generic);
+    if let Some(c) = form.choice {
+        let _ = write!(name, "_is_{}", c.choice);
     }
+    for (k, v) in form.constants {
+        name.push_str(&constant_suffix(t, *k, v));
+    }
+    name
+}
+
+/// The emitted name of node `n`'s function, whose constant inputs are `constants`.
+fn node_key(n: &Node, constants: &[(usize, Value)]) -> String {
+    emitted_name(
+        &n.node_type,
+        n.generic,
+        Form {
+            choice: literal_choice(n),
+            constants,
+        },
+    )
 }
 
 /// Builds the WGSL function of `t` for generic type `generic` from its template, at the
-/// written `choice` of its choice input when given.
-pub(super) fn node_function(
-    t: &NodeType,
-    generic: SocketType,
-    choice: Option<&WgslChoice>,
-) -> Option<NodeFunction> {
+/// written choice of its choice input and with its written constant inputs when given.
+/// `None` where `t` has no WGSL, or its template's signature cannot take the constants.
+pub(super) fn node_function(t: &NodeType, generic: SocketType, form: Form) -> Option<NodeFunction> {
     let template = t.wgsl_for(generic)?;
-    let name = emitted_name(t, generic, choice);
+    let name = emitted_name(t, generic, form);
     let mut definition = String::new();
     let out_struct = (t.outputs().len() > 1).then(|| format!("{name}_out"));
     if let Some(s) = &out_struct {
@@ -286,13 +359,18 @@ pub(super) fn node_function(
     // the dispatch picks it (see `WgslChoices`).
     let mut template = template.trim().to_owned();
     if let Some(cs) = t.wgsl_choices() {
-        let suffix = choice.map_or(String::new(), |c| format!("_{}", c.choice));
+        let suffix = form
+            .choice
+            .map_or(String::new(), |c| format!("_{}", c.choice));
         template = template.replace(&format!("${{{}}}", cs.input), &suffix);
     }
-    let body = template
+    let mut body = template
         .replace("$fn", &name)
         .replace("$out", out_struct.as_deref().unwrap_or("$out"))
         .replace("$T", wgsl_type(generic));
+    if !form.constants.is_empty() {
+        body = constant_parameters(&body, &name, t.inputs().len(), form.constants)?;
+    }
     definition.push_str(&body);
     definition.push('\n');
     Some(NodeFunction {
@@ -300,6 +378,71 @@ pub(super) fn node_function(
         out_struct,
         definition,
     })
+}
+
+/// `function` (the text of `fn name(…) -> … { … }`, whose last `inputs` parameters are the
+/// node's inputs) with the parameters of `constants` removed and declared instead as
+/// function-scope `const`s of their values at the top of its body. `None` where the
+/// signature is not found or has fewer parameters than inputs.
+fn constant_parameters(
+    function: &str,
+    name: &str,
+    inputs: usize,
+    constants: &[(usize, Value)],
+) -> Option<String> {
+    let head = format!("fn {name}(");
+    let open = function.find(&head)? + head.len();
+    // The parameter list up to its matching `)`, split at top-level commas (template
+    // arguments such as `array<f32, 4>` hold commas of their own).
+    let mut depth = 0i32;
+    let mut close = None;
+    let mut cuts = vec![open];
+    for (k, c) in function[open..].char_indices() {
+        match c {
+            '(' | '<' => depth += 1,
+            ')' if depth == 0 => {
+                close = Some(open + k);
+                break;
+            }
+            ')' | '>' => depth -= 1,
+            ',' if depth == 0 => cuts.push(open + k + 1),
+            _ => {}
+        }
+    }
+    let close = close?;
+    cuts.push(close + 1);
+    let params: Vec<&str> = cuts
+        .windows(2)
+        .map(|w| function[w[0]..w[1] - 1].trim())
+        .filter(|p| !p.is_empty())
+        .collect();
+    let first_input = params.len().checked_sub(inputs)?;
+    let brace = close + function[close..].find('{')?;
+    let mut kept: Vec<&str> = Vec::new();
+    let mut consts = String::new();
+    for (j, p) in params.iter().enumerate() {
+        match constants.iter().find(|(k, _)| first_input + k == j) {
+            Some((_, v)) => {
+                let (pname, ty) = p.split_once(':')?;
+                let _ = write!(
+                    consts,
+                    "\n    const {}: {} = {};",
+                    pname.trim(),
+                    ty.trim(),
+                    literal(v)
+                );
+            }
+            None => kept.push(p),
+        }
+    }
+    Some(format!(
+        "{}{}{}{{{}{}",
+        &function[..open],
+        kept.join(", "),
+        &function[close..brace],
+        consts,
+        &function[brace + 1..]
+    ))
 }
 
 /// Emits the module of one planned graph.
@@ -528,7 +671,8 @@ impl<'a> Emitter<'a> {
                 continue;
             }
             // Keyed by the emitted name: vec3 and colour share one function.
-            let key = emitted_name(&n.node_type, n.generic, literal_choice(n));
+            let constants = literal_constants(n);
+            let key = node_key(n, &constants);
             if let Some(&f) = function_index.get(&key) {
                 if outer {
                     calls.push((i, f));
@@ -539,7 +683,11 @@ impl<'a> Emitter<'a> {
                 calls.push((i, functions.len()));
             }
             function_index.insert(key.clone(), functions.len());
-            let f = node_function(&n.node_type, n.generic, literal_choice(n)).ok_or_else(|| {
+            let form = Form {
+                choice: literal_choice(n),
+                constants: &constants,
+            };
+            let f = node_function(&n.node_type, n.generic, form).ok_or_else(|| {
                 ShaderError::MissingWgsl {
                     node: n.id.clone(),
                     node_type: n.node_type.name().to_owned(),
@@ -1091,7 +1239,8 @@ impl<'a> Emitter<'a> {
             let n = &nodes[i];
             let local = n.id.strip_prefix(&prefix).unwrap_or(&n.id);
             let var = format!("b{i}_{}", ident(local));
-            let key = emitted_name(&n.node_type, n.generic, literal_choice(n));
+            let constants = literal_constants(n);
+            let key = node_key(n, &constants);
             let fname = function_index
                 .get(&key)
                 .map_or(key.as_str(), |&f| functions[f].1.name.as_str());
@@ -1101,6 +1250,9 @@ impl<'a> Emitter<'a> {
                 call_args.push(format!("{slot}u"));
             }
             for (j, src) in n.inputs.iter().enumerate() {
+                if constants.iter().any(|(k, _)| *k == j) {
+                    continue;
+                }
                 call_args.push(match src {
                     InputSource::Default(v) | InputSource::Value { value: v, .. } => literal(v),
                     InputSource::Link(r, _) => {
@@ -1249,7 +1401,13 @@ impl<'a> Emitter<'a> {
             let slot = self.texture_slots.get(&key).copied().unwrap_or(0);
             args.push(format!("{slot}u"));
         }
-        args.extend((0..n.inputs.len()).map(|k| self.input_expr(i, k)));
+        // Constant inputs are compiled into the function (`literal_constants`).
+        let constants = literal_constants(n);
+        args.extend(
+            (0..n.inputs.len())
+                .filter(|k| !constants.iter().any(|(c, _)| c == k))
+                .map(|k| self.input_expr(i, k)),
+        );
         args
     }
 

@@ -1,10 +1,11 @@
 //! A compute module that runs one node type's WGSL function on packed samples, for the
 //! node-level CPU/GPU parity tests and for anyone checking a node's WGSL in isolation.
 
-use super::emit::{UniformSpec, node_function, output_member, params_block};
+use super::emit::{Form, UniformSpec, node_function, output_member, params_block};
 use super::{ShaderError, UniformLayout, WORKGROUP_SIZE, validate};
 use crate::node::{NodeType, WgslChoice};
 use crate::types::SocketType;
+use crate::value::Value;
 use std::fmt::Write;
 
 /// A validated harness module.
@@ -29,7 +30,7 @@ pub struct HarnessModule {
 
 /// Builds the harness of `t` for generic type `generic` (ignored for non-generic nodes).
 pub fn node_harness(t: &NodeType, generic: SocketType) -> Result<HarnessModule, ShaderError> {
-    harness(t, generic, None)
+    harness(t, generic, Form::default())
 }
 
 /// Builds the harness of `t` at one written choice of its choice input (see
@@ -39,16 +40,39 @@ pub fn node_choice_harness(
     generic: SocketType,
     choice: &WgslChoice,
 ) -> Result<HarnessModule, ShaderError> {
-    harness(t, generic, Some(choice))
+    harness(
+        t,
+        generic,
+        Form {
+            choice: Some(choice),
+            constants: &[],
+        },
+    )
 }
 
-/// The harness of `t` with its general WGSL or `choice`'s.
-fn harness(
+/// Builds the harness of `t` with the inputs of `constants` (by input index; each declared
+/// by [`NodeType::wgsl_constant_inputs`]) compiled into its function as an emitted graph
+/// does where the file writes them: the function ignores those inputs, so feed them the
+/// same values.
+pub fn node_constant_harness(
     t: &NodeType,
     generic: SocketType,
-    choice: Option<&WgslChoice>,
+    constants: &[(usize, Value)],
 ) -> Result<HarnessModule, ShaderError> {
-    let f = node_function(t, generic, choice).ok_or_else(|| ShaderError::MissingWgsl {
+    harness(
+        t,
+        generic,
+        Form {
+            choice: None,
+            constants,
+        },
+    )
+}
+
+/// The harness of `t` in one emitted form of its function.
+fn harness(t: &NodeType, generic: SocketType, form: Form) -> Result<HarnessModule, ShaderError> {
+    let choice = form.choice;
+    let f = node_function(t, generic, form).ok_or_else(|| ShaderError::MissingWgsl {
         node: t.name().to_owned(),
         node_type: t.name().to_owned(),
     })?;
@@ -100,9 +124,12 @@ fn harness(
                 (0..t.width()).map(lane).collect::<Vec<_>>().join(", ")
             ),
         };
+        at += ty.width();
+        if form.constants.iter().any(|(c, _)| *c == k) {
+            continue;
+        }
         let _ = writeln!(s, "    let a{k} = {e};");
         args.push(format!("a{k}"));
-        at += ty.width();
     }
     let _ = writeln!(s, "    let r = {}({});", f.name, args.join(", "));
     let _ = writeln!(s, "    let o = i * {out_width}u;");

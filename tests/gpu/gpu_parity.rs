@@ -17,7 +17,7 @@ use common::parity::*;
 
 use matgraph::gpu::{self, Backend, GpuContext, GpuHarness, GpuPlan};
 use matgraph::node::{Evaluation, NodeType};
-use matgraph::wgsl::{ShaderError, node_choice_harness, node_harness};
+use matgraph::wgsl::{ShaderError, node_choice_harness, node_constant_harness, node_harness};
 use matgraph::{
     Attribute, EvalError, Graph, OutputBatch, Plan, PlanOptions, Registry, SampleBatch, SocketType,
     Value,
@@ -260,6 +260,118 @@ fn every_literal_choice_matches_its_cpu_kernel() {
     assert!(
         failures.is_empty(),
         "per-choice parity failed:\n{}",
+        failures.join("\n")
+    );
+}
+
+/// The values a constant input is checked at: every choice of an enum, both of a bool, and
+/// the integers of an int's hard range (its two ends and default past 16 of them).
+fn constant_values(t: &NodeType, k: usize) -> Vec<Value> {
+    let d = &t.inputs()[k];
+    if !d.choices.is_empty() {
+        return (0..d.choices.len() as i32).map(Value::int).collect();
+    }
+    if d.ty.resolve(SocketType::Float) == SocketType::Bool {
+        return vec![Value::boolean(false), Value::boolean(true)];
+    }
+    let (lo, hi) = d.hard.map_or((-2, 2), |r| (r.min as i32, r.max as i32));
+    if hi - lo < 16 {
+        (lo..=hi).map(Value::int).collect()
+    } else {
+        vec![Value::int(lo), d.default, Value::int(hi)]
+    }
+}
+
+/// The float a harness column carries for a constant's value (ints and bools as floats).
+fn column_value(v: Value) -> f32 {
+    match v.ty() {
+        SocketType::Bool => f32::from(u8::from(v.as_bool())),
+        _ => v.as_i32() as f32,
+    }
+}
+
+#[test]
+fn every_constant_input_matches_its_cpu_kernel() {
+    let Some(ctx) = context("every_constant_input_matches_its_cpu_kernel") else {
+        return;
+    };
+    let mut failures: Vec<String> = Vec::new();
+    let mut checked = 0;
+    for (seed, t) in Registry::builtin().types().iter().enumerate() {
+        if t.wgsl_constants().is_empty() {
+            continue;
+        }
+        let inputs: Vec<usize> = t
+            .wgsl_constants()
+            .iter()
+            .map(|name| t.input_index(name).unwrap())
+            .collect();
+        // Each value of each constant input alone (the others stay run-time arguments),
+        // then every constant input at once at a seeded combination.
+        let mut forms: Vec<Vec<(usize, Value)>> = inputs
+            .iter()
+            .flat_map(|&k| constant_values(t, k).into_iter().map(move |v| vec![(k, v)]))
+            .collect();
+        let mut rng = (seed as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 0x51ec;
+        forms.push(
+            inputs
+                .iter()
+                .map(|&k| {
+                    let values = constant_values(t, k);
+                    rng = rng.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                    (k, values[(rng >> 33) as usize % values.len()])
+                })
+                .collect(),
+        );
+        for constants in &forms {
+            let generic = SocketType::Float;
+            let written: Vec<String> = constants
+                .iter()
+                .map(|(k, v)| format!("{}={}", t.inputs()[*k].name, column_value(*v)))
+                .collect();
+            let label = format!("{} [{}]", t.name(), written.join(", "));
+            let module = match node_constant_harness(t, generic, constants) {
+                Ok(m) => m,
+                Err(e) => {
+                    failures.push(format!("{label}: harness does not validate: {e}"));
+                    continue;
+                }
+            };
+            let harness = match GpuHarness::new(ctx, &module) {
+                Ok(h) => h,
+                Err(e) => {
+                    failures.push(format!("{label}: the driver rejected the harness: {e}"));
+                    continue;
+                }
+            };
+            let mut samples = node_samples(t, generic, 0xc0_257a + seed as u64);
+            for (k, v) in constants {
+                samples.columns[*k].fill(column_value(*v));
+            }
+            // The bound any conformant GPU meets: these samples differ from the node test's,
+            // and wave_texture's hard-range phases reach the worst GPU's ULPs on lavapipe too
+            // (1.2e-2 measured, its WORST_GPU_LOOSE entry; the unspecialised function gives
+            // the same on these samples).
+            let bound = worst_gpu_bound_for(t.name());
+            let Some(errors) =
+                run_and_compare(t, generic, &harness, &samples, bound, &label, &mut failures)
+            else {
+                continue;
+            };
+            checked += 1;
+            eprintln!(
+                "  {label:<70} {:>6} samples  max abs {:9.3e}  {:5.1}% of bound",
+                samples.n,
+                errors.max_abs,
+                errors.worst * 100.0,
+            );
+        }
+    }
+    // noise 11 + 1, voronoi 15 + 1, wave 13 + 1, magic 11 + 1, white noise 4 + 1, gradient 7 + 1.
+    assert!(checked >= 66, "{checked} constant forms checked");
+    assert!(
+        failures.is_empty(),
+        "constant-input parity failed:\n{}",
         failures.join("\n")
     );
 }
@@ -836,6 +948,87 @@ fn a_node_type_used_at_vec3_and_at_color() {
         &cpu.execute(&batch, &params).unwrap(),
         &gpu.execute(&batch, &params).unwrap(),
         "vec3 and color",
+    );
+}
+
+/// Blender's textures with their choices written, at the top level and inside a group used
+/// twice: each node's function is compiled at its written choices (`wgsl_constant_inputs`).
+const WRITTEN_CHOICES_GRAPH: &str = r#"{
+  "version": 2,
+  "name": "written_choices",
+  "groups": {
+    "grain": {
+      "inputs": [ { "name": "p", "type": "vec3" }, { "name": "scale", "type": "float", "default": 4.0 } ],
+      "nodes": [
+        { "id": "n", "type": "noise_texture", "inputs": { "vector": { "link": "@in.p" }, "scale": { "link": "@in.scale" },
+          "detail": 3.5, "dimensions": "4d", "type": "ridged_multifractal", "normalize": false } },
+        { "id": "v", "type": "voronoi_texture", "inputs": { "vector": { "link": "@in.p" }, "scale": { "link": "@in.scale" },
+          "feature": "distance_to_edge", "metric": "manhattan" } },
+        { "id": "s", "type": "add", "inputs": { "a": { "link": "n.fac" }, "b": { "link": "v.distance" } } }
+      ],
+      "outputs": [ { "name": "y", "from": "s.result" } ]
+    }
+  },
+  "nodes": [
+    { "id": "geo", "type": "geometry" },
+    { "id": "noise", "type": "noise_texture", "inputs": { "vector": { "link": "geo.view" }, "scale": 5.0, "detail": 8.0, "dimensions": "3d", "type": "fbm" } },
+    { "id": "noise2", "type": "noise_texture", "inputs": { "vector": { "link": "geo.view" }, "scale": 2.0, "dimensions": "2d", "type": "hetero_terrain" } },
+    { "id": "cells", "type": "voronoi_texture", "inputs": { "vector": { "link": "geo.view" }, "scale": 5.0, "feature": "f2", "metric": "chebychev" } },
+    { "id": "wave", "type": "wave_texture", "inputs": { "vector": { "link": "geo.view" }, "type": "rings", "rings_direction": "z", "profile": "tri" } },
+    { "id": "magic", "type": "magic_texture", "inputs": { "vector": { "link": "geo.view" }, "depth": 5 } },
+    { "id": "white", "type": "white_noise", "inputs": { "vector": { "link": "geo.view" }, "dimensions": "3d" } },
+    { "id": "ramp", "type": "gradient_texture", "inputs": { "vector": { "link": "geo.view" }, "type": "spherical" } },
+    { "id": "g1", "type": "group", "group": "grain", "inputs": { "p": { "link": "geo.view" } } },
+    { "id": "g2", "type": "group", "group": "grain", "inputs": { "p": { "link": "geo.normal" }, "scale": 9.0 } }
+  ],
+  "outputs": [
+    { "name": "noise", "from": "noise.color" },
+    { "name": "noise2", "from": "noise2.fac" },
+    { "name": "cells", "from": "cells.distance" },
+    { "name": "wave", "from": "wave.fac" },
+    { "name": "magic", "from": "magic.color" },
+    { "name": "white", "from": "white.color" },
+    { "name": "ramp", "from": "ramp.fac" },
+    { "name": "g1", "from": "g1.y" },
+    { "name": "g2", "from": "g2.y" }
+  ]
+}"#;
+
+#[test]
+fn written_choices_compile_into_the_functions_and_match_the_cpu_plan() {
+    let Some(ctx) = context("written_choices_compile_into_the_functions_and_match_the_cpu_plan")
+    else {
+        return;
+    };
+    let graph = Graph::from_json(WRITTEN_CHOICES_GRAPH, Registry::builtin())
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    let options = PlanOptions::default();
+    let cpu = Plan::compile(&graph, &options).unwrap();
+    let gpu = GpuPlan::compile(ctx, &graph, &options).unwrap_or_else(|e| panic!("{e}"));
+    let wgsl = &gpu.shader().source;
+    for name in [
+        "fn mg_noise_texture_dimensions_3d_type_fbm_normalize_true(",
+        "fn mg_noise_texture_dimensions_2d_type_hetero_terrain_normalize_true(",
+        "fn mg_noise_texture_dimensions_4d_type_ridged_multifractal_normalize_false(",
+        "fn mg_voronoi_texture_dimensions_3d_feature_distance_to_edge_metric_manhattan_normalize_false(",
+        "fn mg_voronoi_texture_dimensions_3d_feature_f2_metric_chebychev_normalize_false(",
+        "fn mg_magic_texture_depth_5(",
+        "fn mg_white_noise_dimensions_3d(",
+        "fn mg_gradient_texture_type_spherical(",
+    ] {
+        assert!(wgsl.contains(name), "no `{name}` in:\n{wgsl}");
+    }
+    assert!(
+        !wgsl.contains("fn mg_noise_texture("),
+        "an unspecialised noise function"
+    );
+    let batch = grid_batch();
+    let params = cpu.default_parameters();
+    assert_parity(
+        &graph,
+        &cpu.execute(&batch, &params).unwrap(),
+        &gpu.execute(&batch, &params).unwrap(),
+        "written choices",
     );
 }
 
