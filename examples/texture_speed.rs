@@ -344,11 +344,40 @@ fn our_entry(shader: &ShaderModule, case: &Case) -> Result<String, Box<dyn Error
     Ok(harness(&body, &fields))
 }
 
-/// naga's view of a module: total expressions over functions and entry points, and the
-/// function count (entry points apart).
+/// naga's view of a module: total expressions over functions and entry points, the
+/// function count (entry points apart), and the same two over the functions the entry
+/// points reach through calls (a module with no entry point reaches nothing).
 struct NagaCount {
     expressions: usize,
     functions: usize,
+    reached_expressions: usize,
+    reached_functions: usize,
+}
+
+/// The functions `block` calls, pushed on `out`.
+fn calls(block: &naga::Block, out: &mut Vec<naga::Handle<naga::Function>>) {
+    for statement in block.iter() {
+        match statement {
+            naga::Statement::Call { function, .. } => out.push(*function),
+            naga::Statement::Block(b) => calls(b, out),
+            naga::Statement::If { accept, reject, .. } => {
+                calls(accept, out);
+                calls(reject, out);
+            }
+            naga::Statement::Switch { cases, .. } => {
+                for case in cases {
+                    calls(&case.body, out);
+                }
+            }
+            naga::Statement::Loop {
+                body, continuing, ..
+            } => {
+                calls(body, out);
+                calls(continuing, out);
+            }
+            _ => {}
+        }
+    }
 }
 
 fn naga_count(label: &str, source: &str) -> Result<NagaCount, Box<dyn Error>> {
@@ -371,9 +400,30 @@ fn naga_count(label: &str, source: &str) -> Result<NagaCount, Box<dyn Error>> {
                 .map(|e| e.function.expressions.len()),
         )
         .sum();
+    let mut reached = std::collections::BTreeSet::new();
+    let mut todo = Vec::new();
+    for e in &module.entry_points {
+        calls(&e.function.body, &mut todo);
+    }
+    while let Some(f) = todo.pop() {
+        if reached.insert(f) {
+            calls(&module.functions[f].body, &mut todo);
+        }
+    }
+    let entry_expressions: usize = module
+        .entry_points
+        .iter()
+        .map(|e| e.function.expressions.len())
+        .sum();
     Ok(NagaCount {
         expressions,
         functions: module.functions.len(),
+        reached_expressions: entry_expressions
+            + reached
+                .iter()
+                .map(|f| module.functions[*f].expressions.len())
+                .sum::<usize>(),
+        reached_functions: reached.len(),
     })
 }
 
@@ -446,7 +496,8 @@ struct Row {
     blender: NagaCount,
     gpu_ours: f64,
     gpu_blender: f64,
-    worst: Vec<(&'static str, f32)>,
+    /// Per output: largest |ours − Blender| on the GPU, and the values not bit-identical.
+    worst: Vec<(&'static str, f32, usize)>,
     cpu_ns: f64,
 }
 
@@ -557,13 +608,22 @@ fn main() -> Result<(), Box<dyn Error>> {
             blender_source.lines().count()
         );
         println!(
-            "naga: ours {} expressions in {} functions + entry ({} in the library alone); \
+            "naga: ours {} expressions in {} functions + entry (library alone: {} in {}); \
              Blender {} expressions in {} functions + entry",
             ours.expressions,
             ours.functions,
             ours_library.expressions,
+            ours_library.functions,
             blender.expressions,
             blender.functions
+        );
+        println!(
+            "naga, reached from the entry: ours {} expressions in {} functions + entry; \
+             Blender {} in {} + entry",
+            ours.reached_expressions,
+            ours.reached_functions,
+            blender.reached_expressions,
+            blender.reached_functions
         );
         println!(
             "our uniforms: {} bytes ({})",
@@ -672,7 +732,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             println!("{name} (Blender's values in [{lo}, {hi}]):");
             println!("  max |ours − Blender| GPU: {}", at(&g, &v_ours));
             println!("  max |ours − Blender| CPU: {}", at(&c, &v_cpu));
-            worst_row.push((*name, g.max));
+            worst_row.push((*name, g.max, g.differing));
             col += w;
         }
         let cpu_median = median(&cpu_ms);
@@ -697,23 +757,27 @@ fn main() -> Result<(), Box<dyn Error>> {
 
     println!("adapter: {}", context.describe());
     println!(
-        "\n| case | naga expressions ours / Blender (ours without harness) | GPU ms median ours / Blender / ratio | worst \\|ours − Blender\\| (GPU) | CPU ns/sample ({} threads) |",
+        "\n| case | naga expressions ours / Blender (ours: library alone; reached from the entry) | GPU ms median ours / Blender / ratio | worst \\|ours − Blender\\| (GPU) | CPU ns/sample ({} threads) |",
         rayon::current_num_threads()
     );
     println!("|---|---|---|---|---:|");
     for r in &rows {
         println!(
-            "| {} | {} / {} ({}) | {:.1} / {:.1} / {:.2} | {} | {:.0} |",
+            "| {} | {} / {} ({}; {}) | {:.1} / {:.1} / {:.2} | {} | {:.0} |",
             r.name,
             r.ours.expressions,
             r.blender.expressions,
             r.ours_library.expressions,
+            r.ours.reached_expressions,
             r.gpu_ours,
             r.gpu_blender,
             r.gpu_ours / r.gpu_blender,
             r.worst
                 .iter()
-                .map(|(name, d)| format!("{name} {d:.1e}"))
+                .map(|(name, d, differing)| match differing {
+                    0 => format!("{name} 0 (bit-identical)"),
+                    _ => format!("{name} {d:.1e}"),
+                })
                 .collect::<Vec<_>>()
                 .join(", "),
             r.cpu_ns
