@@ -7,7 +7,8 @@
 //! appended (one invocation per point of a 1024 × 1024 grid, outputs interleaved in a storage
 //! buffer at group 1), and are dispatched alternately on a device of our own on the adapter
 //! `GpuContext` picks, timed with timestamp queries where the adapter has them (else the wall
-//! clock around submit and wait). Everything but the timings is deterministic.
+//! clock around submit and wait). Everything but the timings is deterministic. With
+//! `-- --dump DIR` the four modules (harness included) are also written to DIR.
 
 use matgraph::gpu::GpuContext;
 use matgraph::wgsl::{Binding, Entry, ShaderModule, TextureMode, WgslOptions, generate};
