@@ -809,14 +809,11 @@ impl<'a> Emitter<'a> {
             .collect();
 
         let hardware = self.entry.texture_mode() == super::TextureMode::Hardware;
-        for h in &helpers {
-            if hardware && *h == crate::texture::SAMPLE_WGSL {
-                // The hardware mode's sampler is generated below, after the bindings.
-                continue;
-            }
-            self.out.push_str(h.trim());
-            self.out.push_str("\n\n");
-        }
+        // The hardware mode's sampler is generated below, after the bindings.
+        helpers.retain(|h| !(hardware && *h == crate::texture::SAMPLE_WGSL));
+        let roots: Vec<&str> = functions.iter().map(|(_, f, _)| f.definition.as_str()).collect();
+        self.out
+            .push_str(&super::prune::reachable_helpers(&helpers, &roots));
         for (_, f, first) in &functions {
             let start = self.out.len();
             self.out.push_str(&f.definition);

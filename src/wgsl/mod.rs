@@ -14,6 +14,7 @@ mod groups;
 mod hardware;
 mod harness;
 mod layout;
+mod prune;
 pub mod render;
 mod targets;
 mod validate;
