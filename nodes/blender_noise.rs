@@ -19,7 +19,7 @@
 //! but never read. The CPU and WGSL versions run the same float operations in the same
 //! order; tests/models/blender_textures.rs holds both to values Blender 4.2 itself computed.
 
-use crate::node::{Category, In, NodeType, Out};
+use crate::node::{Category, In, NodeType, Out, WgslChoice};
 use crate::value::Value;
 use glam::{Vec3, Vec4};
 
@@ -671,74 +671,95 @@ fn mg_bn_snoise(p: vec4<f32>, dims: i32) -> f32 {
     return s * mg_bn_perlin(q, dims);
 }
 
-fn mg_bn_fractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+// Musgrave's fractals, one function per Blender noise type (each takes `kind`, unused, so
+// that the node's one call text serves the dispatch and a written type alike; see
+// `WgslChoices`). Blender's multifractal.
+fn mg_bn_fractal_multifractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
     var p = p0;
     let n = i32(detail);
     let rmd = detail - floor(detail);
-    if (kind == 0) {
-        var value = 1.0;
-        var pwr = 1.0;
-        for (var i = 0; i <= n; i = i + 1) {
-            value = value * (pwr * mg_bn_snoise(p, dims) + 1.0);
-            pwr = pwr * roughness;
-            p = p * lacunarity;
-        }
-        if (rmd != 0.0) {
-            value = value * (rmd * pwr * mg_bn_snoise(p, dims) + 1.0);
-        }
-        return value;
-    }
-    if (kind == 1) {
-        var pwr = roughness;
-        var signal = offset - abs(mg_bn_snoise(p, dims));
-        signal = signal * signal;
-        var value = signal;
-        for (var i = 1; i <= n; i = i + 1) {
-            p = p * lacunarity;
-            let weight = clamp(signal * gain, 0.0, 1.0);
-            signal = offset - abs(mg_bn_snoise(p, dims));
-            signal = signal * signal;
-            signal = signal * weight;
-            value = value + signal * pwr;
-            pwr = pwr * roughness;
-        }
-        return value;
-    }
-    if (kind == 2) {
-        var pwr = 1.0;
-        var value = 0.0;
-        var weight = 1.0;
-        for (var i = 0; weight > 0.001 && i <= n; i = i + 1) {
-            weight = min(weight, 1.0);
-            let signal = (mg_bn_snoise(p, dims) + offset) * pwr;
-            pwr = pwr * roughness;
-            value = value + weight * signal;
-            weight = weight * gain * signal;
-            p = p * lacunarity;
-        }
-        if (rmd != 0.0 && weight > 0.001) {
-            weight = min(weight, 1.0);
-            let signal = (mg_bn_snoise(p, dims) + offset) * pwr;
-            value = value + rmd * weight * signal;
-        }
-        return value;
-    }
-    if (kind == 4) {
-        var pwr = roughness;
-        var value = offset + mg_bn_snoise(p, dims);
+    var value = 1.0;
+    var pwr = 1.0;
+    for (var i = 0; i <= n; i = i + 1) {
+        value = value * (pwr * mg_bn_snoise(p, dims) + 1.0);
+        pwr = pwr * roughness;
         p = p * lacunarity;
-        for (var i = 1; i <= n; i = i + 1) {
-            let increment = (mg_bn_snoise(p, dims) + offset) * pwr * value;
-            value = value + increment;
-            pwr = pwr * roughness;
-            p = p * lacunarity;
-        }
-        if (rmd != 0.0) {
-            let increment = (mg_bn_snoise(p, dims) + offset) * pwr * value;
-            value = value + rmd * increment;
-        }
-        return value;
     }
+    if (rmd != 0.0) {
+        value = value * (rmd * pwr * mg_bn_snoise(p, dims) + 1.0);
+    }
+    return value;
+}
+
+// Blender's ridged multifractal.
+fn mg_bn_fractal_ridged_multifractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+    var p = p0;
+    let n = i32(detail);
+    var pwr = roughness;
+    var signal = offset - abs(mg_bn_snoise(p, dims));
+    signal = signal * signal;
+    var value = signal;
+    for (var i = 1; i <= n; i = i + 1) {
+        p = p * lacunarity;
+        let weight = clamp(signal * gain, 0.0, 1.0);
+        signal = offset - abs(mg_bn_snoise(p, dims));
+        signal = signal * signal;
+        signal = signal * weight;
+        value = value + signal * pwr;
+        pwr = pwr * roughness;
+    }
+    return value;
+}
+
+// Blender's hybrid multifractal.
+fn mg_bn_fractal_hybrid_multifractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+    var p = p0;
+    let n = i32(detail);
+    let rmd = detail - floor(detail);
+    var pwr = 1.0;
+    var value = 0.0;
+    var weight = 1.0;
+    for (var i = 0; weight > 0.001 && i <= n; i = i + 1) {
+        weight = min(weight, 1.0);
+        let signal = (mg_bn_snoise(p, dims) + offset) * pwr;
+        pwr = pwr * roughness;
+        value = value + weight * signal;
+        weight = weight * gain * signal;
+        p = p * lacunarity;
+    }
+    if (rmd != 0.0 && weight > 0.001) {
+        weight = min(weight, 1.0);
+        let signal = (mg_bn_snoise(p, dims) + offset) * pwr;
+        value = value + rmd * weight * signal;
+    }
+    return value;
+}
+
+// Blender's hetero terrain.
+fn mg_bn_fractal_hetero_terrain(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+    var p = p0;
+    let n = i32(detail);
+    let rmd = detail - floor(detail);
+    var pwr = roughness;
+    var value = offset + mg_bn_snoise(p, dims);
+    p = p * lacunarity;
+    for (var i = 1; i <= n; i = i + 1) {
+        let increment = (mg_bn_snoise(p, dims) + offset) * pwr * value;
+        value = value + increment;
+        pwr = pwr * roughness;
+        p = p * lacunarity;
+    }
+    if (rmd != 0.0) {
+        let increment = (mg_bn_snoise(p, dims) + offset) * pwr * value;
+        value = value + rmd * increment;
+    }
+    return value;
+}
+
+// Blender's fBm (normalised: to [0, 1]).
+fn mg_bn_fractal_fbm(p: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+    let n = i32(detail);
+    let rmd = detail - floor(detail);
     var fscale = 1.0;
     var amp = 1.0;
     var maxamp = 0.0;
@@ -764,6 +785,17 @@ fn mg_bn_fractal(p0: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunari
         return 0.5 * sum / maxamp + 0.5;
     }
     return sum;
+}
+
+// The type chosen at run time (`kind`: the index in TYPES).
+fn mg_bn_fractal(p: vec4<f32>, dims: i32, detail: f32, roughness: f32, lacunarity: f32, offset: f32, gain: f32, kind: i32, normalize: bool) -> f32 {
+    switch kind {
+        case 0: { return mg_bn_fractal_multifractal(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize); }
+        case 1: { return mg_bn_fractal_ridged_multifractal(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize); }
+        case 2: { return mg_bn_fractal_hybrid_multifractal(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize); }
+        case 4: { return mg_bn_fractal_hetero_terrain(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize); }
+        default: { return mg_bn_fractal_fbm(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize); }
+    }
 }
 
 "#;
@@ -866,10 +898,10 @@ fn $fn(vector: vec3<f32>, w0: f32, scale: f32, detail0: f32, roughness0: f32, la
         p = p + d;
     }
     let kind = clamp(kind0, 0, 4);
-    let value = mg_bn_fractal(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
+    let value = mg_bn_fractal${type}(p, dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
     let s = f32(dims);
-    let g = mg_bn_fractal(p + mg_bn_offset(s, dims), dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
-    let b = mg_bn_fractal(p + mg_bn_offset(s + 1.0, dims), dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
+    let g = mg_bn_fractal${type}(p + mg_bn_offset(s, dims), dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
+    let b = mg_bn_fractal${type}(p + mg_bn_offset(s + 1.0, dims), dims, detail, roughness, lacunarity, offset, gain, kind, normalize);
     return $out(value, vec3<f32>(value, g, b));
 }
 "#;
@@ -958,6 +990,16 @@ pub fn all() -> Vec<NodeType> {
         .output(Out::color("color").doc("fac and two more channels at seeded offsets."))
         .wgsl(NOISE_TEXTURE_WGSL)
         .wgsl_constant_inputs(&["dimensions", "type", "normalize"])
+        // The written type calls its fractal alone (the others are left out of the module).
+        .wgsl_per_choice(
+            "type",
+            &[],
+            TYPES.iter().map(|&choice| WgslChoice {
+                choice,
+                helpers: &[],
+                tables: &[],
+            }),
+        )
         .wgsl_uses(&[BLENDER_NOISE_WGSL, HASH_FLOATS_WGSL])
         .hard_case("lattice points", &[("vector", v3([1.0, 2.0, 3.0])), ("scale", f(1.0))])
         .hard_case("negative coordinates", &[("vector", v3([-7.3, -0.5, -9.9])), ("scale", f(3.7))])

@@ -125,7 +125,7 @@ fn $fn(vector: vec3<f32>, scale: f32, distortion: f32, detail: f32, detail_scale
     n = n + phase_offset;
     if (distortion != 0.0) {
         let q = vec4<f32>(p * detail_scale, 0.0);
-        let fbm = mg_bn_fractal(q, 3, clamp(detail, 0.0, 15.0), clamp(detail_roughness, 0.0, 1.0), 2.0, 0.0, 0.0, 3, true);
+        let fbm = mg_bn_fractal_fbm(q, 3, clamp(detail, 0.0, 15.0), clamp(detail_roughness, 0.0, 1.0), 2.0, 0.0, 0.0, 3, true);
         n = n + distortion * (fbm * 2.0 - 1.0);
     }
     var f = 0.0;

@@ -314,7 +314,13 @@ fn constant_suffix(t: &NodeType, k: usize, v: &Value) -> String {
 /// per-choice template and `_<input>_<value>` for each constant input.
 fn emitted_name(t: &NodeType, generic: SocketType, form: Form) -> String {
     let mut name = function_name(t, generic);
-    if let Some(c) = form.choice {
+    // A choice input that is also a constant input is named once, by its constant.
+    let constant_choice = t.wgsl_choices().is_some_and(|cs| {
+        form.constants
+            .iter()
+            .any(|(k, _)| t.inputs()[*k].name == cs.input)
+    });
+    if let Some(c) = form.choice.filter(|_| !constant_choice) {
         let _ = write!(name, "_is_{}", c.choice);
     }
     for (k, v) in form.constants {
@@ -811,7 +817,10 @@ impl<'a> Emitter<'a> {
         let hardware = self.entry.texture_mode() == super::TextureMode::Hardware;
         // The hardware mode's sampler is generated below, after the bindings.
         helpers.retain(|h| !(hardware && *h == crate::texture::SAMPLE_WGSL));
-        let roots: Vec<&str> = functions.iter().map(|(_, f, _)| f.definition.as_str()).collect();
+        let roots: Vec<&str> = functions
+            .iter()
+            .map(|(_, f, _)| f.definition.as_str())
+            .collect();
         self.out
             .push_str(&super::prune::reachable_helpers(&helpers, &roots));
         for (_, f, first) in &functions {
