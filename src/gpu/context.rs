@@ -97,6 +97,8 @@ impl GpuContext {
             meshes: crate::memo::Memo::new(),
             scenes: crate::memo::Memo::new(),
             drawn_scenes: crate::memo::Memo::new(),
+            serial: (info.backend == wgpu::Backend::Gl)
+                .then(|| parking_lot::ReentrantMutex::new(())),
         });
         Ok(GpuContext {
             _instance: instance,

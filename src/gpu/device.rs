@@ -51,6 +51,13 @@ pub(super) struct DeviceState {
     /// and structural edits) draw no scene.
     pub(super) drawn_scenes:
         crate::memo::Memo<super::raster::DrawnSceneKey, Arc<super::raster::DrawnScene>, 4>,
+    /// On wgpu's GL backend, held by the thread inside [`DeviceState::scoped`], so that the
+    /// device's work runs one thread at a time; `None` on the other backends, which are
+    /// thread-safe. wgpu's GL backend makes the one GL context current per call and panics
+    /// ("Could not lock adapter context") when a thread waits 6 s for it: one long call (a big
+    /// shader's compile on llvmpipe) made every other thread's next call panic. Re-entrant,
+    /// since a scoped section may open another.
+    pub(super) serial: Option<parking_lot::ReentrantMutex<()>>,
 }
 
 /// Texels of the largest texture an upload kept in [`DeviceState::small_uploads`] may have
@@ -75,6 +82,45 @@ impl PartialEq for UploadKey {
     }
 }
 
+/// Device objects (pipelines, layouts, buffers) that are dropped under
+/// [`DeviceState::serial`], as wgpu's GL backend destroys each with a call that waits for the
+/// GL context like any other; dereferences to the objects.
+pub(super) struct Held<T> {
+    state: Arc<DeviceState>,
+    value: std::mem::ManuallyDrop<T>,
+}
+
+impl<T> std::ops::Deref for Held<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.value
+    }
+}
+
+impl<T> std::ops::DerefMut for Held<T> {
+    fn deref_mut(&mut self) -> &mut T {
+        &mut self.value
+    }
+}
+
+impl<T> Drop for Held<T> {
+    fn drop(&mut self) {
+        let _serial = self.state.serial.as_ref().map(|m| m.lock());
+        // SAFETY: `value` is dropped here once and never used again.
+        unsafe { std::mem::ManuallyDrop::drop(&mut self.value) }
+    }
+}
+
+impl<T> Held<T> {
+    /// Keeps `value`, created on `state`'s device, until it is dropped under `state`'s lock.
+    pub(super) fn new(state: &Arc<DeviceState>, value: T) -> Held<T> {
+        Held {
+            state: state.clone(),
+            value: std::mem::ManuallyDrop::new(value),
+        }
+    }
+}
+
 pub(super) fn gpu_err(context: &str, e: impl std::fmt::Display) -> EvalError {
     EvalError::Gpu(format!("{context}: {e}"))
 }
@@ -87,6 +133,7 @@ impl DeviceState {
         what: &str,
         f: impl FnOnce() -> Result<T, EvalError>,
     ) -> Result<T, EvalError> {
+        let _serial = self.serial.as_ref().map(|m| m.lock());
         self.check_lost()?;
         let internal = self.device.push_error_scope(wgpu::ErrorFilter::Internal);
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);

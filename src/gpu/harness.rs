@@ -1,7 +1,7 @@
 //! Running one node type's WGSL harness module on packed samples (node-level parity).
 
 use super::context::GpuContext;
-use super::device::{DeviceState, dispatch_shape};
+use super::device::{DeviceState, Held, dispatch_shape};
 use crate::plan::EvalError;
 use crate::wgsl::HarnessModule;
 use std::sync::Arc;
@@ -9,12 +9,12 @@ use std::sync::Arc;
 /// A compiled [`HarnessModule`]: runs one node type's WGSL function over packed samples.
 pub struct GpuHarness {
     state: Arc<DeviceState>,
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    layout: Held<wgpu::BindGroupLayout>,
+    pipeline: Held<wgpu::ComputePipeline>,
     input_width: usize,
     output_width: usize,
     /// `mg_params` (binding 3), the node's constant tables, written once.
-    params: Option<wgpu::Buffer>,
+    params: Held<Option<wgpu::Buffer>>,
     max_groups_x: u32,
 }
 
@@ -45,12 +45,12 @@ impl GpuHarness {
         })?;
         let max_groups_x = state.device.limits().max_compute_workgroups_per_dimension;
         Ok(GpuHarness {
+            layout: Held::new(&state, layout),
+            pipeline: Held::new(&state, pipeline),
+            params: Held::new(&state, params),
             state,
-            layout,
-            pipeline,
             input_width: harness.input_width,
             output_width: harness.output_width,
-            params,
             max_groups_x,
         })
     }
@@ -110,7 +110,7 @@ impl GpuHarness {
                     resource: dispatch.as_entire_binding(),
                 },
             ];
-            if let Some(p) = &self.params {
+            if let Some(p) = &*self.params {
                 entries.push(wgpu::BindGroupEntry {
                     binding: 3,
                     resource: p.as_entire_binding(),

@@ -1,7 +1,7 @@
 //! A graph compiled to a WGSL compute pipeline, evaluating batches like the CPU plan.
 
 use super::context::GpuContext;
-use super::device::{DeviceState, dispatch_shape, gpu_err};
+use super::device::{DeviceState, Held, dispatch_shape, gpu_err};
 use crate::exec::{Evaluator, OutputBatch, SampleBatch};
 use crate::graph::Graph;
 use crate::plan::{EvalError, ParamValues, Plan, PlanOptions};
@@ -33,13 +33,13 @@ struct Buffers {
 pub struct GpuPlan {
     state: Arc<DeviceState>,
     shader: ShaderModule,
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::ComputePipeline,
+    layout: Held<wgpu::BindGroupLayout>,
+    pipeline: Held<wgpu::ComputePipeline>,
     defaults: ParamValues,
     max_groups_x: u32,
     max_binding_bytes: u64,
     compilations: AtomicUsize,
-    buffers: Mutex<Option<Buffers>>,
+    buffers: Held<Mutex<Option<Buffers>>>,
 }
 
 impl GpuPlan {
@@ -92,13 +92,13 @@ impl GpuPlan {
             max_binding_bytes: limits
                 .max_storage_buffer_binding_size
                 .min(limits.max_buffer_size),
-            state,
             shader,
-            layout,
-            pipeline,
+            layout: Held::new(&state, layout),
+            pipeline: Held::new(&state, pipeline),
             defaults,
             compilations: AtomicUsize::new(1),
-            buffers: Mutex::new(None),
+            buffers: Held::new(&state, Mutex::new(None)),
+            state,
         })
     }
 
