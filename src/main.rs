@@ -30,6 +30,9 @@ enum Command {
     Render(cli::render::Args),
     /// Write the JSON Schema of the graph format (docs/graph.schema.json).
     Schema(cli::schema::Args),
+    /// Write every image-based-lighting texture a graph can ask for (environment, GGX
+    /// prefilter chain, SH irradiance, BRDF table) with a manifest, for apps.
+    BakeEnv(cli::bake_env::Args),
     /// Rewrite graph files in canonical form (sorted inputs, normalised values).
     Fmt(cli::fmt::Args),
     /// Measure every material family's variants (cost, error against the reference) and
@@ -57,6 +60,7 @@ fn main() -> ExitCode {
         Command::Wgsl(args) => cli::wgsl::run(&args),
         Command::Render(args) => cli::render::run(&args),
         Command::Schema(args) => cli::schema::run(&args),
+        Command::BakeEnv(args) => cli::bake_env::run(&args),
         Command::Fmt(args) => cli::fmt::run(&args),
         Command::Report(args) => cli::report::run(&args),
         #[cfg(feature = "editor")]

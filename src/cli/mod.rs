@@ -3,6 +3,7 @@
 #[macro_use]
 pub mod out;
 
+pub mod bake_env;
 pub mod check;
 #[cfg(feature = "editor")]
 pub mod edit;

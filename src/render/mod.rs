@@ -19,6 +19,7 @@
 //! [`RenderOptions::memory_budget`] ([`plan_memory`]); a banded render equals the one-band
 //! render bit for bit.
 
+pub mod bake;
 pub mod frames;
 mod gpu;
 mod ibl_cache;
