@@ -44,7 +44,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     // Before any thread starts (see `cli::env::quiet_mesa`); dropped at the end of main.
     let _runtime = match &cli.command {
-        Command::Render(args) if args.gpu => Some(cli::env::quiet_mesa()),
+        Command::Render(args) if args.gpu || args.gpu_compute => Some(cli::env::quiet_mesa()),
         Command::Report(args) if !args.no_timing && !args.no_gpu => Some(cli::env::quiet_mesa()),
         #[cfg(feature = "editor")]
         Command::Edit(_) => Some(cli::env::quiet_mesa()),
