@@ -33,7 +33,8 @@ enum Command {
     /// Rewrite graph files in canonical form (sorted inputs, normalised values).
     Fmt(cli::fmt::Args),
     /// Measure every material family's variants (cost, error against the reference) and
-    /// write docs/report/: a table, data and a speed-against-error plot per family.
+    /// write target/report/ (the published docs/report/ with `--out docs/report`): a table,
+    /// data and a speed-against-error plot per family.
     Report(cli::report::Args),
     /// Open the node editor on a graph file (or render it headless with --screenshot).
     #[cfg(feature = "editor")]
