@@ -36,7 +36,8 @@ enum Command {
     /// Rewrite graph files in canonical form (sorted inputs, normalised values).
     Fmt(cli::fmt::Args),
     /// Measure every material family's variants (cost, error against the reference) and
-    /// write docs/report/: a table, data and a speed-against-error plot per family.
+    /// write target/report/ (the published docs/report/ with `--out docs/report`): a table,
+    /// data and a speed-against-error plot per family.
     Report(cli::report::Args),
     /// Open the node editor on a graph file (or render it headless with --screenshot).
     #[cfg(feature = "editor")]
@@ -47,7 +48,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     // Before any thread starts (see `cli::env::quiet_mesa`); dropped at the end of main.
     let _runtime = match &cli.command {
-        Command::Render(args) if args.gpu => Some(cli::env::quiet_mesa()),
+        Command::Render(args) if args.gpu || args.gpu_compute => Some(cli::env::quiet_mesa()),
         Command::Report(args) if !args.no_timing && !args.no_gpu => Some(cli::env::quiet_mesa()),
         #[cfg(feature = "editor")]
         Command::Edit(_) => Some(cli::env::quiet_mesa()),

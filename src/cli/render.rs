@@ -36,7 +36,8 @@ pub struct Args {
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Scene: a preset (ball, plane, water, bubble) or a scene JSON file; default: the graph's own scene,
-    /// else ball.
+    /// else ball. A forced scene keeps the lights and environment the graph's own scene writes
+    /// out (its time of day), except those the scene file writes itself.
     #[arg(long)]
     pub scene: Option<String>,
     /// Scene time in seconds (the scene's own time by default); a finite number.
@@ -45,10 +46,12 @@ pub struct Args {
     /// Samples per pixel (stratified, box-filtered).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub samples: u32,
-    /// Render on the GPU (wgpu render pipelines; any adapter, lavapipe included).
+    /// Render on the GPU (wgpu render pipelines; any adapter, lavapipe included); the
+    /// adapter is named on stderr (`adapter: NAME (BACKEND)`).
     #[arg(long, conflicts_with_all = ["cpu", "gpu_compute"])]
     pub gpu: bool,
-    /// Rasterise on the CPU and shade the G-buffer on the GPU (the hybrid path).
+    /// Rasterise on the CPU and shade the G-buffer on the GPU (the hybrid path); the adapter
+    /// is named on stderr as with --gpu.
     #[arg(long, conflicts_with = "cpu")]
     pub gpu_compute: bool,
     /// How --gpu binds the material's textures: texture_2d + samplers with mips (hardware, the
@@ -266,11 +269,11 @@ pub fn run(args: &Args) -> CliResult {
     for file in &args.files {
         files.input(file, format!("the input graph {}", file.display()))?;
     }
-    if let Some((spec, scene)) = &forced
+    if let Some((spec, forced)) = &forced
         && matgraph::scene::Scene::preset(spec).is_none()
     {
         files.input(Path::new(spec), format!("the --scene file {spec}"))?;
-        if let matgraph::scene::Environment::Image(img) = &scene.environment {
+        if let matgraph::scene::Environment::Image(img) = &forced.scene.environment {
             let path = matgraph::image_io::resolve_relative(Path::new(spec), Path::new(&img.path));
             files.input(
                 &path,
@@ -302,6 +305,8 @@ pub fn run(args: &Args) -> CliResult {
     } else {
         matgraph::gpu::Backend::Cpu
     };
+    // The adapter that ran, said once on stderr after the first render that used it.
+    let adapter_said = std::cell::Cell::new(backend == matgraph::gpu::Backend::Cpu);
     let progress = delayed_progress();
     progress.set_length(args.files.len() as u64 * frame_count as u64);
     let mut tiles = Vec::new();
@@ -391,6 +396,13 @@ pub fn run(args: &Args) -> CliResult {
                     && let Some(why) = &timings.fallback
                 {
                     progress.suspend(|| errln!("note: {}: {why}", file.display()));
+                }
+                if !adapter_said.replace(true)
+                    && let Ok(ctx) = matgraph::gpu::GpuContext::shared()
+                {
+                    let info = ctx.adapter_info();
+                    progress
+                        .suspend(|| errln!("adapter: {} ({})", info.name, info.backend.to_str()));
                 }
                 let elapsed = start.elapsed();
                 let image = hdr.to_srgb8(args.exposure);

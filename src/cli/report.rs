@@ -29,8 +29,9 @@ const SCENE_TEXTURE_FRAME: (u32, u32) = (512, 512);
 /// Options of `matgraph report`.
 #[derive(clap::Args)]
 pub struct Args {
-    /// Folder of the report's files.
-    #[arg(long = "out", default_value = "docs/report")]
+    /// Folder of the report's files. The default keeps a run out of the tracked files;
+    /// the published copy is regenerated with `--out docs/report`.
+    #[arg(long = "out", default_value = "target/report")]
     pub out: PathBuf,
     /// Folder of the bundled graphs the families name.
     #[arg(long, default_value = "graphs")]

@@ -9,22 +9,46 @@ use matgraph::{Graph, image_io};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// A scene file's text parsed; messages name the file.
-fn scene_file(path: &Path) -> Result<Scene, String> {
-    let text = matgraph::io::read_text(path).map_err(|e| e.to_string())?;
-    scene_text(path, &text)
-}
-
 /// A scene's text (read from `path`) parsed; messages name the file.
 fn scene_text(path: &Path, text: &str) -> Result<Scene, String> {
     Scene::from_json(text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// Which of `lights` and `environment` a scene's JSON states (a preset name states
+/// neither: its lights and environment are its kind's defaults).
+fn stated(value: &serde_json::Value) -> Stated {
+    let has = |key: &str| value.as_object().is_some_and(|o| o.contains_key(key));
+    Stated {
+        lights: has("lights"),
+        environment: has("environment"),
+    }
+}
+
+/// Which of a scene's time-of-day fields its JSON writes out.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stated {
+    /// `lights` is written.
+    pub lights: bool,
+    /// `environment` is written.
+    pub environment: bool,
+}
+
+/// The scene of `--scene SPEC`, and what its file states.
+pub struct Forced {
+    /// The scene: the preset, or the file's scene with its kind's defaults filled in.
+    pub scene: Scene,
+    /// Which of its lights and environment the file writes out (none for a preset).
+    pub stated: Stated,
+}
+
 /// The scene named by `--scene` on the command line: a preset name or a scene file (the
 /// user's own choice, so not confined).
-pub fn forced_scene(spec: &str) -> Result<Scene, String> {
+pub fn forced_scene(spec: &str) -> Result<Forced, String> {
     if let Some(scene) = Scene::preset(spec) {
-        return Ok(scene);
+        return Ok(Forced {
+            scene,
+            stated: Stated::default(),
+        });
     }
     let path = Path::new(spec);
     if std::fs::symlink_metadata(path).is_err() {
@@ -33,7 +57,12 @@ pub fn forced_scene(spec: &str) -> Result<Scene, String> {
             SCENE_PRESETS.join(", ")
         ));
     }
-    scene_file(path)
+    let text = matgraph::io::read_text(path).map_err(|e| e.to_string())?;
+    let scene = scene_text(path, &text)?;
+    let stated = serde_json::from_str(&text)
+        .map(|v| stated(&v))
+        .unwrap_or_default();
+    Ok(Forced { scene, stated })
 }
 
 /// The message of a path error, with the flag's hint when the path is outside.
@@ -42,36 +71,75 @@ fn path_error(e: PathError) -> String {
     path_message(e, outside)
 }
 
+/// The scene `graph` (read from `file`) names itself: a scene file inside the graph's folder,
+/// an inline scene, a preset, or none (the ball); the path its environment image is relative
+/// to; and which of its lights and environment it writes out.
+fn own_scene(
+    graph: &Graph,
+    file: &Path,
+    policy: PathPolicy,
+) -> Result<(Scene, PathBuf, Stated), String> {
+    match &graph.scene {
+        Some(serde_json::Value::String(name)) if Scene::preset(name).is_none() => {
+            let opened =
+                matgraph::io::open_reference(file, "scene", name, policy).map_err(path_error)?;
+            let text = matgraph::io::read_opened_text(&opened.path, &opened.file)
+                .map_err(|e| format!("{}: scene: {e}", file.display()))?;
+            let scene = scene_text(&opened.path, &text)
+                .map_err(|e| format!("{}: scene: {e}", file.display()))?;
+            let stated = serde_json::from_str(&text)
+                .map(|v| stated(&v))
+                .unwrap_or_default();
+            Ok((scene, opened.path, stated))
+        }
+        value => Ok((
+            matgraph::render::graph_scene(graph)
+                .map_err(|e| format!("{}: scene: {e}", file.display()))?
+                .unwrap_or_else(|| Scene::preset("ball").expect("the ball preset exists")),
+            file.to_owned(),
+            value.as_ref().map(stated).unwrap_or_default(),
+        )),
+    }
+}
+
 /// The scene of `graph` (read from `file`): `forced` (from `--scene SPEC`) when given, else
 /// the scene the graph names (a preset, an inline scene or a scene file inside the graph's
 /// folder), else the ball; and its environment image, resolved inside the folder of the
 /// file that names it. Each file is opened once and checked against `policy` as opened
 /// ([`matgraph::io::open_reference`]), then read from that handle; the environment image is
 /// reserved in `budget` before it is decoded.
+///
+/// A forced scene keeps the graph's time of day: where the graph's own scene writes out
+/// `lights` or `environment` (the toon water's sunrise, day, sunset and night) and the
+/// forced scene does not (a preset never does), the graph's are used in the forced scene.
 pub fn resolve(
     graph: &Graph,
     file: &Path,
-    forced: Option<(&str, &Scene)>,
+    forced: Option<(&str, &Forced)>,
     policy: PathPolicy,
     budget: &matgraph::budget::MemoryBudget,
 ) -> Result<(Scene, Option<Arc<Texture>>), String> {
-    let (scene, base): (Scene, PathBuf) = match (forced, &graph.scene) {
-        (Some((spec, s)), _) => (s.clone(), PathBuf::from(spec)),
-        (None, Some(serde_json::Value::String(name))) if Scene::preset(name).is_none() => {
-            let opened =
-                matgraph::io::open_reference(file, "scene", name, policy).map_err(path_error)?;
-            let scene = matgraph::io::read_opened_text(&opened.path, &opened.file)
-                .map_err(|e| e.to_string())
-                .and_then(|text| scene_text(&opened.path, &text))
-                .map_err(|e| format!("{}: scene: {e}", file.display()))?;
-            (scene, opened.path)
+    let (scene, base): (Scene, PathBuf) = match forced {
+        Some((spec, f)) => {
+            let mut scene = f.scene.clone();
+            let mut base = PathBuf::from(spec);
+            // The graph's own scene is read only when it could give something.
+            if graph.scene.is_some() && !(f.stated.lights && f.stated.environment) {
+                let (own, own_base, own_stated) = own_scene(graph, file, policy)?;
+                if own_stated.lights && !f.stated.lights {
+                    scene.lights = own.lights;
+                }
+                if own_stated.environment && !f.stated.environment {
+                    scene.environment = own.environment;
+                    base = own_base;
+                }
+            }
+            (scene, base)
         }
-        (None, _) => (
-            matgraph::render::graph_scene(graph)
-                .map_err(|e| format!("{}: scene: {e}", file.display()))?
-                .unwrap_or_else(|| Scene::preset("ball").expect("the ball preset exists")),
-            file.to_owned(),
-        ),
+        None => {
+            let (scene, base, _) = own_scene(graph, file, policy)?;
+            (scene, base)
+        }
     };
     let Environment::Image(img) = &scene.environment else {
         return Ok((scene, None));

@@ -261,15 +261,16 @@ pub fn markdown(r: &FamilyReport) -> String {
     out
 }
 
-/// `docs/report/README.md`: the families, their references and variants, and the command.
+/// The report's index `README.md` (docs/report/README.md): the families, their references
+/// and variants, and the command.
 pub fn index(reports: &[FamilyReport]) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
         "# Speed against error\n\nEach material family has variants, one of them the reference \
          (its most accurate model); every variant's cost and error against the reference are \
-         measured by one command:\n\n```sh\ncargo run --release -- report            # docs/report/, \
-         timed\nmatgraph report --quick --out target/report-ci   # what CI runs: small, few samples\n\
+         measured by one command:\n\n```sh\ncargo run --release -- report --out docs/report   # these pages, \
+         timed (default: target/report)\nmatgraph report --quick --out target/report-ci   # what CI runs: small, few samples\n\
          matgraph report --no-timing              # cost = naga expressions: same bytes every run\n```\n\n\
          The families and their variants are the table `FAMILIES` in \
          [src/report/family.rs](../../src/report/family.rs). A variant is a bundled graph, \

@@ -1610,12 +1610,109 @@ fn render_gpu_without_a_runtime_dir_is_quiet() {
         println!("SKIPPED: render --gpu found no adapter: {stderr}");
         return;
     }
-    assert_eq!(stderr, "");
+    // Only the adapter's line (render_gpu_names_its_adapter).
+    assert!(
+        stderr.starts_with("adapter: ") && stderr.lines().count() == 1,
+        "{stderr}"
+    );
     assert_eq!(magic(&out_png, 4), b"\x89PNG");
     assert_eq!(
         names_in(dir.path()),
         ["gpu.png"],
         "the private folder is removed"
+    );
+}
+
+/// `render --gpu` and `--gpu-compute` name the adapter that ran, once, on stderr:
+/// `adapter: NAME (BACKEND)`, the adapter this process's shared context finds too; a CPU
+/// render names none. Without an adapter this prints `SKIPPED`, and fails instead when
+/// `MATGRAPH_REQUIRE_GPU` is set.
+#[test]
+fn render_gpu_names_its_adapter() {
+    let Some(ctx) = crate::common::gpu_context("render_gpu_names_its_adapter") else {
+        return;
+    };
+    let info = ctx.adapter_info();
+    let want = format!("adapter: {} ({})\n", info.name, info.backend.to_str());
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, files) in [
+        ("--gpu", vec![GLASS]),
+        ("--gpu-compute", vec![GLASS]),
+        // Several graphs: still one line.
+        ("--gpu", vec![GLASS, "graphs/snell_window.json"]),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_matgraph"))
+            .arg("render")
+            .args(&files)
+            .args([flag, "--size", "8x8", "--out-dir"])
+            .arg(dir.path())
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap();
+        let stderr = text(&out.stderr);
+        assert!(out.status.success(), "{flag} {files:?}: {stderr}");
+        assert_eq!(stderr, want, "{flag} {files:?}");
+    }
+    let cpu = dir.path().join("cpu.png");
+    // `ok` asserts an empty stderr: a CPU render names no adapter.
+    ok(&[
+        "render",
+        GLASS,
+        "--size",
+        "8x8",
+        "-o",
+        cpu.to_str().unwrap(),
+    ]);
+}
+
+/// `--scene water` keeps the time of day the graph's own scene writes out: the toon water at
+/// night forced into the water preset is the render of a scene file that says night, not the
+/// preset's default day; a scene file that writes its own lights and environment wins.
+#[test]
+fn forced_scene_keeps_the_graphs_time_of_day() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let night = "graphs/water_toon_night.json";
+    let scene = |name: &str, json: &str| {
+        let p = d.join(name);
+        std::fs::write(&p, json).unwrap();
+        p.to_str().unwrap().to_owned()
+    };
+    let night_file = scene(
+        "night.json",
+        r#"{ "kind": "water", "lights": ["night"], "environment": "night" }"#,
+    );
+    let silent_file = scene("silent.json", r#"{ "kind": "water" }"#);
+    let day_file = scene(
+        "day.json",
+        r#"{ "kind": "water", "lights": ["day"], "environment": "day" }"#,
+    );
+    let render = |scene: &str, name: &str| -> Vec<u8> {
+        let out = d.join(name);
+        ok(&[
+            "render",
+            night,
+            "--size",
+            "24x24",
+            "--scene",
+            scene,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        std::fs::read(out).unwrap()
+    };
+    let preset = render("water", "preset.png");
+    assert!(
+        preset == render(&night_file, "night.png"),
+        "--scene water is the graph's night"
+    );
+    assert!(
+        preset == render(&silent_file, "silent.png"),
+        "a scene file that states no lights keeps the graph's"
+    );
+    assert!(
+        preset != render(&day_file, "day.png"),
+        "a scene file's own lights and environment win"
     );
 }
 

@@ -14,6 +14,7 @@ mod memory_budget;
 mod messages;
 mod numeric_flags;
 mod output_paths;
+mod readme;
 mod report;
 mod sandbox_race;
 mod stdout_errors;

@@ -106,6 +106,34 @@ fn untimed_report_is_the_same_bytes_every_run() {
     assert!(md.contains("Not timed"), "{md}");
 }
 
+/// Without `--out` the report goes to `target/report` under the working folder, so a run on a
+/// fresh clone leaves the tracked `docs/report` (regenerated with `--out docs/report`) as it is.
+#[test]
+fn report_writes_to_target_report_by_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let graphs = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs");
+    let out = Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args([
+            "report",
+            "--quick",
+            "--no-timing",
+            "--family",
+            "pbr",
+            "--graphs",
+        ])
+        .arg(&graphs)
+        .current_dir(dir.path())
+        .env("XDG_RUNTIME_DIR", "/tmp")
+        .output()
+        .expect("the binary runs");
+    ok(&out);
+    let report = dir.path().join("target/report");
+    for name in ["README.md", "pbr.md", "pbr.json", "pbr.svg", "pbr.png"] {
+        assert!(report.join(name).is_file(), "{name} not in target/report");
+    }
+    assert!(!dir.path().join("docs").exists(), "docs/ was written");
+}
+
 #[test]
 fn unknown_family_is_refused_with_the_list() {
     let out = matgraph(&["report", "--family", "marble", "--out", "/nonexistent"]);
