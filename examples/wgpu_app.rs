@@ -130,8 +130,9 @@ pub struct Setup {
     /// Linear premultiplied RGBA the target is cleared to, behind the material (alpha blends
     /// over it). A clear alpha of 0 leaves the material's coverage in the picture's alpha.
     pub background: [f32; 4],
-    /// Cull back faces (a closed mesh, or a surface seen from its front only): a transparent
-    /// material then shows its nearest surface alone, as the CPU renderer does.
+    /// Cull back faces (a closed mesh, or a surface seen from its front only), over the
+    /// contract's `pipeline` (which culls nothing: a transparent material shows its nearest
+    /// surface alone through the depth pre-pass, as the CPU renderer does).
     pub cull_back_faces: bool,
     /// Time in seconds.
     pub time: f32,
@@ -261,44 +262,65 @@ pub fn render(
     });
     const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
     const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("material"),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("mg_vertex"),
-            compilation_options: Default::default(),
-            buffers: &material
-                .vertex_buffer_layouts()
-                .into_iter()
-                .map(Some)
-                .collect::<Vec<_>>(),
+    // How to draw the mesh (the contract's `pipeline`, docs/integration.md "Drawing the
+    // mesh"): no culling; for a graph with alpha, its depth first (mg_vertex alone), then the
+    // colour pass over that depth, so only the nearest surface blends.
+    let draw = material.pipeline();
+    let vertex_buffers: Vec<_> = material
+        .vertex_buffer_layouts()
+        .into_iter()
+        .map(Some)
+        .collect();
+    let primitive = wgpu::PrimitiveState {
+        cull_mode: if setup.cull_back_faces {
+            Some(wgpu::Face::Back)
+        } else {
+            draw.wgpu_cull_mode()
         },
-        primitive: wgpu::PrimitiveState {
-            cull_mode: setup.cull_back_faces.then_some(wgpu::Face::Back),
-            ..Default::default()
-        },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("mg_fragment"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format: COLOR,
-                blend: Some(Material::blend_state()),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
+        ..Default::default()
+    };
+    let targets = [Some(wgpu::ColorTargetState {
+        format: COLOR,
+        blend: Some(Material::blend_state()),
+        write_mask: wgpu::ColorWrites::ALL,
+    })];
+    let make = |fragment: bool, compare, write| {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(if fragment {
+                "material"
+            } else {
+                "material depth"
+            }),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("mg_vertex"),
+                compilation_options: Default::default(),
+                buffers: &vertex_buffers,
+            },
+            primitive,
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: fragment.then(|| wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("mg_fragment"),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let prepass = draw
+        .depth_prepass
+        .then(|| make(false, wgpu::CompareFunction::Less, true));
+    let pipeline = make(true, draw.wgpu_depth_compare(), draw.depth_write);
 
     let mut params = material.params();
     for (name, value) in &setup.parameters {
@@ -389,28 +411,39 @@ pub fn render(
         mapped_at_creation: false,
     });
     let mut encoder = device.create_command_encoder(&Default::default());
-    {
+    // The depth pre-pass (depth only: a pass without colour attachments), then the colour
+    // pass over its depth.
+    let passes = prepass
+        .iter()
+        .map(|p| (p, false))
+        .chain([(&pipeline, true)]);
+    for (k, (p, colour)) in passes.enumerate() {
         let [r, g, b, a] = setup.background;
+        let attachments = [Some(wgpu::RenderPassColorAttachment {
+            view: &color_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color {
+                    r: r as f64,
+                    g: g as f64,
+                    b: b as f64,
+                    a: a as f64,
+                }),
+                store: wgpu::StoreOp::Store,
+            },
+        })];
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("material"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: r as f64,
-                        g: g as f64,
-                        b: b as f64,
-                        a: a as f64,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            label: Some(if colour { "material" } else { "material depth" }),
+            color_attachments: if colour { &attachments } else { &[] },
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: if k == 0 {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,
@@ -419,7 +452,7 @@ pub fn render(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&pipeline);
+        pass.set_pipeline(p);
         pass.set_bind_group(0, &bind_group, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         if let Some(t) = &tangents {

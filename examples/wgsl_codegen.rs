@@ -35,10 +35,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         let what = match b {
             Binding::Params => format!("uniform MgParams, {} bytes", shader.uniforms.size),
             Binding::Dispatch => "uniform MgDispatch { count: u32, row: u32 }".into(),
-            Binding::Attribute(a) => format!(
-                "storage array<f32>: {} planar, {} floats per sample",
-                a.name(),
-                a.ty().width()
+            Binding::Geometry => format!(
+                "storage array<f32>: the attributes planar, {} floats per sample, lane c of sample i at (offset + c) * count + i; offsets {:?}",
+                matgraph::wgsl::geometry_lanes(&shader.attributes),
+                matgraph::wgsl::geometry_layout(&shader.attributes)
+                    .iter()
+                    .map(|(a, k)| (a.name(), *k))
+                    .collect::<Vec<_>>()
             ),
             Binding::Output => format!(
                 "storage array<f32>: {} planar columns",

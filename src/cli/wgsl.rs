@@ -15,7 +15,8 @@ pub struct Args {
     pub target: String,
     /// Entry points: batch evaluation (compute), a per-pixel preview (fragment), the app
     /// contract's vertex and fragment entries (render), or `mg_material` alone for an app's own
-    /// shader (library). Default: compute, or render with --contract.
+    /// shader (library). Default: compute, or render with --contract or a render option
+    /// (--sample-shading, --displaced-vertices, --derived-tangents).
     #[arg(long, value_parser = ["compute", "fragment", "render", "library"])]
     pub entry: Option<String>,
     /// How render and library modules bind textures: texture_2d + samplers (hardware) or
@@ -42,6 +43,19 @@ pub struct Args {
     /// bindings, vertex layout, parameter block offsets, lights, textures.
     #[arg(long, value_name = "FILE.json")]
     pub contract: Option<PathBuf>,
+    /// Render module: the varyings are interpolated per sample (`@interpolate(perspective,
+    /// sample)`), so under MSAA `mg_fragment` runs once per covered sample
+    /// (MaterialOptions::sample_shading; docs/integration.md, "Options for renderers").
+    #[arg(long)]
+    pub sample_shading: bool,
+    /// Render module: the vertex buffer holds displaced positions and their normals already,
+    /// and `mg_vertex` transforms them without displacing (MaterialOptions::displaced_vertices).
+    #[arg(long)]
+    pub displaced_vertices: bool,
+    /// Render module: the app binds no tangent buffer; a graph that reads the tangent frame
+    /// gets it from screen-space derivatives in `mg_fragment` (MaterialOptions::derived_tangents).
+    #[arg(long)]
+    pub derived_tangents: bool,
     /// Compile against the graph's own scene at its time (docs/specialise.md) and print the
     /// rewrites on standard error: `exact` folds what the scene fixes; `approx` also applies
     /// the threshold rewrites.
@@ -78,8 +92,17 @@ pub fn run(args: &Args) -> CliResult {
     let file = args.file.as_path();
     let at = |e: &dyn std::fmt::Display| format!("{}: {e}", file.display());
     let textures = TextureMode::from_name(&args.textures).unwrap_or_default();
+    // The renderer options of the render module (docs/integration.md, "Options for renderers").
+    let render_flags: Vec<&str> = [
+        (args.sample_shading, "--sample-shading"),
+        (args.displaced_vertices, "--displaced-vertices"),
+        (args.derived_tangents, "--derived-tangents"),
+    ]
+    .into_iter()
+    .filter_map(|(on, flag)| on.then_some(flag))
+    .collect();
     let entry = match args.entry.as_deref() {
-        None if args.contract.is_some() => Entry::Render(textures),
+        None if args.contract.is_some() || !render_flags.is_empty() => Entry::Render(textures),
         None | Some("compute") => Entry::Compute,
         Some("fragment") => Entry::Fragment,
         Some("library") => Entry::Library(textures),
@@ -96,6 +119,13 @@ pub fn run(args: &Args) -> CliResult {
     if let Some(p) = &args.contract {
         files.output(p, "--contract output")?;
     }
+    if !render_flags.is_empty() && !matches!(entry, Entry::Render(_)) {
+        return Err(at(&format!(
+            "{} edit the render module's vertex and fragment entries: use --entry render (the {} module has none)",
+            render_flags.join(", "),
+            entry.name()
+        )));
+    }
     let bytes = if let Entry::Render(_) = entry {
         if args.bake || !args.outputs.is_empty() {
             return Err(at(
@@ -104,6 +134,9 @@ pub fn run(args: &Args) -> CliResult {
         }
         let options = MaterialOptions {
             textures,
+            sample_shading: args.sample_shading,
+            displaced_vertices: args.displaced_vertices,
+            derived_tangents: args.derived_tangents,
             ..MaterialOptions::default()
         };
         let graph = super::load_graph_with(file, &args.variants)?;

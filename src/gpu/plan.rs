@@ -22,8 +22,9 @@ struct Buffers {
     capacity: usize,
     params: Option<wgpu::Buffer>,
     dispatch: wgpu::Buffer,
-    /// One per attribute binding, in binding order.
-    attributes: Vec<wgpu::Buffer>,
+    /// `mg_geometry`: every attribute, planar ([`wgsl::geometry_layout`]); none when the
+    /// graph reads no attribute.
+    geometry: Option<wgpu::Buffer>,
     output: wgpu::Buffer,
     staging: wgpu::Buffer,
 }
@@ -67,7 +68,7 @@ impl GpuPlan {
             .map(|(b, kind)| {
                 let ty = match kind {
                     Binding::Params | Binding::Dispatch => wgpu::BufferBindingType::Uniform,
-                    Binding::Attribute(_) => wgpu::BufferBindingType::Storage { read_only: true },
+                    Binding::Geometry => wgpu::BufferBindingType::Storage { read_only: true },
                     Binding::Output => wgpu::BufferBindingType::Storage { read_only: false },
                     Binding::TextureTexels | Binding::TextureLevels | Binding::TextureTable => {
                         wgpu::BufferBindingType::Storage { read_only: true }
@@ -115,6 +116,15 @@ impl GpuPlan {
         self
     }
 
+    /// Limits the bytes of one storage binding (normally the device's), so the split of a
+    /// batch into chunks whose `mg_geometry` and `mg_out` fit can be exercised with small
+    /// batches.
+    pub fn with_max_binding_bytes(mut self, max: u64) -> GpuPlan {
+        self.max_binding_bytes = max.clamp(4, self.max_binding_bytes);
+        *self.buffers.get_mut().unwrap_or_else(|p| p.into_inner()) = None;
+        self
+    }
+
     /// The parameter values from the graph file, ready to be overridden.
     pub fn default_parameters(&self) -> ParamValues {
         self.defaults.clone()
@@ -155,64 +165,89 @@ impl GpuPlan {
             ));
         }
         let columns = self.shader.output_columns() as usize;
-        let widest = columns.max(3);
-        if n > u32::MAX as usize / 4 || (widest * n * 4) as u64 > self.max_binding_bytes {
+        let lanes = wgsl::geometry_lanes(&self.shader.attributes) as usize;
+        // mg_geometry holds `lanes` floats per sample and mg_out `columns`: a batch larger
+        // than the device's storage binding allows runs in chunks that fit.
+        let widest = columns.max(lanes).max(1);
+        let fits = (self.max_binding_bytes / (widest as u64 * 4)) as usize;
+        let fits = fits.min(u32::MAX as usize / 4);
+        if fits == 0 {
             return Err(EvalError::Gpu(format!(
-                "a batch of {n} samples needs {}-byte buffers, above the device's storage binding limit of {} bytes; split it",
-                widest * n * 4,
+                "one sample needs {}-byte buffers, above the device's storage binding limit of {} bytes",
+                widest * 4,
                 self.max_binding_bytes
             )));
         }
-        let (gx, gy, row) = dispatch_shape(n as u32, self.max_groups_x);
-        let out_bytes = (columns * n * 4) as u64;
+        let chunk = n.min(fits);
+        let mut full: Vec<f32> = if chunk == n {
+            Vec::new()
+        } else {
+            vec![0.0; columns * n]
+        };
+        let mut data = Vec::new();
 
         let mut guard = self.buffers.lock().unwrap_or_else(|p| p.into_inner());
-        let data = self.state.scoped("evaluating on the GPU", || {
-            if guard.as_ref().is_none_or(|b| b.capacity < n) {
+        self.state.scoped("evaluating on the GPU", || {
+            if guard.as_ref().is_none_or(|b| b.capacity < chunk) {
                 *guard = None;
-                // Room to grow, within the binding limit checked above for `n`.
-                let fits = (self.max_binding_bytes / (widest as u64 * 4)) as usize;
-                *guard = Some(self.buffers(n.next_power_of_two().min(fits).max(n)));
+                // Room to grow, within the binding limit.
+                *guard = Some(self.buffers(chunk.next_power_of_two().min(fits).max(chunk)));
             }
             let b = guard.as_ref().expect("allocated above");
             let queue = &self.state.queue;
             if let Some(p) = &b.params {
                 queue.write_buffer(p, 0, &pad4(self.shader.uniforms.pack(params, batch.time())));
             }
-            let mut dispatch = [0u8; 8];
-            dispatch[..4].copy_from_slice(&(n as u32).to_le_bytes());
-            dispatch[4..].copy_from_slice(&row.to_le_bytes());
-            queue.write_buffer(&b.dispatch, 0, &dispatch);
-            let attributes = self.shader.bindings.iter().filter_map(|(_, k)| match k {
-                Binding::Attribute(a) => Some(*a),
-                _ => None,
-            });
-            for (a, buf) in attributes.zip(&b.attributes) {
-                match batch.column(a) {
-                    Some(col) => queue.write_buffer(buf, 0, bytemuck::cast_slice(col)),
-                    None => {
-                        let v = a.default_value();
-                        let planar: Vec<f32> = v
-                            .lanes()
-                            .iter()
-                            .flat_map(|&x| std::iter::repeat_n(x, n))
-                            .collect();
-                        queue.write_buffer(buf, 0, bytemuck::cast_slice(&planar));
+            let textures = self.texture_buffers(batch)?;
+            let bind_group = self.bind_group(b, textures.as_ref());
+            for first in (0..n).step_by(chunk) {
+                let len = chunk.min(n - first);
+                let (gx, gy, row) = dispatch_shape(len as u32, self.max_groups_x);
+                let mut dispatch = [0u8; 8];
+                dispatch[..4].copy_from_slice(&(len as u32).to_le_bytes());
+                dispatch[4..].copy_from_slice(&row.to_le_bytes());
+                queue.write_buffer(&b.dispatch, 0, &dispatch);
+                // Each attribute's planar lanes of the chunk at its offset in mg_geometry
+                // (wgsl::geometry_layout: lane c of sample i at (offset + c) * len + i).
+                if let Some(buf) = &b.geometry {
+                    for (a, k) in wgsl::geometry_layout(&self.shader.attributes) {
+                        let column = batch.column(a);
+                        for (c, &default) in a.default_value().lanes().iter().enumerate() {
+                            let at = (k as u64 + c as u64) * len as u64 * 4;
+                            match column {
+                                Some(col) => {
+                                    let lane = &col[c * n + first..c * n + first + len];
+                                    queue.write_buffer(buf, at, bytemuck::cast_slice(lane));
+                                }
+                                None => {
+                                    let lane = vec![default; len];
+                                    queue.write_buffer(buf, at, bytemuck::cast_slice(&lane));
+                                }
+                            }
+                        }
+                    }
+                }
+                data = self.state.dispatch_and_read(
+                    &self.pipeline,
+                    &bind_group,
+                    (gx, gy),
+                    &b.output,
+                    &b.staging,
+                    (columns * len * 4) as u64,
+                )?;
+                if chunk < n {
+                    for c in 0..columns {
+                        full[c * n + first..c * n + first + len]
+                            .copy_from_slice(&data[c * len..(c + 1) * len]);
                     }
                 }
             }
-            let textures = self.texture_buffers(batch)?;
-            let bind_group = self.bind_group(b, textures.as_ref());
-            self.state.dispatch_and_read(
-                &self.pipeline,
-                &bind_group,
-                (gx, gy),
-                &b.output,
-                &b.staging,
-                out_bytes,
-            )
+            Ok(())
         })?;
         drop(guard);
+        if chunk < n {
+            data = full;
+        }
 
         let planar = outputs
             .iter()
@@ -243,13 +278,19 @@ impl GpuPlan {
                 )
             });
         let dispatch = s.buffer("MgDispatch", 16, U::UNIFORM | U::COPY_DST);
-        let mut attributes = Vec::new();
-        for (_, k) in &self.shader.bindings {
-            if let Binding::Attribute(a) = k {
-                let bytes = (a.ty().width() * capacity * 4) as u64;
-                attributes.push(s.buffer(a.name(), bytes, U::STORAGE | U::COPY_DST));
-            }
-        }
+        let lanes = wgsl::geometry_lanes(&self.shader.attributes) as u64;
+        let geometry = self
+            .shader
+            .bindings
+            .iter()
+            .any(|(_, k)| *k == Binding::Geometry)
+            .then(|| {
+                s.buffer(
+                    "mg_geometry",
+                    lanes * capacity as u64 * 4,
+                    U::STORAGE | U::COPY_DST,
+                )
+            });
         let out_bytes = (self.shader.output_columns() as usize * capacity * 4) as u64;
         let output = s.buffer("mg_out", out_bytes, U::STORAGE | U::COPY_SRC);
         let staging = s.buffer("mg_out staging", out_bytes, U::MAP_READ | U::COPY_DST);
@@ -257,7 +298,7 @@ impl GpuPlan {
             capacity,
             params,
             dispatch,
-            attributes,
+            geometry,
             output,
             staging,
         }
@@ -297,7 +338,6 @@ impl GpuPlan {
     /// The bind group of one evaluation: the plan's buffers and, when it samples textures,
     /// this batch's texture buffers.
     fn bind_group(&self, b: &Buffers, textures: Option<&[wgpu::Buffer; 3]>) -> wgpu::BindGroup {
-        let mut next_attribute = b.attributes.iter();
         let entries: Vec<wgpu::BindGroupEntry> = self
             .shader
             .bindings
@@ -306,7 +346,7 @@ impl GpuPlan {
                 let buffer = match k {
                     Binding::Params => b.params.as_ref()?,
                     Binding::Dispatch => &b.dispatch,
-                    Binding::Attribute(_) => next_attribute.next()?,
+                    Binding::Geometry => b.geometry.as_ref()?,
                     Binding::Output => &b.output,
                     Binding::TextureTexels => &textures?[0],
                     Binding::TextureLevels => &textures?[1],

@@ -26,6 +26,10 @@ pub struct Contract {
     pub graph: String,
     /// `hardware` or `exact`.
     pub texture_mode: String,
+    /// The renderer options that shaped the module (docs/integration.md, "Options for
+    /// renderers"): those on that change it for this graph; absent when none does.
+    #[serde(default, skip_serializing_if = "RenderOptions::is_default")]
+    pub options: RenderOptions,
     /// Entry point names.
     pub entry_points: EntryPoints,
     /// The one vertex buffer of `mg_vertex`.
@@ -37,6 +41,11 @@ pub struct Contract {
     pub tangent_buffer: Option<VertexBuffer>,
     /// The colour target `mg_fragment` writes.
     pub color_target: ColorTarget,
+    /// How to draw the mesh: culling, the depth pre-pass and the colour pass's depth state
+    /// (docs/integration.md, "Drawing the mesh"). A contract written before this field reads
+    /// back with the pipeline its outputs call for ([`Contract::from_json`]).
+    #[serde(default)]
+    pub pipeline: Pipeline,
     /// Members of `MgGeometry` (the attributes the graph reads), in order.
     pub geometry: Vec<Member>,
     /// Members of `MgOutputs` of the render module, with their roles.
@@ -57,6 +66,86 @@ pub struct Contract {
     pub normal_step: f32,
     /// The hook functions an app may replace.
     pub hooks: Vec<String>,
+}
+
+/// The renderer options of [`super::MaterialOptions`] that change the render module.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RenderOptions {
+    /// The varyings are interpolated per sample (`--sample-shading`).
+    #[serde(default)]
+    pub sample_shading: bool,
+    /// The vertex buffer holds displaced positions and normals; `mg_vertex` does not
+    /// displace (`--displaced-vertices`).
+    #[serde(default)]
+    pub displaced_vertices: bool,
+    /// No tangent buffer: the fragment stage derives the tangent frame
+    /// (`--derived-tangents`).
+    #[serde(default)]
+    pub derived_tangents: bool,
+}
+
+impl RenderOptions {
+    /// All off (the default module).
+    pub fn is_default(&self) -> bool {
+        *self == RenderOptions::default()
+    }
+}
+
+/// How an app draws the mesh with the render module (docs/integration.md, "Drawing the
+/// mesh"): what matgraph's own GPU renderer does, in WebGPU's depth convention (0 near, 1
+/// far; an app with reversed depth swaps `less` for `greater`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pipeline {
+    /// `none`: both windings are drawn, an open surface is seen from either side as on the
+    /// CPU (`back` is never written: culling would be an app's optimisation for closed
+    /// meshes, and does not hide the far part of a concave one).
+    pub cull_mode: String,
+    /// Draw the mesh's depth first (a depth-only pass of `mg_vertex`, no fragment stage,
+    /// compare `less`, depth written), then the colour pass over it: true for a graph with
+    /// an `alpha` output, so that only the nearest surface of the mesh blends over what lies
+    /// behind, as on the CPU (without it back faces and far surfaces blend too).
+    pub depth_prepass: bool,
+    /// The colour pass's depth compare: `less`, or `less-equal` over the pre-pass's depth
+    /// (the clip position is `@invariant`, so both passes compute the same depth).
+    pub depth_compare: String,
+    /// Whether the colour pass writes depth (not over a pre-pass, which wrote it).
+    pub depth_write: bool,
+}
+
+impl Default for Pipeline {
+    /// An opaque graph's pipeline.
+    fn default() -> Self {
+        Pipeline::for_alpha(false)
+    }
+}
+
+impl Pipeline {
+    /// The pipeline of a graph with (`true`) or without an `alpha` output.
+    pub fn for_alpha(alpha: bool) -> Pipeline {
+        Pipeline {
+            cull_mode: "none".into(),
+            depth_prepass: alpha,
+            depth_compare: if alpha { "less-equal" } else { "less" }.into(),
+            depth_write: !alpha,
+        }
+    }
+
+    /// [`Pipeline::cull_mode`] for wgpu.
+    pub fn wgpu_cull_mode(&self) -> Option<wgpu::Face> {
+        (self.cull_mode == "back").then_some(wgpu::Face::Back)
+    }
+
+    /// [`Pipeline::depth_compare`] for wgpu.
+    pub fn wgpu_depth_compare(&self) -> wgpu::CompareFunction {
+        match self.depth_compare.as_str() {
+            "less-equal" => wgpu::CompareFunction::LessEqual,
+            "equal" => wgpu::CompareFunction::Equal,
+            "always" => wgpu::CompareFunction::Always,
+            _ => wgpu::CompareFunction::Less,
+        }
+    }
 }
 
 /// Entry point names.
@@ -267,9 +356,21 @@ impl Contract {
         s
     }
 
-    /// Parses a contract written by [`Contract::to_json`].
+    /// Parses a contract written by [`Contract::to_json`]. One written before the
+    /// `pipeline` field gets the pipeline its outputs call for (the depth pre-pass where an
+    /// output has the role `alpha`); one without `options` was compiled with all off.
     pub fn from_json(text: &str) -> Result<Contract, serde_json::Error> {
-        serde_json::from_str(text)
+        /// Whether the text names a pipeline (other fields are checked by `Contract`).
+        #[derive(Deserialize)]
+        struct Probe {
+            #[serde(default)]
+            pipeline: Option<serde::de::IgnoredAny>,
+        }
+        let mut c: Contract = serde_json::from_str(text)?;
+        if serde_json::from_str::<Probe>(text)?.pipeline.is_none() {
+            c.pipeline = Pipeline::for_alpha(c.outputs.iter().any(|o| o.role == "alpha"));
+        }
+        Ok(c)
     }
 }
 
@@ -423,6 +524,14 @@ pub(super) fn build(m: &Material) -> Contract {
         schema: CONTRACT_SCHEMA.into(),
         graph: m.graph.clone(),
         texture_mode: m.options.textures.name().into(),
+        // The options that change this module (a graph without displacement or tangents
+        // gives the same module, and contract, with those options as without).
+        options: RenderOptions {
+            sample_shading: m.options.sample_shading,
+            displaced_vertices: m.options.displaced_vertices && roles.displacement.is_some(),
+            derived_tangents: m.options.derived_tangents
+                && crate::wgsl::render::uses_tangents(&render.attributes),
+        },
         entry_points: EntryPoints {
             vertex: "mg_vertex".into(),
             fragment: "mg_fragment".into(),
@@ -462,6 +571,7 @@ pub(super) fn build(m: &Material) -> Contract {
             blend_color: ["one".into(), "one-minus-src-alpha".into()],
             blend_alpha: ["one".into(), "one-minus-src-alpha".into()],
         },
+        pipeline: m.pipeline(),
         geometry: render
             .attributes
             .iter()

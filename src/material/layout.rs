@@ -21,7 +21,7 @@ pub(super) fn binding_type(module: &ShaderModule, b: &Binding) -> wgpu::BindingT
         Binding::Dispatch => buffer(wgpu::BufferBindingType::Uniform, Some(8)),
         Binding::Output => buffer(wgpu::BufferBindingType::Storage { read_only: false }, None),
         Binding::Lights
-        | Binding::Attribute(_)
+        | Binding::Geometry
         | Binding::TextureTexels
         | Binding::TextureLevels
         | Binding::TextureTable => buffer(storage, None),

@@ -34,7 +34,7 @@ mod load;
 mod params;
 mod textures;
 
-pub use contract::{CONTRACT_SCHEMA, Contract};
+pub use contract::{CONTRACT_SCHEMA, Contract, Pipeline, RenderOptions};
 pub use frame::{Frame, Light, lights_bytes};
 pub use layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
@@ -344,6 +344,13 @@ impl Material {
     /// the CPU's `alpha · radiance + (1 − alpha) · background`.
     pub fn blend_state() -> wgpu::BlendState {
         wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING
+    }
+
+    /// How to draw the mesh (docs/integration.md, "Drawing the mesh"): no culling; for a
+    /// graph with an `alpha` output a depth pre-pass, then the colour pass at `less-equal`
+    /// without depth writes, so that only the mesh's nearest surface blends.
+    pub fn pipeline(&self) -> Pipeline {
+        Pipeline::for_alpha(self.roles.alpha.is_some())
     }
 
     /// A parameter block with the graph's values, ready to be [`ParamBlock::set`].

@@ -1,6 +1,9 @@
 //! WGSL text generation for a planned graph.
 
-use super::{Binding, Entry, ShaderError, ShaderOutput, WORKGROUP_SIZE, WgslOptions, wgsl_type};
+use super::{
+    Binding, Entry, GEOMETRY_BINDING, OUTPUT_BINDING, ShaderError, ShaderOutput, WORKGROUP_SIZE,
+    WgslOptions, wgsl_type,
+};
 use crate::graph::{Graph, InputSource, Node, NodeIndex, OutputRef};
 use crate::node::{Attribute, Evaluation, NodeType, WgslChoice, WgslTable};
 use crate::plan::Plan;
@@ -1796,21 +1799,28 @@ impl<'a> Emitter<'a> {
         self.out
             .push_str("@group(0) @binding(1) var<uniform> mg_dispatch: MgDispatch;\n");
         bindings.push((1, Binding::Dispatch));
-        let mut b = 2;
-        for a in attributes {
+        // Every attribute in one buffer (WebGPU's default limit is 8 storage buffers per
+        // stage; one buffer per attribute took 9–11 for half the bundled graphs), planar
+        // like mg_out: lane c of an attribute at offset k is at (k + c) * count + i.
+        if !attributes.is_empty() {
+            let layout: Vec<String> = super::geometry_layout(attributes)
+                .iter()
+                .map(|(a, k)| format!("{} {k}", a.name()))
+                .collect();
             let _ = writeln!(
                 self.out,
-                "@group(0) @binding({b}) var<storage, read> mg_{}: array<f32>;",
-                a.name()
+                "// mg_geometry: the attributes, planar, lane c of sample i at \
+                 (offset + c) * count + i;\n// offsets: {}.\n\
+                 @group(0) @binding({GEOMETRY_BINDING}) var<storage, read> mg_geometry: array<f32>;",
+                layout.join(", ")
             );
-            bindings.push((b, Binding::Attribute(*a)));
-            b += 1;
+            bindings.push((GEOMETRY_BINDING, Binding::Geometry));
         }
         let _ = writeln!(
             self.out,
-            "@group(0) @binding({b}) var<storage, read_write> mg_out: array<f32>;\n"
+            "@group(0) @binding({OUTPUT_BINDING}) var<storage, read_write> mg_out: array<f32>;\n"
         );
-        bindings.push((b, Binding::Output));
+        bindings.push((OUTPUT_BINDING, Binding::Output));
 
         let _ = writeln!(self.out, "@compute @workgroup_size({WORKGROUP_SIZE})");
         self.out
@@ -1822,10 +1832,10 @@ impl<'a> Emitter<'a> {
             .push_str("    if (i >= n) {\n        return;\n    }\n");
         if !attributes.is_empty() {
             self.out.push_str("    var geom: MgGeometry;\n");
-            for a in attributes {
-                let w = a.ty().width();
-                let comps: Vec<String> = (0..w)
-                    .map(|c| format!("mg_{}[{c}u * n + i]", a.name()))
+            for (a, k) in super::geometry_layout(attributes) {
+                let w = a.ty().width() as u32;
+                let comps: Vec<String> = (k..k + w)
+                    .map(|c| format!("mg_geometry[{c}u * n + i]"))
                     .collect();
                 let _ = writeln!(
                     self.out,

@@ -133,6 +133,37 @@ pub struct WgslOptions {
 /// Threads per compute workgroup.
 pub const WORKGROUP_SIZE: u32 = 64;
 
+/// Binding of the compute entry's `mg_geometry` (read-only storage `array<f32>`: every
+/// attribute of the batch, planar; see [`geometry_layout`]); absent when the graph reads no
+/// attribute.
+pub const GEOMETRY_BINDING: u32 = 2;
+/// Binding of the compute entry's `mg_out` (read-write storage `array<f32>`: every output,
+/// planar; see [`ShaderOutput::column`]). The exact textures' three buffers follow it.
+pub const OUTPUT_BINDING: u32 = 3;
+
+/// Where the compute entry reads each attribute in `mg_geometry`: `(attribute, offset)` in
+/// `MgGeometry` order, the offset in lanes (floats per sample) from the first attribute's.
+/// For a batch of `count` samples, lane `c` of `attribute` for sample `i` is the f32 at
+/// `(offset + c) * count + i`: each attribute's planar column(s) one after another, as
+/// [`crate::exec::SampleBatch::column`] holds them. The buffer holds
+/// [`geometry_lanes`]` · count` floats.
+pub fn geometry_layout(attributes: &[Attribute]) -> Vec<(Attribute, u32)> {
+    let mut offset = 0;
+    attributes
+        .iter()
+        .map(|&a| {
+            let k = offset;
+            offset += a.ty().width() as u32;
+            (a, k)
+        })
+        .collect()
+}
+
+/// Lanes (floats per sample) of `mg_geometry` for `attributes`.
+pub fn geometry_lanes(attributes: &[Attribute]) -> u32 {
+    attributes.iter().map(|a| a.ty().width() as u32).sum()
+}
+
 /// A resource a module binds (all in bind group 0).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Binding {
@@ -140,8 +171,9 @@ pub enum Binding {
     Params,
     /// The dispatch description (`MgDispatch { count, row }`, uniform).
     Dispatch,
-    /// A planar `array<f32>` of one attribute (read-only storage).
-    Attribute(Attribute),
+    /// `mg_geometry`: every attribute of the batch in one planar `array<f32>` (read-only
+    /// storage; layout [`geometry_layout`]).
+    Geometry,
     /// The planar `array<f32>` of every output (read-write storage).
     Output,
     /// `mg_texels`: RGBA floats of every texture level (see [`crate::texture::TexturePack`]).
@@ -166,7 +198,7 @@ impl Binding {
         match self {
             Binding::Params => "mg_params".into(),
             Binding::Dispatch => "mg_dispatch".into(),
-            Binding::Attribute(a) => format!("mg_{}", a.name()),
+            Binding::Geometry => "mg_geometry".into(),
             Binding::Output => "mg_out".into(),
             Binding::TextureTexels => "mg_texels".into(),
             Binding::TextureLevels => "mg_levels".into(),

@@ -111,7 +111,7 @@ fn mg_window(s: vec2<f32>) -> vec3<f32> {
 /// (or where the rasteriser chooses within its covered samples).
 pub const VERTEX_OUT_WGSL: &str = "\
 struct MgVertexOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
@@ -123,7 +123,7 @@ struct MgVertexOut {
 /// (`xyz`) and bitangent sign (`w`) of the vertex, interpolated.
 pub const VERTEX_OUT_TANGENT_WGSL: &str = "\
 struct MgVertexOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
@@ -135,7 +135,7 @@ struct MgVertexOut {
 /// [`VERTEX_OUT_TANGENT_WGSL`] with per-sample interpolation.
 pub const VERTEX_OUT_TANGENT_SAMPLE_WGSL: &str = "\
 struct MgVertexOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) @interpolate(perspective, sample) position: vec3<f32>,
     @location(1) @interpolate(perspective, sample) normal: vec3<f32>,
     @location(2) @interpolate(perspective, sample) uv: vec2<f32>,
@@ -165,7 +165,7 @@ fn mg_tangent(n: vec3<f32>, t: vec3<f32>) -> vec3<f32> {
 /// MSAA the fragment entry runs once per covered sample, at the sample's position.
 pub const VERTEX_OUT_SAMPLE_WGSL: &str = "\
 struct MgVertexOut {
-    @builtin(position) clip: vec4<f32>,
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) @interpolate(perspective, sample) position: vec3<f32>,
     @location(1) @interpolate(perspective, sample) normal: vec3<f32>,
     @location(2) @interpolate(perspective, sample) uv: vec2<f32>,

@@ -1199,6 +1199,16 @@ const WOBBLE: &str = r#"{ "version": 1, "name": "wobble", "nodes": [
   { "id": "lit", "type": "mul", "inputs": { "a": { "link": "ndl.result" }, "b": { "link": "geo.light_color" } } } ],
   "outputs": [{ "name": "color", "from": "lit.result" }, { "name": "displacement", "from": "d.result" }] }"#;
 
+/// A translucent graph (alpha 0.6) whose colour follows the normal: drawn without the
+/// contract's depth pre-pass, the sphere's back faces would blend under its front.
+const VEIL: &str = r#"{ "version": 1, "name": "veil", "nodes": [
+  { "id": "geo", "type": "geometry" },
+  { "id": "h", "type": "mul", "inputs": { "a": { "link": "geo.normal" }, "b": 0.5 } },
+  { "id": "e", "type": "add", "inputs": { "a": { "link": "h.result" }, "b": 0.5 } },
+  { "id": "z", "type": "dot", "inputs": { "a": { "link": "geo.normal" }, "b": [0.0, 0.0, 0.0] } },
+  { "id": "a", "type": "add", "inputs": { "a": { "link": "z.result" }, "b": 0.6 } } ],
+  "outputs": [{ "name": "emission", "from": "e.result" }, { "name": "alpha", "from": "a.result" }] }"#;
+
 /// A graph that draws nothing (alpha 0): `render --gpu` of it is the scene alone.
 const CLEAR: &str = r#"{ "version": 1, "name": "clear", "nodes": [
   { "id": "geo", "type": "geometry" },
@@ -1232,7 +1242,9 @@ const SCENE_SIZE: u32 = 128;
 /// graphs compared are in scenes where these agree) and, for a displaced graph, the
 /// normals (the example's mg_vertex rebuilds them from the displacement by central
 /// differences, the renderer welds the displaced mesh's face normals as the CPU does).
-/// Compared: the bundled graphs of the ball scene and a displaced graph in it; left out are
+/// Compared: the bundled graphs of the ball scene, a displaced graph and a translucent one
+/// (`VEIL`) in it, drawn with the contract's `pipeline` (no culling; the translucent one
+/// over its depth pre-pass, without which its back faces blend too); left out are
 /// the graphs that sample `scene:` textures (the example makes stand-ins of its own) and the
 /// other scenes, whose own surfaces stand in front of the material (the water scene's
 /// posts, ball and rocks: the example draws no scene depth; the bubble's backdrop).
@@ -1249,10 +1261,12 @@ fn the_example_matches_render_gpu_on_the_same_scene() {
     let mut failed = Vec::new();
     let mut compared = 0;
     let wobble = matgraph::Graph::from_json(WOBBLE, Registry::builtin()).unwrap();
+    let veil = matgraph::Graph::from_json(VEIL, Registry::builtin()).unwrap();
     let graphs = bundled_graphs()
         .into_iter()
         .map(|p| (load(&p), Some(p)))
-        .chain([(wobble, None)]);
+        .chain([(wobble, None), (veil, None)]);
+    let mut translucent = 0;
     for (graph, path) in graphs {
         let scene = matgraph::render::graph_scene(&graph)
             .unwrap()
@@ -1298,7 +1312,8 @@ fn the_example_matches_render_gpu_on_the_same_scene() {
                 fov_y: cam.fov_y_deg.to_radians(),
                 lights: scene.lights.iter().map(Light::from_scene).collect(),
                 background: [0.0; 4],
-                cull_back_faces: true,
+                // The contract's pipeline: no culling, a depth pre-pass for alpha.
+                cull_back_faces: false,
                 time: scene.time,
                 parameters: Vec::new(),
             };
@@ -1373,10 +1388,15 @@ fn the_example_matches_render_gpu_on_the_same_scene() {
             }
             report.push(line);
             compared += 1;
+            translucent += material.pipeline().depth_prepass as usize;
         }
     }
     println!("{}", report.join("\n"));
     assert!(compared >= 5, "{compared} comparisons");
+    assert!(
+        translucent >= 1,
+        "a translucent graph drawn over its depth pre-pass"
+    );
     assert!(
         failed.is_empty(),
         "outside the bounds:\n{}",

@@ -20,3 +20,4 @@ mod sandbox_race;
 mod stdout_errors;
 mod tangent_contract;
 mod texel_checks;
+mod wgsl_options;

@@ -701,6 +701,34 @@ fn batch_sizes_around_the_workgroup_size() {
         &rows.execute(&batch, &params).unwrap(),
         "2-D dispatch",
     );
+    // A batch larger than one storage binding holds runs in chunks (here of 1000 samples:
+    // mg_geometry's and mg_out's lanes of 1000 samples fit 1000 · 4 · widest bytes).
+    let lanes = matgraph::wgsl::geometry_lanes(&plan.shader().attributes) as u64;
+    let widest = lanes.max(plan.shader().output_columns() as u64);
+    let chunked = GpuPlan::compile(ctx, &graph, &options)
+        .unwrap()
+        .with_max_binding_bytes(1000 * 4 * widest);
+    for n in [999, 1000, 1001, 4321] {
+        // Every attribute the graph reads varies, so a lane read from another chunk shows.
+        let mut batch = sweep(n);
+        let normals: Vec<[f32; 3]> = (0..n)
+            .map(|i| {
+                let t = i as f32 * 0.37;
+                [t.sin() * 0.6, 0.8, t.cos() * 0.6]
+            })
+            .collect();
+        batch.set_values(Attribute::Normal, &normals).unwrap();
+        let uvs: Vec<[f32; 3]> = (0..n)
+            .map(|i| [i as f32 / n as f32, (i % 17) as f32 / 17.0, 0.0])
+            .collect();
+        batch.set_values(Attribute::Uv, &uvs).unwrap();
+        assert_parity(
+            &graph,
+            &cpu.execute(&batch, &params).unwrap(),
+            &chunked.execute(&batch, &params).unwrap(),
+            &format!("{n} samples in chunks of 1000"),
+        );
+    }
     // Attributes the batch lacks take their defaults (normal = +z, uv = (0.5, 0.5)).
     let bare = SampleBatch::new(5);
     let got = plan.execute(&bare, &params).unwrap();

@@ -1586,17 +1586,12 @@ pub(crate) fn render_frame(
         );
         let made = cached(s, &key, || -> Result<(Material, String), MaterialError> {
             let material = Material::new(m.graph, &options)?;
-            // The clip position `@invariant`: the depth pre-pass and the surface over
-            // it are two pipelines that must compute the same depth (the surface's
-            // test is `GreaterEqual` against the pre-pass).
+            // The contract's clip position is `@invariant`, so the depth pre-pass and the
+            // surface over it (two pipelines, the surface's test `GreaterEqual` against the
+            // pre-pass) compute the same depth.
             let hooked = material
                 .wgsl_with_hooks(&material::hooks(&features))?
-                .replace("v.clip.xy / mg_frame.viewport", "mgr_screen_uv(v.clip.xy)")
-                .replacen(
-                    "@builtin(position) clip: vec4<f32>,",
-                    "@builtin(position) @invariant clip: vec4<f32>,",
-                    1,
-                );
+                .replace("v.clip.xy / mg_frame.viewport", "mgr_screen_uv(v.clip.xy)");
             let source = match rebuilt {
                 false => Some(hooked),
                 true => material::sample_source(&hooked),
