@@ -8,6 +8,7 @@ mod common;
 
 mod app_contract;
 mod atomic_writes;
+mod bake_env;
 mod cli;
 mod cli_params;
 mod memory_budget;

@@ -1,0 +1,162 @@
+//! `matgraph bake-env` (issue 38 item 1): every scene texture an app must bind, at the sizes
+//! the manifest states, with the values closed forms give for a constant environment.
+
+use std::path::Path;
+use std::process::Command;
+
+fn bake(source: &str, out: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(["bake-env", source, "--out"])
+        .arg(out)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("matgraph runs")
+}
+
+fn manifest(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("manifest.json")).expect("manifest written");
+    serde_json::from_str(&text).expect("manifest is JSON")
+}
+
+/// The texels of `file` in `dir` as RGBA f32.
+fn texels(dir: &Path, file: &str) -> Vec<[f32; 4]> {
+    let bytes = std::fs::read(dir.join(file)).expect("level file written");
+    bytes
+        .chunks_exact(16)
+        .map(|t| {
+            std::array::from_fn(|c| f32::from_le_bytes(t[4 * c..4 * c + 4].try_into().unwrap()))
+        })
+        .collect()
+}
+
+/// The texture named `name` in a manifest.
+fn entry<'a>(m: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    m["textures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|t| t["name"] == name)
+        .unwrap_or_else(|| panic!("{name} in the manifest"))
+}
+
+#[test]
+fn a_preset_bakes_every_scene_texture_at_the_documented_sizes_deterministically() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
+    for dir in [&a, &b] {
+        let out = bake("ball", dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let m = manifest(&a);
+    assert_eq!(m["schema"], "matgraph-environment/1");
+    // (name, width, height, levels): docs/integration.md "Scene textures".
+    for (name, w, h, levels) in [
+        ("scene:environment", 512, 256, 10),
+        ("scene:environment_ggx", 256, 128, 6),
+        ("scene:brdf_lut", 32, 32, 1),
+        ("scene:environment_sh", 9, 1, 1),
+    ] {
+        let t = entry(&m, name);
+        assert_eq!(
+            (t["width"].as_u64(), t["height"].as_u64()),
+            (Some(w), Some(h)),
+            "{name}"
+        );
+        assert_eq!(t["mip_levels"].as_u64(), Some(levels), "{name}");
+        let list = t["levels"].as_array().unwrap();
+        assert_eq!(list.len() as u64, levels, "{name}");
+        let (mut lw, mut lh) = (w, h);
+        for level in list {
+            let file = level["file"].as_str().unwrap();
+            assert_eq!(
+                (level["width"].as_u64(), level["height"].as_u64()),
+                (Some(lw), Some(lh))
+            );
+            let bytes = std::fs::read(a.join(file)).unwrap();
+            assert_eq!(bytes.len() as u64, lw * lh * 16, "{file}");
+            assert_eq!(
+                bytes,
+                std::fs::read(b.join(file)).unwrap(),
+                "{file} differs between runs"
+            );
+            (lw, lh) = ((lw / 2).max(1), (lh / 2).max(1));
+        }
+    }
+    assert_eq!(
+        std::fs::read(a.join("manifest.json")).unwrap(),
+        std::fs::read(b.join("manifest.json")).unwrap()
+    );
+}
+
+#[test]
+fn a_constant_environment_bakes_to_its_closed_forms() {
+    // A seeded constant radiance besides a round one: every level of the map and of its GGX
+    // prefilter is that radiance, and its irradiance is band 0 alone, L00 = c·∫Y00 dω =
+    // c·0.282095·4π (times Â0/π = 1), so that E(n)/π = L00·Y00 = c.
+    let mut state = 0x5eed_0038u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        // f32-exact values in [0.05, 4).
+        (((state >> 40) as u32 % 3951) + 50) as f32 / 1000.0
+    };
+    for c in [[0.25f32, 0.5, 2.0], [next(), next(), next()]] {
+        let tmp = tempfile::tempdir().unwrap();
+        let hdr = tmp.path().join("constant.exr");
+        image::Rgb32FImage::from_pixel(64, 32, image::Rgb(c))
+            .save(&hdr)
+            .unwrap();
+        let out_dir = tmp.path().join("baked");
+        let out = bake(hdr.to_str().unwrap(), &out_dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let m = manifest(&out_dir);
+        for name in ["scene:environment", "scene:environment_ggx"] {
+            for level in entry(&m, name)["levels"].as_array().unwrap() {
+                let file = level["file"].as_str().unwrap();
+                for t in texels(&out_dir, file) {
+                    for k in 0..3 {
+                        let err = (t[k] as f64 - c[k] as f64).abs() / c[k] as f64;
+                        assert!(err < 1e-5, "{file}: {t:?} against {c:?}");
+                    }
+                    assert_eq!(t[3], 1.0, "{file}: alpha");
+                }
+            }
+        }
+        let sh = texels(&out_dir, "environment_sh_0.rgba32f");
+        let l00 = 0.282095f64 * 4.0 * std::f64::consts::PI;
+        for k in 0..3 {
+            let want = c[k] as f64 * l00;
+            let err = (sh[0][k] as f64 - want).abs() / want;
+            // The projection sums 128 × 64 texels by the midpoint rule: (π/64)²/24 ≈ 1e-4.
+            assert!(err < 1e-3, "SH band 0 {:?} against {want} ({c:?})", sh[0]);
+            for (j, coefficient) in sh.iter().enumerate().skip(1) {
+                assert!(
+                    coefficient[k].abs() < 1e-3 * c[k],
+                    "SH coefficient {j} of a constant environment: {coefficient:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_source_that_is_nothing_known_is_refused_by_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = bake("nowhere.txt", &tmp.path().join("x"));
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("nowhere.txt") && err.contains("scene preset"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("x").exists(), "nothing written");
+}
