@@ -24,7 +24,6 @@ pub struct Args {
 
 /// The scene and environment image `source` names, and how the manifest calls it.
 fn source_scene(args: &Args) -> Result<(Scene, Option<Arc<matgraph::texture::Texture>>), String> {
-    let budget = matgraph::budget::MemoryBudget::default();
     if let Some(scene) = Scene::preset(&args.source) {
         return Ok((scene, None));
     }
@@ -41,7 +40,7 @@ fn source_scene(args: &Args) -> Result<(Scene, Option<Arc<matgraph::texture::Tex
                 path,
                 None,
                 super::path_policy(args.allow_outside_paths),
-                &budget,
+                &matgraph::budget::MemoryBudget::default(),
             )
         }
         Some("hdr" | "exr" | "png" | "jpg" | "jpeg") => {

@@ -24,6 +24,13 @@ fn stated(value: &serde_json::Value) -> Stated {
     }
 }
 
+/// [`stated`] of a scene file's text (already parsed as a scene, so valid JSON).
+fn stated_in(text: &str) -> Stated {
+    serde_json::from_str(text)
+        .map(|v| stated(&v))
+        .unwrap_or_default()
+}
+
 /// Which of a scene's time-of-day fields its JSON writes out.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stated {
@@ -59,9 +66,7 @@ pub fn forced_scene(spec: &str) -> Result<Forced, String> {
     }
     let text = matgraph::io::read_text(path).map_err(|e| e.to_string())?;
     let scene = scene_text(path, &text)?;
-    let stated = serde_json::from_str(&text)
-        .map(|v| stated(&v))
-        .unwrap_or_default();
+    let stated = stated_in(&text);
     Ok(Forced { scene, stated })
 }
 
@@ -87,9 +92,7 @@ fn own_scene(
                 .map_err(|e| format!("{}: scene: {e}", file.display()))?;
             let scene = scene_text(&opened.path, &text)
                 .map_err(|e| format!("{}: scene: {e}", file.display()))?;
-            let stated = serde_json::from_str(&text)
-                .map(|v| stated(&v))
-                .unwrap_or_default();
+            let stated = stated_in(&text);
             Ok((scene, opened.path, stated))
         }
         value => Ok((

@@ -134,6 +134,14 @@ fn description(short: &str) -> (String, String) {
     (holds, lookup)
 }
 
+/// The texture `name` of a baked set: [`bake_environment`] inserts every name the manifest
+/// lists.
+fn named<'a>(set: &'a TextureSet, name: &str) -> &'a Texture {
+    set.index_of(name)
+        .and_then(|k| set.get(k))
+        .expect("a baked set holds every texture its manifest lists")
+}
+
 /// Bakes every environment texture of `scene` (with `image` the loaded image of an image
 /// environment), the same texels a CPU or GPU render of a graph in `scene` binds;
 /// `source` names what was baked in the manifest.
@@ -142,22 +150,17 @@ pub fn bake_environment(
     image: Option<Arc<Texture>>,
     source: &str,
 ) -> Result<BakedEnvironment, RenderError> {
-    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
     let lookup = image.map(environment_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
-    let map = environment_map(scene, lookup).map_err(texture_error)?;
+    let map = environment_map(scene, lookup)?;
     let mut textures = TextureSet::new();
-    super::insert_environment_textures(&mut textures, &ENVIRONMENT_TEXTURES, map)
-        .map_err(texture_error)?;
+    super::insert_environment_textures(&mut textures, &ENVIRONMENT_TEXTURES, map)?;
     let entries = ENVIRONMENT_TEXTURES
         .iter()
         .map(|short| {
             let name = format!("{}{short}", crate::document::TextureSource::SCENE);
-            let texture = textures
-                .index_of(&name)
-                .and_then(|k| textures.get(k))
-                .expect("insert_environment_textures made every wanted texture");
+            let texture = named(&textures, &name);
             let (holds, lookup) = description(short);
             BakedTexture {
                 width: texture.width(),
@@ -211,11 +214,7 @@ impl BakedEnvironment {
     pub fn files(&self) -> Vec<(String, Vec<u8>)> {
         let mut files = Vec::new();
         for entry in &self.manifest.textures {
-            let texture = self
-                .textures
-                .index_of(&entry.name)
-                .and_then(|k| self.textures.get(k))
-                .expect("the manifest lists the baked textures");
+            let texture = named(&self.textures, &entry.name);
             for (level, file) in texture.levels().iter().zip(&entry.levels) {
                 let bytes: Vec<u8> = level
                     .data

@@ -23,10 +23,9 @@ fn textures(
     scene: &Scene,
     options: &RenderOptions,
 ) -> Result<TextureSet, RenderError> {
-    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
     let mut set = TextureSet::new();
     if let Some(given) = &options.textures {
-        set.extend_shared(given).map_err(texture_error)?;
+        set.extend_shared(given)?;
     }
     let mut wanted: Vec<&str> = graph
         .nodes()
@@ -66,7 +65,7 @@ fn textures(
         let made = memo.get_or_make(key, || {
             scene_textures(ctx, scene, options, names).map(Arc::new)
         })?;
-        set.extend_shared(&made).map_err(texture_error)?;
+        set.extend_shared(&made)?;
     }
     Ok(set)
 }
@@ -85,7 +84,6 @@ fn scene_textures(
     options: &RenderOptions,
     wanted: &[&str],
 ) -> Result<TextureSet, RenderError> {
-    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
     let mut set = TextureSet::new();
     let key = |name: &str| format!("{}{name}", crate::document::TextureSource::SCENE);
     if wanted.iter().any(|w| super::is_environment_texture(w)) {
@@ -96,8 +94,8 @@ fn scene_textures(
             super::ENVIRONMENT_MAP_WIDTH / 2,
         );
         let data = raster::render_environment(ctx, scene, options.environment.as_ref(), w, h)?;
-        let image = Image::new(w, h, data).map_err(texture_error)?;
-        super::insert_environment_textures(&mut set, wanted, image).map_err(texture_error)?;
+        let image = Image::new(w, h, data)?;
+        super::insert_environment_textures(&mut set, wanted, image)?;
     }
     let (tw, th) = super::scene_texture_size(options.width, options.height);
     debug_assert!(tw.max(th) <= SCENE_TEXTURE_MAX);
@@ -121,10 +119,8 @@ fn scene_textures(
             tw,
             th,
             rgb.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
-        )
-        .map_err(texture_error)?;
-        set.insert(key(name), Texture::new(image, true).map_err(texture_error)?)
-            .map_err(texture_error)?;
+        )?;
+        set.insert(key(name), Texture::new(image, true)?)?;
     }
     Ok(set)
 }

@@ -94,6 +94,13 @@ pub enum RenderError {
     },
 }
 
+impl From<crate::texture::TextureError> for RenderError {
+    /// A texture that could not be prepared, in words.
+    fn from(e: crate::texture::TextureError) -> RenderError {
+        RenderError::Texture(e.to_string())
+    }
+}
+
 impl RenderError {
     /// A memory refusal restated against the whole `budget`, with `reserve` bytes already
     /// held (said as `MiB {held}`) counted in; other errors unchanged.
@@ -456,9 +463,8 @@ fn textures(
     environment: Option<&crate::scene::EnvLookup>,
 ) -> Result<TextureSet, RenderError> {
     let mut set = TextureSet::new();
-    let texture_error = |e: crate::texture::TextureError| RenderError::Texture(e.to_string());
     if let Some(given) = &options.textures {
-        set.extend_shared(given).map_err(texture_error)?;
+        set.extend_shared(given)?;
     }
     let wanted: Vec<&str> = graph
         .nodes()
@@ -482,10 +488,9 @@ fn textures(
             let env = environment_map(scene, environment)?;
             let mut made = TextureSet::new();
             insert_environment_textures(&mut made, &wanted, env)?;
-            Ok(Arc::new(made))
+            Ok::<_, crate::texture::TextureError>(Arc::new(made))
         });
-        set.extend_shared(&*made.map_err(texture_error)?)
-            .map_err(texture_error)?;
+        set.extend_shared(&*made?)?;
         if wanted.iter().all(|w| is_environment_texture(w)) {
             return Ok(set);
         }
@@ -516,7 +521,7 @@ fn textures(
             let key = format!("{}{name}", crate::document::TextureSource::SCENE);
             made.insert(key, Texture::new(image, true)?)?;
         }
-        Ok(Arc::new(made))
+        Ok::<_, crate::texture::TextureError>(Arc::new(made))
     };
     let made = match size.0 as u64 * size.1 as u64 <= KEPT_PASS_TEXELS {
         true => PASSES.get_or_make(
@@ -530,8 +535,7 @@ fn textures(
         ),
         false => make(),
     };
-    set.extend_shared(&*made.map_err(texture_error)?)
-        .map_err(texture_error)?;
+    set.extend_shared(&*made?)?;
     Ok(set)
 }
 
