@@ -25,6 +25,7 @@ pub mod material;
 pub(crate) mod memo;
 pub mod node;
 pub mod overrides;
+pub mod parameter_info;
 pub mod plan;
 pub mod precision;
 pub mod pretty;

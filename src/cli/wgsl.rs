@@ -43,6 +43,10 @@ pub struct Args {
     /// bindings, vertex layout, parameter block offsets, lights, textures.
     #[arg(long, value_name = "FILE.json")]
     pub contract: Option<PathBuf>,
+    /// Read each parameter as the app writes it: no clamp to its hard range (the default
+    /// clamps, so a value the CPU would refuse renders as the nearest accepted one).
+    #[arg(long)]
+    pub no_clamp: bool,
     /// Render module: the varyings are interpolated per sample (`@interpolate(perspective,
     /// sample)`), so under MSAA `mg_fragment` runs once per covered sample
     /// (MaterialOptions::sample_shading; docs/integration.md, "Options for renderers").
@@ -83,6 +87,15 @@ pub fn specialised(
         .map_err(|e| format!("{}: {e}", file.display()))?;
     err!("{}", s.listing());
     Ok(s.graph)
+}
+
+/// The parameter clamp `--no-clamp` asks for.
+fn clamp_option(no_clamp: bool) -> matgraph::wgsl::ParameterClamp {
+    if no_clamp {
+        matgraph::wgsl::ParameterClamp::None
+    } else {
+        matgraph::wgsl::ParameterClamp::HardRange
+    }
 }
 
 /// Compiles the graph and prints or writes the shader (and the contract).
@@ -137,6 +150,7 @@ pub fn run(args: &Args) -> CliResult {
             sample_shading: args.sample_shading,
             displaced_vertices: args.displaced_vertices,
             derived_tangents: args.derived_tangents,
+            clamp: clamp_option(args.no_clamp),
             ..MaterialOptions::default()
         };
         let graph = super::load_graph_with(file, &args.variants)?;
@@ -192,6 +206,7 @@ pub fn run(args: &Args) -> CliResult {
                 bake_parameters: args.bake,
             },
             entry,
+            clamp: clamp_option(args.no_clamp),
         };
         let shader = generate(&graph, &options).map_err(|e| at(&e))?;
         shader.translate(target).map_err(|e| at(&e))?

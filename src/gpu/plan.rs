@@ -57,6 +57,7 @@ impl GpuPlan {
             &WgslOptions {
                 plan: options.clone(),
                 entry: Entry::Compute,
+                ..Default::default()
             },
         )
         .map_err(shader_error)?;

@@ -10,7 +10,7 @@ use crate::wgsl::render::{
     FRAME_BINDING, FRAME_SIZE, LIGHT_DIRECTIONAL, LIGHT_MIN_DISTANCE, LIGHT_POINT, LIGHT_STRIDE,
     LIGHTS_BINDING, NORMAL_STEP, PARAMS_BINDING,
 };
-use crate::wgsl::{Binding, UniformSource, wgsl_type};
+use crate::wgsl::{Binding, ParameterClamp, UniformSource, wgsl_type};
 use serde::{Deserialize, Serialize};
 
 /// The schema name written in every contract.
@@ -261,6 +261,11 @@ pub struct Block {
     pub binding: Option<u32>,
     /// Size in bytes (the buffer must hold at least this, rounded up to 16).
     pub size: u32,
+    /// The parameter block only: `hard-range` when the module clamps each parameter
+    /// member to its `hard_range` before use, `none` when it reads them as written
+    /// (`matgraph wgsl --no-clamp`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clamp: Option<String>,
     /// Members in order.
     pub members: Vec<BlockMember>,
 }
@@ -284,6 +289,29 @@ pub struct BlockMember {
     /// The value written when the app sets none (parameter blocks); a table's rows.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub default: Option<serde_json::Value>,
+    /// What a `parameter` member means (`scalar`, `color`, `direction`, `point`, `vector`,
+    /// `integer`, `choice`, `bool`; [`crate::parameter_info::ParameterKind`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// Its physical unit, absent when dimensionless.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// The range a slider covers, `[min, max]` per component.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<[f32; 2]>,
+    /// The range every component must lie in: the CPU refuses a value outside, the module
+    /// clamps to it (see [`Block::clamp`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hard_range: Option<[f32; 2]>,
+    /// A `choice` member's value names, by index.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub choices: Vec<String>,
+    /// What it means, from the graph file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub doc: Option<String>,
+    /// The group the editor shows it in.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub group: Option<String>,
 }
 
 /// The lights buffer.
@@ -382,6 +410,13 @@ fn member(name: &str, wgsl_type: &str, offset: u32, source: &str) -> BlockMember
         source: source.into(),
         parameter: None,
         default: None,
+        kind: None,
+        unit: None,
+        range: None,
+        hard_range: None,
+        choices: Vec::new(),
+        doc: None,
+        group: None,
     }
 }
 
@@ -465,9 +500,17 @@ pub(super) fn build(m: &Material) -> Contract {
             }
         })
         .collect();
+    let info = &m.parameter_info;
     let parameters = Block {
         binding: m.has_params().then_some(PARAMS_BINDING),
         size: render.uniforms.size,
+        clamp: Some(
+            match m.options.clamp {
+                ParameterClamp::HardRange => "hard-range",
+                ParameterClamp::None => "none",
+            }
+            .into(),
+        ),
         members: render
             .uniforms
             .fields
@@ -484,6 +527,10 @@ pub(super) fn build(m: &Material) -> Contract {
                     UniformSource::Table(rows) => Some(table_json(rows)),
                     _ => Some(f.default.to_json()),
                 };
+                let about = parameter
+                    .as_ref()
+                    .and_then(|p| info.iter().find(|i| &i.name == p));
+                let pair = |r: crate::node::Range| [r.min, r.max];
                 BlockMember {
                     name: f.field.clone(),
                     wgsl_type: f.wgsl_type(),
@@ -491,6 +538,15 @@ pub(super) fn build(m: &Material) -> Contract {
                     source: source.into(),
                     parameter,
                     default,
+                    kind: about.map(|i| i.kind.name().into()),
+                    unit: about.filter(|i| !i.unit.is_empty()).map(|i| i.unit.into()),
+                    range: about.and_then(|i| i.soft).map(pair),
+                    hard_range: about.and_then(|i| i.hard).map(pair),
+                    choices: about.map_or(Vec::new(), |i| {
+                        i.choices.iter().map(|c| (*c).to_owned()).collect()
+                    }),
+                    doc: about.filter(|i| !i.doc.is_empty()).map(|i| i.doc.clone()),
+                    group: about.and_then(|i| i.group.clone()),
                 }
             })
             .collect(),
@@ -498,6 +554,7 @@ pub(super) fn build(m: &Material) -> Contract {
     let frame = Block {
         binding: Some(FRAME_BINDING),
         size: FRAME_SIZE,
+        clamp: None,
         members: vec![
             member("view_proj", "mat4x4<f32>", 0, "frame"),
             member("model", "mat4x4<f32>", 64, "frame"),

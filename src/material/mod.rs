@@ -34,7 +34,7 @@ mod load;
 mod params;
 mod textures;
 
-pub use contract::{CONTRACT_SCHEMA, Contract, Pipeline, RenderOptions};
+pub use contract::{Block, BlockMember, CONTRACT_SCHEMA, Contract, Pipeline, RenderOptions};
 pub use frame::{Frame, Light, lights_bytes};
 pub use layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
@@ -51,7 +51,9 @@ use crate::plan::{EvalError, Plan, PlanOptions};
 use crate::texture::TextureSet;
 use crate::types::SocketType;
 use crate::wgsl::render::{DEFAULT_HOOKS_WGSL, Roles};
-use crate::wgsl::{Binding, Entry, ShaderError, ShaderModule, TextureMode, WgslOptions};
+use crate::wgsl::{
+    Binding, Entry, ParameterClamp, ShaderError, ShaderModule, TextureMode, WgslOptions,
+};
 
 /// Options of [`Material::new`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +76,9 @@ pub struct MaterialOptions {
     /// screen-space derivatives in `mg_fragment` instead
     /// ([`crate::wgsl::render::derived_tangents`], which states the difference).
     pub derived_tangents: bool,
+    /// Whether the modules clamp each parameter to its hard range (the default) or read it
+    /// as written ([`ParameterClamp`]).
+    pub clamp: ParameterClamp,
 }
 
 impl Default for MaterialOptions {
@@ -84,6 +89,7 @@ impl Default for MaterialOptions {
             sample_shading: false,
             displaced_vertices: false,
             derived_tangents: false,
+            clamp: ParameterClamp::HardRange,
         }
     }
 }
@@ -153,6 +159,7 @@ pub struct Material {
     roles: Roles,
     params: ParamBlock,
     textures: Vec<TextureInfo>,
+    parameter_info: Vec<crate::parameter_info::ParameterInfo>,
 }
 
 impl Material {
@@ -205,6 +212,7 @@ impl Material {
             &WgslOptions {
                 plan: plan_options.clone(),
                 entry: Entry::Render(options.textures),
+                clamp: options.clamp,
             },
         )
         .map_err(shader_err)?;
@@ -231,6 +239,7 @@ impl Material {
             &WgslOptions {
                 plan: PlanOptions::default(),
                 entry: Entry::Library(options.textures),
+                clamp: options.clamp,
             },
         )
         .map_err(shader_err)?;
@@ -258,7 +267,14 @@ impl Material {
             roles,
             params,
             textures,
+            parameter_info: crate::parameter_info::parameter_info(graph),
         })
+    }
+
+    /// What each exposed parameter is (kind, unit, soft and hard range, doc), in the file's
+    /// order: the contract's parameter members carry it.
+    pub fn parameter_info(&self) -> &[crate::parameter_info::ParameterInfo] {
+        &self.parameter_info
     }
 
     /// The graph's name.

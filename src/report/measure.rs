@@ -24,6 +24,7 @@ pub fn expression_count(graph: &Graph) -> Result<usize, ShaderError> {
         &WgslOptions {
             plan: PlanOptions::default(),
             entry: Entry::Compute,
+            ..Default::default()
         },
     )?;
     let m = &shader.module;

@@ -454,6 +454,17 @@ fn constant_parameters(
     ))
 }
 
+/// The hard range of every exposed float-valued parameter that has one, by its node.
+fn parameter_clamps(graph: &Graph) -> HashMap<NodeIndex, crate::node::Range> {
+    graph
+        .parameters()
+        .iter()
+        .zip(crate::parameter_info::parameter_info(graph))
+        .filter(|(p, _)| !matches!(p.ty, SocketType::Int | SocketType::Bool))
+        .filter_map(|(p, info)| Some((p.node, info.hard?)))
+        .collect()
+}
+
 /// Emits the module of one planned graph.
 pub(super) struct Emitter<'a> {
     graph: &'a Graph,
@@ -475,6 +486,9 @@ pub(super) struct Emitter<'a> {
     has_geom: bool,
     /// The runs of group calls written as loops, by their last call ([`chains`]).
     runs: HashMap<NodeIndex, chains::Run>,
+    /// The hard range each exposed float-valued parameter's read is clamped to
+    /// ([`super::ParameterClamp::HardRange`]), by parameter node.
+    clamps: HashMap<NodeIndex, crate::node::Range>,
 }
 
 /// Above this many outputs `MgOutputs` holds them in chunk structs of this many
@@ -536,6 +550,10 @@ impl<'a> Emitter<'a> {
             groups: super::groups::GroupPlan::new(graph, plan),
             has_geom: false,
             runs: HashMap::new(),
+            clamps: match options.clamp {
+                super::ParameterClamp::None => HashMap::new(),
+                super::ParameterClamp::HardRange => parameter_clamps(graph),
+            },
         }
     }
 
@@ -615,9 +633,22 @@ impl<'a> Emitter<'a> {
                         InputSource::Default(v) | InputSource::Value { value: v, .. } => *v,
                         InputSource::Link(..) => Value::zero(n.output_type(0)),
                     };
-                    let access = match n.output_type(0) {
-                        SocketType::Bool => format!("(mg_params.{field} != 0u)"),
-                        _ => format!("mg_params.{field}"),
+                    let access = match (n.output_type(0), self.clamps.get(&i)) {
+                        (SocketType::Bool, _) => format!("(mg_params.{field} != 0u)"),
+                        (SocketType::Int, _) | (_, None) => format!("mg_params.{field}"),
+                        (SocketType::Float, Some(r)) => format!(
+                            "clamp(mg_params.{field}, {}, {})",
+                            float_literal(r.min),
+                            float_literal(r.max)
+                        ),
+                        (t, Some(r)) => {
+                            let ty = wgsl_type(t);
+                            format!(
+                                "clamp(mg_params.{field}, {ty}({}), {ty}({}))",
+                                float_literal(r.min),
+                                float_literal(r.max)
+                            )
+                        }
                     };
                     self.exprs.insert(OutputRef { node: i, output: 0 }, access);
                     uniform_fields.push(UniformSpec {

@@ -128,6 +128,23 @@ pub struct WgslOptions {
     pub plan: PlanOptions,
     /// The entry point.
     pub entry: Entry,
+    /// Whether each parameter read is clamped to its hard range (the default).
+    pub clamp: ParameterClamp,
+}
+
+/// How the module reads an exposed parameter from `MgParams` (docs/integration.md, "The
+/// parameter block").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ParameterClamp {
+    /// `clamp(mg_params.x, min, max)` with the parameter's hard range
+    /// ([`crate::parameter_info::ParameterInfo::hard`]), per component, for float-valued
+    /// parameters that have one: a value the CPU would refuse renders as the nearest accepted
+    /// one instead of as inf or NaN (`ior = -5` as 0.001). NaN in, per WGSL, any value of
+    /// the range or NaN out.
+    #[default]
+    HardRange,
+    /// `mg_params.x` as written (`matgraph wgsl --no-clamp`): the app checks its values.
+    None,
 }
 
 /// Threads per compute workgroup.

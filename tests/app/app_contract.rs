@@ -54,7 +54,7 @@ use std::sync::Arc;
 
 /// The example's own device (WebGPU default limits), or `None` after the skip line; panics
 /// when `MATGRAPH_REQUIRE_GPU` is set.
-fn device(test: &str) -> Option<(wgpu::Device, wgpu::Queue)> {
+pub(crate) fn device(test: &str) -> Option<(wgpu::Device, wgpu::Queue)> {
     match wgpu_app::device() {
         Ok((d, q, _)) => Some((d, q)),
         Err(e) => {
@@ -451,7 +451,7 @@ fn probe_graph_in(texture: &str, space: Option<&str>, wrap: &str, filter: &str) 
 }
 
 /// Runs the library module of `material` from an app's own compute shader over `(u, v, lod)`
-/// samples and returns RGBA per sample.
+/// samples and returns RGBA per sample: `o.color` and `o.alpha`.
 fn sample_library(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -459,14 +459,36 @@ fn sample_library(
     textures: &matgraph::texture::TextureSet,
     samples: &[[f32; 4]],
 ) -> Vec<[f32; 4]> {
+    let params = material.library_params().bytes();
+    let store = "vec4<f32>(o.color, o.alpha)";
+    run_library(device, queue, material, textures, &params, samples, store)
+}
+
+/// Runs the library module of `material` from an app's own compute shader, with the
+/// parameter block `params` (raw bytes, as an app writes them), over `(u, v, lod)` samples
+/// and returns `store` (a `vec4<f32>` expression of the outputs `o`) per sample.
+pub(crate) fn run_library(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    material: &Material,
+    textures: &matgraph::texture::TextureSet,
+    params: &[u8],
+    samples: &[[f32; 4]],
+    store: &str,
+) -> Vec<[f32; 4]> {
     use wgpu::util::DeviceExt;
+    // A graph that reads no attribute has `mg_material()`, without `MgGeometry`.
+    let call = if material.library_wgsl().contains("struct MgGeometry") {
+        "var g: MgGeometry;\n    g.uv = probe_in[i].xy;\n    g.depth = probe_in[i].z;\n    let o = mg_material(g);"
+    } else {
+        "let o = mg_material();"
+    };
     let source = format!(
         "{}\n@group(1) @binding(0) var<storage, read> probe_in: array<vec4<f32>>;\n\
          @group(1) @binding(1) var<storage, read_write> probe_out: array<vec4<f32>>;\n\
          @compute @workgroup_size(64)\nfn probe(@builtin(global_invocation_id) id: vec3<u32>) {{\n\
          \x20   let i = id.x;\n    if (i >= arrayLength(&probe_out)) {{\n        return;\n    }}\n\
-         \x20   var g: MgGeometry;\n    g.uv = probe_in[i].xy;\n    g.depth = probe_in[i].z;\n\
-         \x20   let o = mg_material(g);\n    probe_out[i] = vec4<f32>(o.color, o.alpha);\n}}\n",
+         \x20   {call}\n    probe_out[i] = {store};\n}}\n",
         material.library_wgsl()
     );
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -511,7 +533,7 @@ fn sample_library(
     });
     let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: None,
-        contents: &material.params().bytes(),
+        contents: params,
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let gpu_textures = material

@@ -15,6 +15,7 @@ mod memory_budget;
 mod messages;
 mod numeric_flags;
 mod output_paths;
+mod parameter_clamp;
 mod readme;
 mod report;
 mod sandbox_race;

@@ -1568,6 +1568,7 @@ pub(crate) fn render_frame(
             displaced_vertices: true,
             // The mesh's MikkTSpace tangents, as the CPU's G-buffer reads them.
             derived_tangents: false,
+            clamp: crate::wgsl::ParameterClamp::HardRange,
         };
         // Generated and validated once per graph and options on the device: later frames
         // (an animation) only write their parameters and time. At 1 sample the contract's
