@@ -39,8 +39,10 @@ pub struct Args {
     /// Output file; standard output when absent (SPIR-V is binary).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
-    /// Also write the contract of the render module as JSON (schema matgraph-contract/1):
-    /// bindings, vertex layout, parameter block offsets, lights, textures.
+    /// Also write the module's contract as JSON (schema matgraph-contract/1): for the render
+    /// module bindings, vertex layout, parameter block, lights, textures; for the library and
+    /// compute modules (with --entry) bindings, geometry and output layout, parameter block,
+    /// textures.
     #[arg(long, value_name = "FILE.json")]
     pub contract: Option<PathBuf>,
     /// Read each parameter as the app writes it: no clamp to its hard range (the default
@@ -185,9 +187,9 @@ pub fn run(args: &Args) -> CliResult {
             .translate(target)
             .map_err(|e| at(&e))?
     } else {
-        if args.contract.is_some() {
+        if args.contract.is_some() && entry == Entry::Fragment {
             return Err(at(
-                &"--contract describes the render module: use it with --entry render (the library module shares its group-0 bindings)",
+                &"--contract describes a module an app binds: use it with --entry render, library or compute (the fragment entry is the editor's preview)",
             ));
         }
         let graph = super::load_graph_with(file, &args.variants)?;
@@ -209,6 +211,11 @@ pub fn run(args: &Args) -> CliResult {
             clamp: clamp_option(args.no_clamp),
         };
         let shader = generate(&graph, &options).map_err(|e| at(&e))?;
+        if let Some(path) = &args.contract {
+            let contract = matgraph::material::ModuleContract::new(&graph, &shader, options.clamp);
+            matgraph::io::write_atomic(path, contract.to_json().as_bytes())
+                .map_err(|e| super::out_dir::write_error(path, &e))?;
+        }
         shader.translate(target).map_err(|e| at(&e))?
     };
     match args.out.as_deref() {

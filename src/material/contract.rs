@@ -6,11 +6,12 @@ use super::Material;
 use super::layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type,
 };
+use crate::parameter_info::ParameterInfo;
 use crate::wgsl::render::{
     FRAME_BINDING, FRAME_SIZE, LIGHT_DIRECTIONAL, LIGHT_MIN_DISTANCE, LIGHT_POINT, LIGHT_STRIDE,
     LIGHTS_BINDING, NORMAL_STEP, PARAMS_BINDING,
 };
-use crate::wgsl::{Binding, ParameterClamp, UniformSource, wgsl_type};
+use crate::wgsl::{Binding, ParameterClamp, ShaderModule, UniformSource, wgsl_type};
 use serde::{Deserialize, Serialize};
 
 /// The schema name written in every contract.
@@ -66,6 +67,154 @@ pub struct Contract {
     pub normal_step: f32,
     /// The hook functions an app may replace.
     pub hooks: Vec<String>,
+}
+
+/// The contract of a library module (`mg_material` for an app's own shader) or of the
+/// compute entry (`mg_compute`, batch evaluation): `matgraph wgsl FILE --entry
+/// library|compute --contract out.json`. Same schema name as [`Contract`], told apart by
+/// `module`; docs/integration.md, "The contract JSON".
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModuleContract {
+    /// Always [`CONTRACT_SCHEMA`].
+    pub schema: String,
+    /// `library` or `compute`.
+    pub module: String,
+    /// The graph's name.
+    pub graph: String,
+    /// `hardware` or `exact` (a compute module binds textures as the exact mode does).
+    pub texture_mode: String,
+    /// The function an app calls (`mg_material`) or the entry point (`mg_compute`).
+    pub function: String,
+    /// The compute entry's workgroup size in x (absent for a library).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub workgroup_size: Option<u32>,
+    /// Members of `MgGeometry`, in order; for the compute entry each with its lane offset
+    /// in `mg_geometry`.
+    pub geometry: Vec<GeometryMember>,
+    /// Lanes (floats per sample) of `mg_geometry` (compute entry only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry_lanes: Option<u32>,
+    /// The outputs, in `MgOutputs` order; for the compute entry each with its first column
+    /// in `mg_out`.
+    pub outputs: Vec<ModuleOutput>,
+    /// Columns (floats per sample) of `mg_out` (compute entry only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output_columns: Option<u32>,
+    /// The bindings, all in group 0.
+    pub bindings: Vec<BindingEntry>,
+    /// `MgParams`, the parameter block (binding 0).
+    pub parameters: Block,
+    /// The textures, in slot order (the compute entry's are packed into `mg_texels`,
+    /// `mg_levels` and `mg_textures` in this order).
+    pub textures: Vec<Texture>,
+    /// Per-stage binding counts.
+    pub per_stage: PerStage,
+}
+
+/// A member of `MgGeometry` in a [`ModuleContract`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometryMember {
+    /// The attribute (`position`, `normal`, `uv`, …).
+    pub name: String,
+    /// WGSL type.
+    pub wgsl_type: String,
+    /// The value to write when the app has none (`matgraph nodes` lists them).
+    pub default: serde_json::Value,
+    /// Lane offset in `mg_geometry` (compute entry): lane `c` of sample `i` is the f32 at
+    /// `(offset + c) · count + i`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<u32>,
+}
+
+/// An output in a [`ModuleContract`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModuleOutput {
+    /// The graph output's name (or `NODE.OUTPUT`).
+    pub name: String,
+    /// Its `MgOutputs` member.
+    pub member: String,
+    /// WGSL type.
+    pub wgsl_type: String,
+    /// First column in `mg_out` (compute entry): lane `c` of sample `i` is the f32 at
+    /// `(column + c) · count + i`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<u32>,
+}
+
+impl ModuleContract {
+    /// The contract of a library or compute module generated from `graph` (with `clamp`, as
+    /// its [`crate::wgsl::WgslOptions`] said).
+    pub fn new(
+        graph: &crate::Graph,
+        module: &ShaderModule,
+        clamp: ParameterClamp,
+    ) -> ModuleContract {
+        let info = crate::parameter_info::parameter_info(graph);
+        let textures = super::textures::infos(module, false);
+        ModuleContract::of(&graph.name, module, &info, clamp, &textures)
+    }
+
+    /// The contract of `module` (a library or compute module generated from a graph whose
+    /// exposed parameters are `info`), with `textures` its texture slots.
+    pub(super) fn of(
+        graph: &str,
+        module: &ShaderModule,
+        info: &[ParameterInfo],
+        clamp: ParameterClamp,
+        textures: &[super::TextureInfo],
+    ) -> ModuleContract {
+        let compute = module.entry == crate::wgsl::Entry::Compute;
+        let layout = crate::wgsl::geometry_layout(&module.attributes);
+        let counts = StageCounts::of(module);
+        ModuleContract {
+            schema: CONTRACT_SCHEMA.into(),
+            module: module.entry.name().into(),
+            graph: graph.into(),
+            texture_mode: module.entry.texture_mode().name().into(),
+            function: module.entry.function().into(),
+            workgroup_size: compute.then_some(crate::wgsl::WORKGROUP_SIZE),
+            geometry: layout
+                .iter()
+                .map(|&(a, offset)| GeometryMember {
+                    name: a.name().into(),
+                    wgsl_type: wgsl_type(a.ty()).into(),
+                    default: a.default_value().to_json(),
+                    offset: compute.then_some(offset),
+                })
+                .collect(),
+            geometry_lanes: compute.then(|| crate::wgsl::geometry_lanes(&module.attributes)),
+            outputs: module
+                .outputs
+                .iter()
+                .map(|o| ModuleOutput {
+                    name: o.name.clone(),
+                    member: o.field.clone(),
+                    wgsl_type: wgsl_type(o.ty).into(),
+                    column: compute.then_some(o.column),
+                })
+                .collect(),
+            output_columns: compute.then(|| module.output_columns()),
+            bindings: binding_entries(module),
+            parameters: parameter_block(module, info, clamp),
+            textures: texture_entries(textures),
+            per_stage: PerStage {
+                uniform_buffers: counts.uniform_buffers,
+                storage_buffers: counts.storage_buffers,
+                sampled_textures: counts.sampled_textures,
+                samplers: counts.samplers,
+            },
+        }
+    }
+
+    /// Pretty JSON, two-space indent, newline-terminated: the same bytes for the same input.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a contract serialises");
+        s.push('\n');
+        s
+    }
 }
 
 /// The renderer options of [`super::MaterialOptions`] that change the render module.
@@ -234,9 +383,10 @@ pub struct BindingEntry {
     pub binding: u32,
     /// The WGSL variable.
     pub name: String,
-    /// `uniform-buffer`, `read-only-storage-buffer`, `filtering-sampler` or `texture-2d-float`.
+    /// `uniform-buffer`, `read-only-storage-buffer`, `storage-buffer` (the compute entry's
+    /// `mg_out`), `filtering-sampler` or `texture-2d-float`.
     pub kind: String,
-    /// `["vertex", "fragment"]`.
+    /// `["vertex", "fragment"]`, or `["compute"]` in a compute module's contract.
     pub visibility: Vec<String>,
     /// Smallest buffer size in bytes (uniforms), else absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -430,38 +580,30 @@ fn table_json(rows: &[[f32; 4]]) -> serde_json::Value {
     )
 }
 
-pub(super) fn build(m: &Material) -> Contract {
-    let render = &m.render;
-    let roles = m.roles;
-    let role_of = |k: usize| {
-        [
-            (roles.color, "color"),
-            (roles.emission, "emission"),
-            (roles.alpha, "alpha"),
-            (roles.displacement, "displacement"),
-        ]
-        .into_iter()
-        .find(|(r, _)| *r == Some(k))
-        .map(|(_, n)| n)
-        .unwrap_or("none")
-    };
-    let mut bindings: Vec<&(u32, Binding)> = render.bindings.iter().collect();
+/// The bindings of `module`'s group 0, in binding order.
+fn binding_entries(module: &ShaderModule) -> Vec<BindingEntry> {
+    let mut bindings: Vec<&(u32, Binding)> = module.bindings.iter().collect();
     bindings.sort_by_key(|(b, _)| *b);
-    let bindings = bindings
+    bindings
         .into_iter()
         .map(|(b, k)| {
-            let kind = match binding_type(render, k) {
+            let kind = match binding_type(module, k) {
                 wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Uniform,
                     ..
                 } => "uniform-buffer",
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    ..
+                } => "storage-buffer",
                 wgpu::BindingType::Buffer { .. } => "read-only-storage-buffer",
                 wgpu::BindingType::Sampler(_) => "filtering-sampler",
                 _ => "texture-2d-float",
             };
             let min_binding_size = match k {
-                Binding::Params => Some((render.uniforms.size as u64).next_multiple_of(16).max(16)),
+                Binding::Params => Some((module.uniforms.size as u64).next_multiple_of(16).max(16)),
                 Binding::Frame => Some(FRAME_SIZE as u64),
+                Binding::Dispatch => Some(8),
                 _ => None,
             };
             let (address_mode, filter) = match k {
@@ -489,7 +631,7 @@ pub(super) fn build(m: &Material) -> Contract {
                 binding: *b,
                 name: k.variable(),
                 kind: kind.into(),
-                visibility: vec!["vertex".into(), "fragment".into()],
+                visibility: stages(module),
                 min_binding_size,
                 address_mode,
                 filter,
@@ -499,19 +641,26 @@ pub(super) fn build(m: &Material) -> Contract {
                 },
             }
         })
-        .collect();
-    let info = &m.parameter_info;
-    let parameters = Block {
-        binding: m.has_params().then_some(PARAMS_BINDING),
-        size: render.uniforms.size,
+        .collect()
+}
+
+/// The parameter block of `module`, each `parameter` member with what `info` says of it.
+fn parameter_block(module: &ShaderModule, info: &[ParameterInfo], clamp: ParameterClamp) -> Block {
+    Block {
+        binding: module
+            .bindings
+            .iter()
+            .any(|(_, b)| *b == Binding::Params)
+            .then_some(PARAMS_BINDING),
+        size: module.uniforms.size,
         clamp: Some(
-            match m.options.clamp {
+            match clamp {
                 ParameterClamp::HardRange => "hard-range",
                 ParameterClamp::None => "none",
             }
             .into(),
         ),
-        members: render
+        members: module
             .uniforms
             .fields
             .iter()
@@ -550,7 +699,57 @@ pub(super) fn build(m: &Material) -> Contract {
                 }
             })
             .collect(),
+    }
+}
+
+/// The contract's entries of the texture slots `infos`.
+fn texture_entries(infos: &[super::TextureInfo]) -> Vec<Texture> {
+    infos
+        .iter()
+        .map(|t| Texture {
+            slot: t.slot,
+            name: t.name.clone(),
+            source: match t.source {
+                super::TextureSource::File => "file",
+                super::TextureSource::Scene => "scene",
+            }
+            .into(),
+            color_space: t.color_space.name().into(),
+            format: super::format_name(t.format).into(),
+            binding: t.binding,
+            width: t.size.map(|s| s.0),
+            height: t.size.map(|s| s.1),
+            mip_levels: t.size.map(|s| s.2),
+        })
+        .collect()
+}
+
+/// The stages a module's bindings are visible to: `compute` for the compute entry, else
+/// `vertex` and `fragment` (a library module's app picks its own).
+fn stages(module: &ShaderModule) -> Vec<String> {
+    match module.entry {
+        crate::wgsl::Entry::Compute => vec!["compute".into()],
+        _ => vec!["vertex".into(), "fragment".into()],
+    }
+}
+
+pub(super) fn build(m: &Material) -> Contract {
+    let render = &m.render;
+    let roles = m.roles;
+    let role_of = |k: usize| {
+        [
+            (roles.color, "color"),
+            (roles.emission, "emission"),
+            (roles.alpha, "alpha"),
+            (roles.displacement, "displacement"),
+        ]
+        .into_iter()
+        .find(|(r, _)| *r == Some(k))
+        .map(|(_, n)| n)
+        .unwrap_or("none")
     };
+    let bindings = binding_entries(render);
+    let parameters = parameter_block(render, &m.parameter_info, m.options.clamp);
     let frame = Block {
         binding: Some(FRAME_BINDING),
         size: FRAME_SIZE,
@@ -652,25 +851,7 @@ pub(super) fn build(m: &Material) -> Contract {
         parameters,
         frame,
         lights,
-        textures: m
-            .textures
-            .iter()
-            .map(|t| Texture {
-                slot: t.slot,
-                name: t.name.clone(),
-                source: match t.source {
-                    super::TextureSource::File => "file",
-                    super::TextureSource::Scene => "scene",
-                }
-                .into(),
-                color_space: t.color_space.name().into(),
-                format: super::format_name(t.format).into(),
-                binding: t.binding,
-                width: t.size.map(|s| s.0),
-                height: t.size.map(|s| s.1),
-                mip_levels: t.size.map(|s| s.2),
-            })
-            .collect(),
+        textures: texture_entries(&m.textures),
         per_stage: PerStage {
             uniform_buffers: counts.uniform_buffers,
             storage_buffers: counts.storage_buffers,

@@ -34,7 +34,10 @@ mod load;
 mod params;
 mod textures;
 
-pub use contract::{Block, BlockMember, CONTRACT_SCHEMA, Contract, Pipeline, RenderOptions};
+pub use contract::{
+    Block, BlockMember, CONTRACT_SCHEMA, Contract, GeometryMember, ModuleContract, ModuleOutput,
+    Pipeline, RenderOptions,
+};
 pub use frame::{Frame, Light, lights_bytes};
 pub use layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
@@ -472,6 +475,26 @@ impl Material {
     /// The contract, for apps in other languages ([`Contract::to_json`]).
     pub fn contract(&self) -> Contract {
         contract::build(self)
+    }
+
+    /// The contract of the library module (`matgraph wgsl --entry library --contract`): its
+    /// geometry, outputs, bindings, parameter block and textures (sizes as bound).
+    pub fn library_contract(&self) -> ModuleContract {
+        let mut textures = self.library_textures();
+        for t in &mut textures {
+            t.size = self
+                .textures
+                .iter()
+                .find(|r| r.name == t.name)
+                .and_then(|r| r.size);
+        }
+        ModuleContract::of(
+            &self.graph,
+            &self.library,
+            &self.parameter_info,
+            self.options.clamp,
+            &textures,
+        )
     }
 }
 

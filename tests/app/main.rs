@@ -13,6 +13,7 @@ mod cli;
 mod cli_params;
 mod memory_budget;
 mod messages;
+mod module_contract;
 mod numeric_flags;
 mod output_paths;
 mod parameter_clamp;

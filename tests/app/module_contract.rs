@@ -1,0 +1,181 @@
+//! Issue 38 item 3: the contracts of the library module (`mg_material` for an app's own
+//! shader) and of the compute entry (`mg_compute`), from `matgraph wgsl --entry
+//! library|compute --contract`: bindings as naga reads the WGSL, the compute entry's
+//! geometry offsets and output columns as its reads and writes spell them.
+
+use crate::common;
+
+use matgraph::Registry;
+use matgraph::material::ModuleContract;
+use matgraph::wgsl::{Entry, ParameterClamp, ShaderModule, TextureMode, WgslOptions, generate};
+use std::path::Path;
+
+/// Lanes of a WGSL type, counted from its spelling.
+fn lanes(wgsl_type: &str) -> u32 {
+    match wgsl_type {
+        "f32" | "i32" | "u32" | "bool" => 1,
+        t if t.starts_with("vec2") => 2,
+        t if t.starts_with("vec3") => 3,
+        t if t.starts_with("vec4") => 4,
+        t => panic!("unexpected type {t}"),
+    }
+}
+
+/// `(binding, name, kind)` of every group-0 resource of naga's module, the contract's kind
+/// spelled from its address space.
+fn naga_bindings(m: &ShaderModule) -> Vec<(u32, String, &'static str)> {
+    let mut v: Vec<(u32, String, &'static str)> = m
+        .module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            assert_eq!(b.group, 0);
+            let kind = match g.space {
+                naga::AddressSpace::Uniform => "uniform-buffer",
+                naga::AddressSpace::Storage { access }
+                    if access.contains(naga::StorageAccess::STORE) =>
+                {
+                    "storage-buffer"
+                }
+                naga::AddressSpace::Storage { .. } => "read-only-storage-buffer",
+                _ => match m.module.types[g.ty].inner {
+                    naga::TypeInner::Sampler { .. } => "filtering-sampler",
+                    _ => "texture-2d-float",
+                },
+            };
+            Some((b.binding, g.name.clone().unwrap(), kind))
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn contract_bindings(c: &ModuleContract) -> Vec<(u32, String, &str)> {
+    c.bindings
+        .iter()
+        .map(|b| (b.binding, b.name.clone(), b.kind.as_str()))
+        .collect()
+}
+
+#[test]
+fn library_and_compute_contracts_match_the_modules_of_every_bundled_graph() {
+    for path in common::bundled_graphs() {
+        let graph = matgraph::io::load_graph(&path, Registry::builtin()).unwrap();
+        for entry in [
+            Entry::Compute,
+            Entry::Library(TextureMode::Hardware),
+            Entry::Library(TextureMode::Exact),
+        ] {
+            let m = generate(
+                &graph,
+                &WgslOptions {
+                    entry,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            let c = ModuleContract::new(&graph, &m, ParameterClamp::HardRange);
+            let at = format!("{} {}", graph.name, entry.name());
+            assert_eq!(c.schema, "matgraph-contract/1");
+            assert_eq!(c.module, entry.name(), "{at}");
+            assert_eq!(contract_bindings(&c), naga_bindings(&m), "{at}");
+            assert!(
+                m.module
+                    .functions
+                    .iter()
+                    .any(|(_, f)| f.name.as_deref() == Some("mg_material"))
+            );
+            assert!(c.per_stage.storage_buffers <= 8, "{at}");
+            if entry != Entry::Compute {
+                assert_eq!(c.function, "mg_material");
+                assert!(c.geometry.iter().all(|g| g.offset.is_none()));
+                assert!(
+                    c.bindings
+                        .iter()
+                        .all(|b| b.visibility == ["vertex", "fragment"])
+                );
+                continue;
+            }
+            assert_eq!(c.function, "mg_compute");
+            assert_eq!(c.workgroup_size, Some(64));
+            assert!(c.bindings.iter().all(|b| b.visibility == ["compute"]));
+            // Offsets: each attribute after the lanes of those before it, and read there.
+            let mut lane = 0;
+            for g in &c.geometry {
+                assert_eq!(g.offset, Some(lane), "{at}: {}", g.name);
+                assert!(
+                    m.source.contains(&format!(
+                        "geom.{} = {}(mg_geometry[{lane}u * n + i]",
+                        g.name, g.wgsl_type
+                    )),
+                    "{at}: {}",
+                    g.name
+                );
+                lane += lanes(&g.wgsl_type);
+            }
+            assert_eq!(c.geometry_lanes, Some(lane), "{at}");
+            // Columns: each output after those before it, written there.
+            let mut column = 0;
+            for o in &c.outputs {
+                assert_eq!(o.column, Some(column), "{at}: {}", o.name);
+                let write = format!("mg_out[{column}u * n + i] = ");
+                let member = format!("o.{}", o.member);
+                assert!(
+                    m.source
+                        .lines()
+                        .any(|l| l.trim_start().starts_with(&write) && l.contains(&member)),
+                    "{at}: {}",
+                    o.name
+                );
+                column += lanes(&o.wgsl_type);
+            }
+            assert_eq!(c.output_columns, Some(column), "{at}");
+        }
+    }
+}
+
+/// The command line writes them (`--entry library|compute --contract`), the same bytes
+/// twice, and refuses a contract of the editor's fragment preview.
+#[test]
+fn wgsl_writes_library_and_compute_contracts() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/skin.json");
+    let run = |entry: &str, name: &str| {
+        let json = dir.path().join(name);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+            .arg("wgsl")
+            .arg(&graph)
+            .args(["--entry", entry, "-o"])
+            .arg(dir.path().join(format!("{name}.wgsl")))
+            .arg("--contract")
+            .arg(&json)
+            .output()
+            .unwrap();
+        (out, std::fs::read_to_string(&json).unwrap_or_default())
+    };
+    for entry in ["library", "compute"] {
+        let (out, a) = run(entry, &format!("{entry}_a.json"));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (_, b) = run(entry, &format!("{entry}_b.json"));
+        assert_eq!(a, b);
+        let c: ModuleContract = serde_json::from_str(&a).unwrap();
+        assert_eq!(c.module, entry);
+        // skin.json's parameters, in the block with their ranges.
+        let eta = c
+            .parameters
+            .members
+            .iter()
+            .find(|m| m.parameter.as_deref() == Some("eta"))
+            .unwrap();
+        assert_eq!(eta.hard_range, Some([1.0, 3.0]));
+    }
+    let (out, _) = run("fragment", "fragment.json");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--entry render, library or compute"), "{err}");
+}
