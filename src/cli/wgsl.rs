@@ -49,6 +49,11 @@ pub struct Args {
     /// clamps, so a value the CPU would refuse renders as the nearest accepted one).
     #[arg(long)]
     pub no_clamp: bool,
+    /// Check the module against a downlevel device's limits (WebGL2, GLES 3.0: wgpu's
+    /// downlevel_webgl2_defaults) and refuse, naming each limit it needs beyond them, when
+    /// it does not fit (the render module's lights are a storage buffer, which those lack).
+    #[arg(long)]
+    pub downlevel: bool,
     /// Render module: the varyings are interpolated per sample (`@interpolate(perspective,
     /// sample)`), so under MSAA `mg_fragment` runs once per covered sample
     /// (MaterialOptions::sample_shading; docs/integration.md, "Options for renderers").
@@ -98,6 +103,31 @@ fn clamp_option(no_clamp: bool) -> matgraph::wgsl::ParameterClamp {
     } else {
         matgraph::wgsl::ParameterClamp::HardRange
     }
+}
+
+/// With `--downlevel`: an error naming every WebGL2/GLES 3.0 limit `module` needs more of.
+fn downlevel(check: bool, module: &matgraph::wgsl::ShaderModule) -> Result<(), String> {
+    if !check {
+        return Ok(());
+    }
+    let limits = wgpu::Limits::downlevel_webgl2_defaults();
+    let mut unmet = matgraph::material::ModuleLimits::of(module).unmet(&limits);
+    if module.entry == matgraph::wgsl::Entry::Compute {
+        unmet.insert(0, "WebGL2 and GLES 3.0 run no compute shaders".into());
+    }
+    if unmet.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "the {} module does not fit a downlevel device (WebGL2, GLES 3.0; wgpu's downlevel_webgl2_defaults):\n  - {}\nmatgraph emits no downlevel variant: bind it on a WebGPU, Vulkan, Metal or DX12 device (its contract's `limits` says what it needs){}",
+        module.entry.name(),
+        unmet.join("\n  - "),
+        if matches!(module.entry, matgraph::wgsl::Entry::Render(_)) {
+            ", or call the library module (--entry library --downlevel) from a shader of your own that passes lights as uniforms"
+        } else {
+            ""
+        }
+    ))
 }
 
 /// Compiles the graph and prints or writes the shader (and the contract).
@@ -182,6 +212,7 @@ pub fn run(args: &Args) -> CliResult {
             matgraph::io::write_atomic(path, material.contract().to_json().as_bytes())
                 .map_err(|e| super::out_dir::write_error(path, &e))?;
         }
+        downlevel(args.downlevel, material.render_module()).map_err(|e| at(&e))?;
         material
             .render_module()
             .translate(target)
@@ -211,6 +242,7 @@ pub fn run(args: &Args) -> CliResult {
             clamp: clamp_option(args.no_clamp),
         };
         let shader = generate(&graph, &options).map_err(|e| at(&e))?;
+        downlevel(args.downlevel, &shader).map_err(|e| at(&e))?;
         if let Some(path) = &args.contract {
             let contract = matgraph::material::ModuleContract::new(&graph, &shader, options.clamp);
             matgraph::io::write_atomic(path, contract.to_json().as_bytes())

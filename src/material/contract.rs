@@ -6,6 +6,7 @@ use super::Material;
 use super::layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type,
 };
+use super::limits::ModuleLimits;
 use crate::parameter_info::ParameterInfo;
 use crate::wgsl::render::{
     FRAME_BINDING, FRAME_SIZE, LIGHT_DIRECTIONAL, LIGHT_MIN_DISTANCE, LIGHT_POINT, LIGHT_STRIDE,
@@ -63,6 +64,10 @@ pub struct Contract {
     pub textures: Vec<Texture>,
     /// Per-stage binding counts (all bindings are visible to both stages).
     pub per_stage: PerStage,
+    /// The device limits the module needs, named as `wgpu::Limits` fields (absent in a
+    /// contract written before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limits: Option<ModuleLimits>,
     /// The normal rebuild's relative step (m per m of |position|∞, at least 1 m).
     pub normal_step: f32,
     /// The hook functions an app may replace.
@@ -110,6 +115,8 @@ pub struct ModuleContract {
     pub textures: Vec<Texture>,
     /// Per-stage binding counts.
     pub per_stage: PerStage,
+    /// The device limits the module needs, named as `wgpu::Limits` fields.
+    pub limits: ModuleLimits,
 }
 
 /// A member of `MgGeometry` in a [`ModuleContract`].
@@ -206,6 +213,7 @@ impl ModuleContract {
                 sampled_textures: counts.sampled_textures,
                 samplers: counts.samplers,
             },
+            limits: ModuleLimits::of(module),
         }
     }
 
@@ -371,6 +379,15 @@ pub struct Output {
     pub wgsl_type: String,
     /// `color`, `emission`, `alpha` or `displacement`.
     pub role: String,
+    /// What the role's value is measured in: `radiance` (colour and emission: linear
+    /// radiance, in the units of the lights' `color`), `fraction` (alpha: coverage, 0 to 1),
+    /// `m` (displacement: metres along the normal); absent for an output without a role.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// `linear-rec709` for colour and emission (scene-referred linear RGB, Rec. 709 / sRGB
+    /// primaries, not encoded); absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color_space: Option<String>,
 }
 
 /// One binding of group 0.
@@ -845,6 +862,14 @@ pub(super) fn build(m: &Material) -> Contract {
                 member: o.field.clone(),
                 wgsl_type: wgsl_type(o.ty).into(),
                 role: role_of(k).into(),
+                unit: match role_of(k) {
+                    "color" | "emission" => Some("radiance".into()),
+                    "alpha" => Some("fraction".into()),
+                    "displacement" => Some("m".into()),
+                    _ => None,
+                },
+                color_space: matches!(role_of(k), "color" | "emission")
+                    .then(|| "linear-rec709".into()),
             })
             .collect(),
         bindings,
@@ -858,6 +883,7 @@ pub(super) fn build(m: &Material) -> Contract {
             sampled_textures: counts.sampled_textures,
             samplers: counts.samplers,
         },
+        limits: Some(ModuleLimits::of(render)),
         normal_step: NORMAL_STEP,
         hooks: vec![
             "mg_light_visibility".into(),

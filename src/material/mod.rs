@@ -30,6 +30,7 @@
 mod contract;
 mod frame;
 mod layout;
+mod limits;
 mod load;
 mod params;
 mod textures;
@@ -43,6 +44,7 @@ pub use layout::{
     StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
     tangent_buffer_layout, vertex_buffer_layout,
 };
+pub use limits::ModuleLimits;
 pub use load::LoadError;
 pub use params::{IntoParam, ParamBlock};
 pub use textures::{

@@ -19,6 +19,7 @@ pub mod render;
 mod targets;
 mod validate;
 
+pub use emit::fragment_location;
 pub use harness::{HarnessModule, node_choice_harness, node_constant_harness, node_harness};
 pub use layout::{UniformField, UniformLayout, UniformSource};
 pub use targets::Target;

@@ -179,3 +179,56 @@ fn wgsl_writes_library_and_compute_contracts() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--entry render, library or compute"), "{err}");
 }
+
+/// docs/integration.md's table of `MgVarying` locations is the emitter's, for every
+/// attribute, and the preview module of a graph reading them declares them there.
+#[test]
+fn the_documented_varying_locations_are_the_fragment_entrys() {
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/integration.md"))
+            .unwrap();
+    let section = doc
+        .split("## The fragment preview entry")
+        .nth(1)
+        .expect("the section")
+        .split("\n## ")
+        .next()
+        .unwrap();
+    let mut seen = 0;
+    for line in section
+        .lines()
+        .filter(|l| l.starts_with("| ") && l.contains('`'))
+    {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        for pair in cells[1..cells.len() - 1].chunks(2) {
+            let [loc, name] = pair else { continue };
+            let Ok(loc) = loc.parse::<u32>() else {
+                continue;
+            };
+            let a = matgraph::Attribute::from_name(name.trim_matches('`'))
+                .unwrap_or_else(|| panic!("{name}"));
+            assert_eq!(matgraph::wgsl::fragment_location(a), loc, "{name}");
+            seen += 1;
+        }
+    }
+    assert_eq!(seen, 19, "every attribute is in the table");
+    // pbr_gold reads the normal: its preview declares it at location 1.
+    let graph = matgraph::io::load_graph(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/pbr_gold.json"),
+        Registry::builtin(),
+    )
+    .unwrap();
+    let m = generate(
+        &graph,
+        &WgslOptions {
+            entry: Entry::Fragment,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(
+        m.source
+            .contains("struct MgVarying {\n    @builtin(position) frag_coord: vec4<f32>,\n")
+    );
+    assert!(m.source.contains("    @location(1) normal: vec3<f32>,\n"));
+}

@@ -359,6 +359,7 @@ fn render_modules_hoist_light_independent_calls_out_of_the_light_loop() {
     let options = WgslOptions {
         plan: PlanOptions::default(),
         entry: Entry::Render(matgraph::wgsl::TextureMode::Exact),
+        ..Default::default()
     };
     let m = generate(&graph, &options).unwrap();
     let body = |name: &str| -> String {
@@ -399,6 +400,7 @@ fn render_modules_hoist_light_independent_calls_out_of_the_light_loop() {
     let library = WgslOptions {
         plan: PlanOptions::default(),
         entry: Entry::Library(matgraph::wgsl::TextureMode::Exact),
+        ..Default::default()
     };
     let l = generate(&graph, &library).unwrap();
     for f in [

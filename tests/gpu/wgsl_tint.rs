@@ -53,6 +53,7 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
                     bake_parameters: bake,
                     ..Default::default()
                 },
+                ..Default::default()
             };
             let m = generate(graph, &options)
                 .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
@@ -76,6 +77,7 @@ fn tint_accepts_every_bundled_graph_for_both_entry_points() {
                     let options = WgslOptions {
                         entry,
                         plan: PlanOptions::default(),
+                        ..Default::default()
                     };
                     let m = generate(&graph, &options)
                         .unwrap_or_else(|e| panic!("{}: {entry:?}: {e}", path.display()));
