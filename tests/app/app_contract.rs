@@ -1032,7 +1032,7 @@ fn contract_cli_errors_name_the_problem() {
         "wgsl".as_ref(),
         graph_path("skin.json").as_os_str(),
         "--entry".as_ref(),
-        "compute".as_ref(),
+        "fragment".as_ref(),
         "--contract".as_ref(),
         "/tmp/never.json".as_ref(),
     ]);

@@ -232,3 +232,72 @@ fn the_documented_varying_locations_are_the_fragment_entrys() {
     );
     assert!(m.source.contains("    @location(1) normal: vec3<f32>,\n"));
 }
+
+/// `--downlevel` (issue 38 item 8): a module that fits WebGL2/GLES 3.0 is written; one that
+/// does not is refused, naming each limit. bubble_iridescent_fast's parameter block holds
+/// `thin_film`'s 471-row table: 32,784 bytes (the issue's measure) > 16,384.
+#[test]
+fn downlevel_refuses_naming_each_limit_and_passes_what_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |graph: &str, entry: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_matgraph"))
+            .arg("wgsl")
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("graphs/{graph}.json")))
+            .args(["--entry", entry, "--downlevel", "-o"])
+            .arg(dir.path().join(format!("{graph}_{entry}.wgsl")))
+            .output()
+            .unwrap()
+    };
+    let ok = run("skin", "library");
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let render = run("skin", "render");
+    let err = String::from_utf8_lossy(&render.stderr);
+    assert!(!render.status.success());
+    assert!(
+        err.contains("skin.json: the render module does not fit a downlevel device"),
+        "{err}"
+    );
+    assert!(
+        err.contains("max_storage_buffers_per_shader_stage 0, the module needs 1"),
+        "{err}"
+    );
+    let bubble = run("bubble_iridescent_fast", "library");
+    let err = String::from_utf8_lossy(&bubble.stderr);
+    assert!(!bubble.status.success());
+    assert!(
+        err.contains("max_uniform_buffer_binding_size 16384, the module needs 32784"),
+        "{err}"
+    );
+    let compute = run("skin", "compute");
+    let err = String::from_utf8_lossy(&compute.stderr);
+    assert!(err.contains("run no compute shaders"), "{err}");
+    // The contract states the same needs.
+    let graph = matgraph::io::load_graph(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("graphs/bubble_iridescent_fast.json"),
+        Registry::builtin(),
+    )
+    .unwrap();
+    let m = matgraph::material::Material::new(&graph, &Default::default()).unwrap();
+    let limits = m.contract().limits.unwrap();
+    assert_eq!(limits.max_uniform_buffer_binding_size, 32_784);
+    assert_eq!(limits.max_storage_buffers_per_shader_stage, 1);
+    assert_eq!(
+        m.library_contract().limits.max_uniform_buffer_binding_size,
+        32_784
+    );
+    // As docs/integration.md says: every bundled library module but that one fits.
+    let webgl2 = wgpu::Limits::downlevel_webgl2_defaults();
+    let refused: Vec<String> = common::bundled_graphs()
+        .iter()
+        .filter_map(|p| {
+            let g = matgraph::io::load_graph(p, Registry::builtin()).unwrap();
+            let m = matgraph::material::Material::new(&g, &Default::default()).unwrap();
+            (!m.library_contract().limits.unmet(&webgl2).is_empty()).then_some(g.name)
+        })
+        .collect();
+    assert_eq!(refused, ["bubble_iridescent_fast"]);
+}
