@@ -20,6 +20,12 @@ pub struct Args {
     /// Read a scene file or environment image outside the graph's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Also write the scene's view at this image size, WxH: `view.json` (camera as a
+    /// WebGPU view_proj, lights as MgLight records, time) and `mesh.bin` (the material mesh
+    /// in the contract's vertex layout, then u32 indices), to draw what `matgraph render`
+    /// shows (docs/integration.md, "A scene's view").
+    #[arg(long, value_name = "WxH", value_parser = super::render::parse_size)]
+    pub view: Option<(u32, u32)>,
 }
 
 /// The scene and environment image `source` names, and how the manifest calls it.
@@ -76,6 +82,24 @@ pub fn run(args: &Args) -> CliResult {
         matgraph::io::write_atomic(&path, data)
             .map_err(|e| super::out_dir::write_error(&path, &e))?;
         bytes += data.len() as u64;
+    }
+    if let Some((w, h)) = args.view {
+        use matgraph::render::view::{MESH_FILE, SceneView, mesh_bytes};
+        let view = SceneView::of(&scene, w, h);
+        for (name, data) in [
+            ("view.json", view.to_json().into_bytes()),
+            (MESH_FILE, mesh_bytes(&scene)),
+        ] {
+            let path = args.out.join(name);
+            matgraph::io::write_atomic(&path, &data)
+                .map_err(|e| super::out_dir::write_error(&path, &e))?;
+        }
+        eprintln!(
+            "view {w} × {h}: {} lights, mesh of {} vertices and {} triangles",
+            view.lights.len(),
+            view.mesh.vertices,
+            view.mesh.indices / 3
+        );
     }
     for t in &baked.manifest.textures {
         eprintln!(

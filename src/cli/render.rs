@@ -112,7 +112,8 @@ pub struct Args {
     pub specialise: Option<String>,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+/// An image size `WxH`, each side 1 to 16384.
+pub(super) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or("expected WxH, for example 512x512")?;

@@ -25,6 +25,7 @@ mod gpu;
 mod ibl_cache;
 pub mod sheet;
 pub mod tonemap;
+pub mod view;
 
 use crate::exec::{Evaluator, SampleBatch};
 use crate::gpu::Backend;

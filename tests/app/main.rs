@@ -23,4 +23,5 @@ mod sandbox_race;
 mod stdout_errors;
 mod tangent_contract;
 mod texel_checks;
+mod web_example;
 mod wgsl_options;
