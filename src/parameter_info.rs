@@ -58,8 +58,8 @@ pub struct ParameterInfo {
     pub kind: ParameterKind,
     /// Its physical unit, when the inputs it feeds state one and agree ("" otherwise).
     pub unit: &'static str,
-    /// The range a slider covers: the fed inputs' soft ranges, within the hard range; the
-    /// hard range where no fed input has one.
+    /// The range a slider covers: the fed inputs' soft ranges, within the hard range (the
+    /// hard range where no fed input has one), widened to hold the file's value.
     pub soft: Option<Range>,
     /// The range every component must lie in: the file's `range` and the hard range of every
     /// input it feeds whole (each component reaches the input: links with no conversion, a
@@ -170,6 +170,13 @@ fn info(
         }
         (s, h) => s.or(h),
     };
+    // A slider holds the file's value (water_sunshine's `tiling` of 12 over a soft 0..10).
+    let soft = soft.map(|r| {
+        p.default.lanes().iter().fold(r, |r, &x| Range {
+            min: r.min.min(x),
+            max: r.max.max(x),
+        })
+    });
     let units: Vec<&'static str> = fed
         .iter()
         .map(|(d, _)| d.unit)

@@ -113,7 +113,9 @@ async function decode(url) {
 /** A file texture of the contract: every level the contract says, box filtered in linear light. */
 async function fileTexture(device, t) {
   const srgb = t.color_space === 'srgb';
-  const files = t.name.split('|');
+  // The key: the path (or a chain's paths joined by '|'), with '#data', '#linear' or '#srgb'
+  // where the node reads the file in another colour space than its type's default.
+  const files = t.name.replace(/#(data|linear|srgb)$/, '').split('|');
   const levels = [];
   for (const file of files) {
     const img = await decode(new URL(file, texturesBase));

@@ -381,7 +381,8 @@ pub struct Output {
     pub role: String,
     /// What the role's value is measured in: `radiance` (colour and emission: linear
     /// radiance, in the units of the lights' `color`), `fraction` (alpha: coverage, 0 to 1),
-    /// `m` (displacement: metres along the normal); absent for an output without a role.
+    /// `m` (displacement: a world-space offset in metres); absent for an output without a
+    /// role.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unit: Option<String>,
     /// `linear-rec709` for colour and emission (scene-referred linear RGB, Rec. 709 / sRGB
