@@ -299,9 +299,18 @@ impl Expander<'_> {
         };
         let at = |id: &str| format!("{}{id}", scope.prefix);
 
-        // 1. What each id names.
+        // 1. What each id names. A repeated id is reported here, once per place written,
+        // and only its first node is copied: the error stops further copies of this body
+        // (see `expand`), where the builder would find it again in every copy.
         let mut locals: HashMap<String, Local> = HashMap::with_capacity(nodes.len());
-        for n in nodes {
+        let mut repeated: HashSet<usize> = HashSet::new();
+        for (k, n) in nodes.iter().enumerate() {
+            if locals.contains_key(&n.id) {
+                self.errors
+                    .push(GraphError::DuplicateId { node: at(&n.id) });
+                repeated.insert(k);
+                continue;
+            }
             if !valid_id(&n.id) {
                 self.errors.push(GraphError::InvalidId { node: at(&n.id) });
             }
@@ -333,7 +342,10 @@ impl Expander<'_> {
 
         // 2. The nodes, links rewritten into the flat namespace.
         let mut inner = Vec::new();
-        for n in nodes {
+        for (k, n) in nodes.iter().enumerate() {
+            if repeated.contains(&k) {
+                continue;
+            }
             match &locals[&n.id] {
                 Local::Broken => {}
                 Local::Instance(def) => {

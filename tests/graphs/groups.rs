@@ -1256,6 +1256,33 @@ fn doubling_groups(levels: usize) -> serde_json::Value {
         "groups": groups })
 }
 
+/// A repeated node id inside a group body is one error, at the place it is written, however
+/// many copies the graph makes of the body (issue 37's slow fuzz cases: 2^13 copies each
+/// reported the id again, 8,192 errors built, relocated and dropped in seconds).
+#[test]
+fn a_repeated_id_in_a_multiplied_body_is_reported_once() {
+    let mut doc = doubling_groups(14);
+    let body = &mut doc["groups"]["g13"]["nodes"];
+    let again = body[0].clone();
+    body.as_array_mut().unwrap().push(again);
+    let errors = Graph::from_json(&doc.to_string(), Registry::builtin())
+        .expect_err("the repeated id is refused");
+    let shown: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(shown.len(), 1, "{shown:#?}");
+    assert!(
+        shown[0].ends_with("→ node 'n': duplicate node id"),
+        "{}",
+        shown[0]
+    );
+    // At the top level too: the second 'i' is refused, the first still expands.
+    let mut doc = doubling_groups(3);
+    let again = doc["nodes"][0].clone();
+    doc["nodes"].as_array_mut().unwrap().push(again);
+    let errors = Graph::from_json(&doc.to_string(), Registry::builtin()).unwrap_err();
+    let shown: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(shown, ["node 'i': duplicate node id"]);
+}
+
 #[test]
 fn groups_that_multiply_past_the_node_cap_are_refused_before_they_are_copied() {
     // 2^30 copies would take hundreds of GiB; the groups' sizes are counted first, and
