@@ -4,7 +4,8 @@
 
 use super::Material;
 use super::layout::{
-    StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE, binding_type,
+    StageCounts, TANGENT_ATTRIBUTES, TANGENT_STRIDE, VERTEX_ATTRIBUTES, VERTEX_STRIDE,
+    binding_type, min_binding_size,
 };
 use super::limits::ModuleLimits;
 use crate::parameter_info::ParameterInfo;
@@ -175,7 +176,6 @@ impl ModuleContract {
     ) -> ModuleContract {
         let compute = module.entry == crate::wgsl::Entry::Compute;
         let layout = crate::wgsl::geometry_layout(&module.attributes);
-        let counts = StageCounts::of(module);
         ModuleContract {
             schema: CONTRACT_SCHEMA.into(),
             module: module.entry.name().into(),
@@ -207,12 +207,7 @@ impl ModuleContract {
             bindings: binding_entries(module),
             parameters: parameter_block(module, info, clamp),
             textures: texture_entries(textures),
-            per_stage: PerStage {
-                uniform_buffers: counts.uniform_buffers,
-                storage_buffers: counts.storage_buffers,
-                sampled_textures: counts.sampled_textures,
-                samplers: counts.samplers,
-            },
+            per_stage: PerStage::from(StageCounts::of(module)),
             limits: ModuleLimits::of(module),
         }
     }
@@ -544,6 +539,17 @@ pub struct PerStage {
     pub samplers: u32,
 }
 
+impl From<StageCounts> for PerStage {
+    fn from(c: StageCounts) -> PerStage {
+        PerStage {
+            uniform_buffers: c.uniform_buffers,
+            storage_buffers: c.storage_buffers,
+            sampled_textures: c.sampled_textures,
+            samplers: c.samplers,
+        }
+    }
+}
+
 impl Contract {
     /// Pretty JSON, two-space indent, newline-terminated: the same bytes for the same input.
     pub fn to_json(&self) -> String {
@@ -618,12 +624,7 @@ fn binding_entries(module: &ShaderModule) -> Vec<BindingEntry> {
                 wgpu::BindingType::Sampler(_) => "filtering-sampler",
                 _ => "texture-2d-float",
             };
-            let min_binding_size = match k {
-                Binding::Params => Some((module.uniforms.size as u64).next_multiple_of(16).max(16)),
-                Binding::Frame => Some(FRAME_SIZE as u64),
-                Binding::Dispatch => Some(8),
-                _ => None,
-            };
+            let min_binding_size = min_binding_size(module, k);
             let (address_mode, filter) = match k {
                 Binding::Sampler(w, f) => (
                     Some(
@@ -793,7 +794,6 @@ pub(super) fn build(m: &Material) -> Contract {
         point: LIGHT_POINT,
         min_distance: LIGHT_MIN_DISTANCE,
     };
-    let counts = StageCounts::of(render);
     Contract {
         schema: CONTRACT_SCHEMA.into(),
         graph: m.graph.clone(),
@@ -878,12 +878,7 @@ pub(super) fn build(m: &Material) -> Contract {
         frame,
         lights,
         textures: texture_entries(&m.textures),
-        per_stage: PerStage {
-            uniform_buffers: counts.uniform_buffers,
-            storage_buffers: counts.storage_buffers,
-            sampled_textures: counts.sampled_textures,
-            samplers: counts.samplers,
-        },
+        per_stage: PerStage::from(StageCounts::of(render)),
         limits: Some(ModuleLimits::of(render)),
         normal_step: NORMAL_STEP,
         hooks: vec![

@@ -4,6 +4,17 @@
 use crate::wgsl::render::FRAME_SIZE;
 use crate::wgsl::{Binding, ShaderModule};
 
+/// The smallest buffer size a buffer binding takes (uniform blocks), from
+/// [`binding_type`]; `None` for other bindings.
+pub(super) fn min_binding_size(module: &ShaderModule, b: &Binding) -> Option<u64> {
+    match binding_type(module, b) {
+        wgpu::BindingType::Buffer {
+            min_binding_size, ..
+        } => min_binding_size.map(std::num::NonZeroU64::get),
+        _ => None,
+    }
+}
+
 /// What a binding of group 0 is, in wgpu terms.
 pub(super) fn binding_type(module: &ShaderModule, b: &Binding) -> wgpu::BindingType {
     let buffer = |ty, min: Option<u64>| wgpu::BindingType::Buffer {

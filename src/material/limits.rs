@@ -3,7 +3,7 @@
 //! `matgraph wgsl --downlevel`'s refusal.
 
 use super::layout::StageCounts;
-use crate::wgsl::{Binding, Entry, ShaderModule};
+use crate::wgsl::{Entry, ShaderModule};
 use serde::{Deserialize, Serialize};
 
 /// The limits a module needs, each named as its `wgpu::Limits` field (WebGPU's
@@ -38,12 +38,7 @@ impl ModuleLimits {
         let uniform = module
             .bindings
             .iter()
-            .filter_map(|(_, b)| match b {
-                Binding::Params => Some((module.uniforms.size as u64).next_multiple_of(16).max(16)),
-                Binding::Frame => Some(crate::wgsl::render::FRAME_SIZE as u64),
-                Binding::Dispatch => Some(8),
-                _ => None,
-            })
+            .filter_map(|(_, b)| super::layout::min_binding_size(module, b))
             .max()
             .unwrap_or(0);
         ModuleLimits {
@@ -61,59 +56,57 @@ impl ModuleLimits {
 
     /// Each need above `limits`, in words naming the limit, the need and what uses it.
     pub fn unmet(&self, limits: &wgpu::Limits) -> Vec<String> {
-        let mut out = Vec::new();
-        let mut check = |name: &str, need: u64, have: u64, what: &str| {
-            if need > have {
-                out.push(format!("{name} {have}, the module needs {need} ({what})"));
-            }
-        };
-        check(
-            "max_uniform_buffer_binding_size",
-            self.max_uniform_buffer_binding_size,
-            limits.max_uniform_buffer_binding_size,
-            "bytes of its largest uniform block",
-        );
-        check(
-            "max_uniform_buffers_per_shader_stage",
-            self.max_uniform_buffers_per_shader_stage.into(),
-            limits.max_uniform_buffers_per_shader_stage.into(),
-            "uniform blocks",
-        );
-        check(
-            "max_storage_buffers_per_shader_stage",
-            self.max_storage_buffers_per_shader_stage.into(),
-            limits.max_storage_buffers_per_shader_stage.into(),
-            "storage buffers: the lights, the compute entry's data, the exact texture mode's texels",
-        );
-        check(
-            "max_sampled_textures_per_shader_stage",
-            self.max_sampled_textures_per_shader_stage.into(),
-            limits.max_sampled_textures_per_shader_stage.into(),
-            "textures",
-        );
-        check(
-            "max_samplers_per_shader_stage",
-            self.max_samplers_per_shader_stage.into(),
-            limits.max_samplers_per_shader_stage.into(),
-            "samplers",
-        );
-        if let Some(n) = self.max_inter_stage_shader_variables {
-            check(
+        let optional = |n: Option<u32>| n.map(u64::from);
+        [
+            (
+                "max_uniform_buffer_binding_size",
+                Some(self.max_uniform_buffer_binding_size),
+                limits.max_uniform_buffer_binding_size,
+                "bytes of its largest uniform block",
+            ),
+            (
+                "max_uniform_buffers_per_shader_stage",
+                Some(self.max_uniform_buffers_per_shader_stage.into()),
+                limits.max_uniform_buffers_per_shader_stage.into(),
+                "uniform blocks",
+            ),
+            (
+                "max_storage_buffers_per_shader_stage",
+                Some(self.max_storage_buffers_per_shader_stage.into()),
+                limits.max_storage_buffers_per_shader_stage.into(),
+                "storage buffers: the lights, the compute entry's data, the exact texture mode's texels",
+            ),
+            (
+                "max_sampled_textures_per_shader_stage",
+                Some(self.max_sampled_textures_per_shader_stage.into()),
+                limits.max_sampled_textures_per_shader_stage.into(),
+                "textures",
+            ),
+            (
+                "max_samplers_per_shader_stage",
+                Some(self.max_samplers_per_shader_stage.into()),
+                limits.max_samplers_per_shader_stage.into(),
+                "samplers",
+            ),
+            (
                 "max_inter_stage_shader_variables",
-                n.into(),
+                optional(self.max_inter_stage_shader_variables),
                 limits.max_inter_stage_shader_variables.into(),
                 "varyings",
-            );
-        }
-        if let Some(n) = self.max_compute_invocations_per_workgroup {
-            check(
+            ),
+            (
                 "max_compute_invocations_per_workgroup",
-                n.into(),
+                optional(self.max_compute_invocations_per_workgroup),
                 limits.max_compute_invocations_per_workgroup.into(),
                 "a compute entry",
-            );
-        }
-        out
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(name, need, have, what)| {
+            let need = need?;
+            (need > have).then(|| format!("{name} {have}, the module needs {need} ({what})"))
+        })
+        .collect()
     }
 }
 
