@@ -119,20 +119,27 @@ pub enum GraphError {
         /// The limit.
         max: usize,
     },
-    /// Groups whose instances, once inlined, would make more than
-    /// [`crate::group::MAX_EXPANDED_NODES`] nodes (a group using another twice, many levels
-    /// deep, doubles at each level); refused before the nodes are copied.
+    /// Groups whose instances, once inlined, would make more nodes than
+    /// [`crate::group::expansion_limit`] allows for the nodes written (a group using another
+    /// twice, many levels deep, doubles at each level); refused before the nodes are copied.
     #[error(
-        "node '{node}': group {group} makes the graph larger than {max} nodes once inlined \
-         (each instance copies its group's nodes, so groups using groups multiply)"
+        "node '{node}': group {group} makes the graph larger than {max} nodes once inlined, \
+         from {written} written (each instance copies its group's nodes, so groups using \
+         groups multiply; a graph may have {} nodes, or {} times the nodes written, whichever \
+         is more, and never more than {})",
+        crate::group::AMPLIFICATION_THRESHOLD,
+        crate::group::MAX_AMPLIFICATION,
+        crate::group::MAX_EXPANDED_NODES
     )]
     GroupTooLarge {
         /// The instance whose copy would pass the limit.
         node: String,
         /// The group it uses, as written on it.
         group: String,
-        /// The limit.
+        /// The limit for this graph.
         max: usize,
+        /// The nodes written (the top graph's, each group's once).
+        written: usize,
     },
     /// An input of a group's interface that is malformed (unknown type, default of the wrong
     /// type or outside its hard range, ranges the wrong way round, a repeated name).

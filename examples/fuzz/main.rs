@@ -19,7 +19,9 @@
 //! loads but whose saved form does not load back to the same bytes, a graph that loads and
 //! plans but whose WGSL (or render module) naga rejects, a contract that is not the same
 //! JSON twice, a scene mesh larger than its memory reservation, a `--set` value accepted
-//! with a number past f32, or a case that takes over a second. Each is written, as a
+//! with a number past f32, or a case that takes over a second when run again alone after
+//! the run (every case over a second in the run is listed in `slow-cases.txt` and run
+//! again alone, three times; the fastest counts). Each is written, as a
 //! replayable case, to the `--out` folder (default `fuzz-findings/`), at most 5 per
 //! distinct message.
 

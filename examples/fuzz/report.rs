@@ -1,6 +1,8 @@
 //! Running many cases on all cores, and what a run found: findings by message (with their
 //! reproducers written to a folder), known signatures, cases per family, per-case wall
-//! time (the slowest case and how many took over a second).
+//! time (the slowest case and how many took over a second), and the cases over a second
+//! run again alone, so that a case stretched by other work on the machine is told from a
+//! slow one.
 
 use super::cases::{Corpus, Family};
 use super::stages::run_case;
@@ -39,9 +41,15 @@ pub struct Report {
     pub families: BTreeMap<Family, u64>,
     /// The slowest case: seconds, case number, family.
     pub slowest: (f64, u64, Option<Family>),
-    /// Cases over [`SLOW_SECONDS`].
+    /// Cases over [`SLOW_SECONDS`] of wall time in the run.
     pub over_a_second: u64,
+    /// Every case over [`SLOW_SECONDS`] in the run: case number, family, its wall time in
+    /// the run and the fastest of [`REPLAYS`] runs alone afterwards (seconds).
+    pub slow: Vec<(u64, Family, f64, f64)>,
 }
+
+/// How many times a case over [`SLOW_SECONDS`] is run again alone after the run.
+pub const REPLAYS: usize = 3;
 
 impl Report {
     /// Cases per second.
@@ -72,7 +80,17 @@ impl Report {
             family.map_or("-", Family::name),
             self.seed
         );
-        s += &format!("cases over {SLOW_SECONDS} s: {}\n", self.over_a_second);
+        let alone = self.slow.iter().filter(|c| c.3 > SLOW_SECONDS).count();
+        s += &format!(
+            "cases over {SLOW_SECONDS} s: {} in the run; {alone} of them over {SLOW_SECONDS} s alone (fastest of {REPLAYS})\n",
+            self.over_a_second
+        );
+        for (case, family, wall, min) in &self.slow {
+            s += &format!(
+                "  case {case} ({}): {wall:.3} s in the run, {min:.3} s alone\n",
+                family.name()
+            );
+        }
         s += &format!("findings: {} distinct\n", self.findings.len());
         for (message, (count, cases)) in &self.findings {
             s += &format!("  {count} × {message} (cases {cases:?})\n");
@@ -141,6 +159,7 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
     let known = Mutex::new(BTreeMap::new());
     let stats = Mutex::new((BTreeMap::<Family, u64>::new(), (0.0f64, 0u64, None), 0u64));
     let done = AtomicU64::new(0);
+    let slow_in_run = Mutex::new(Vec::<(u64, Family, f64)>::new());
     let start = Instant::now();
     let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {})); // panics are caught and reported per case
@@ -187,20 +206,6 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
                 "",
             );
         }
-        if secs > SLOW_SECONDS {
-            let txt = format!("seed {seed} case {case}\ntook {secs:.3} s\n");
-            record(
-                &findings,
-                format!(
-                    "slow: a {} case took over {SLOW_SECONDS} s",
-                    c.family.name()
-                ),
-                case,
-                || (c.to_json(seed, case), txt),
-                out,
-                "slow",
-            );
-        }
         {
             let mut s = stats.lock().unwrap_or_else(|e| e.into_inner());
             *s.0.entry(c.family).or_default() += 1;
@@ -209,6 +214,21 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
             }
             if secs > SLOW_SECONDS {
                 s.2 += 1;
+            }
+        }
+        if secs > SLOW_SECONDS {
+            slow_in_run
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push((case, c.family, secs));
+            if let Some(dir) = out {
+                let _ = std::fs::create_dir_all(dir);
+                let line = format!("{case} {} {secs:.3}\n", c.family.name());
+                let _ = std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(dir.join("slow-cases.txt"))
+                    .and_then(|mut f| std::io::Write::write_all(&mut f, line.as_bytes()));
             }
         }
         let n = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -227,16 +247,50 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
             );
         }
     });
+    let seconds = start.elapsed().as_secs_f64();
+    // Each case over the bound, run again alone (nothing else running in this process):
+    // the fastest of the replays is its own time; over the bound, it is a finding.
+    let mut in_run = slow_in_run.into_inner().unwrap_or_else(|e| e.into_inner());
+    in_run.sort_by_key(|c| c.0);
+    let mut slow = Vec::with_capacity(in_run.len());
+    for (case, family, wall) in in_run {
+        let c = corpus.case(seed, case);
+        let alone = (0..REPLAYS)
+            .map(|_| {
+                let t = Instant::now();
+                let _ = catch_unwind(|| run_case(&c));
+                t.elapsed().as_secs_f64()
+            })
+            .fold(f64::INFINITY, f64::min);
+        if alone > SLOW_SECONDS {
+            let txt = format!(
+                "seed {seed} case {case}\ntook {wall:.3} s in the run, {alone:.3} s alone\n"
+            );
+            record(
+                &findings,
+                format!(
+                    "slow: a {} case took over {SLOW_SECONDS} s alone",
+                    family.name()
+                ),
+                case,
+                || (c.to_json(seed, case), txt),
+                out,
+                "slow",
+            );
+        }
+        slow.push((case, family, wall, alone));
+    }
     std::panic::set_hook(previous);
     let (families, slowest, over_a_second) = stats.into_inner().unwrap_or_else(|e| e.into_inner());
     Report {
         seed,
         cases: families.values().sum(),
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
         findings: findings.into_inner().unwrap_or_else(|e| e.into_inner()),
         known: known.into_inner().unwrap_or_else(|e| e.into_inner()),
         families,
         slowest,
         over_a_second,
+        slow,
     }
 }

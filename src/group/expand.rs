@@ -2,7 +2,7 @@
 //! of [`crate::group`]). Iterative over a work list of scopes (one per instance), so the
 //! time is linear in the nodes produced and the stack constant whatever the nesting.
 
-use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, MAX_EXPANDED_NODES, REROUTE};
+use super::{GROUP, GroupFiles, INPUT_ID, MAX_DEPTH, REROUTE, expansion_limit};
 use crate::document::{GraphDocument, GroupDocument, NodeDocument, OutputDocument, TextureSource};
 use crate::error::GraphError;
 use crate::graph::valid_id;
@@ -143,11 +143,14 @@ pub(crate) fn expand(
     // The size once inlined, counted from the groups before anything is copied: too large,
     // and nothing is.
     let mut work = Vec::new();
-    match x.too_large(&top, &doc.nodes) {
+    let written = x.written(&top, &doc.nodes);
+    let limit = expansion_limit(written);
+    match x.too_large(&top, &doc.nodes, limit) {
         Some((node, group)) => x.errors.push(GraphError::GroupTooLarge {
             node,
             group,
-            max: MAX_EXPANDED_NODES,
+            max: limit,
+            written,
         }),
         None => work.push(Scope {
             prefix: String::new(),
@@ -170,12 +173,13 @@ pub(crate) fn expand(
             // what this instance adds (its body, its outputs' reroutes) must fit, or the
             // expansion stops here.
             let adds = def.nodes().len() + def.output_docs().len();
-            if x.nodes.len() + adds > MAX_EXPANDED_NODES {
+            if x.nodes.len() + adds > limit {
                 let node = scope.prefix.trim_end_matches('/').to_owned();
                 x.errors.push(GraphError::GroupTooLarge {
                     group: x.scopes.get(&node).cloned().unwrap_or_default(),
                     node,
-                    max: MAX_EXPANDED_NODES,
+                    max: limit,
+                    written,
                 });
                 break;
             }
@@ -188,9 +192,9 @@ pub(crate) fn expand(
                         name: o.name.clone(),
                         from,
                     }),
-                    Err(message) => x.errors.push(GraphError::BadOutput {
+                    Err(fault) => x.errors.push(GraphError::BadOutput {
                         name: o.name.clone(),
-                        message,
+                        message: fault.message(&o.from),
                     }),
                 }
             }
@@ -220,11 +224,45 @@ pub(crate) fn expand(
 }
 
 impl Expander<'_> {
+    /// The nodes written: the top graph's `nodes`, and the inputs, nodes and outputs of
+    /// each group they reach once (through any number of instances and files).
+    fn written(&mut self, top: &Arc<File>, nodes: &[NodeDocument]) -> usize {
+        let mut count = nodes.len();
+        let mut seen: HashSet<String> = HashSet::new();
+        let mut work: Vec<(Arc<File>, String)> = nodes
+            .iter()
+            .filter(|n| n.node_type == GROUP)
+            .filter_map(|n| Some((top.clone(), n.group.clone()?)))
+            .collect();
+        while let Some((file, reference)) = work.pop() {
+            let Ok(def) = self.resolve(&file, &reference) else {
+                continue;
+            };
+            if !seen.insert(def.key.clone()) {
+                continue;
+            }
+            count = count.saturating_add(def.inputs.len() + def.nodes().len());
+            count = count.saturating_add(def.output_docs().len());
+            work.extend(
+                def.nodes()
+                    .iter()
+                    .filter(|n| n.node_type == GROUP)
+                    .filter_map(|n| Some((def.file.clone(), n.group.clone()?))),
+            );
+        }
+        count
+    }
+
     /// The first instance of the top graph's `nodes` at which the inlined graph passes
-    /// [`MAX_EXPANDED_NODES`], and its group reference; `None` when it fits. Counted from
-    /// each group's size once (memoised), so a group doubling at each of 30 levels costs
-    /// 30 steps, not 2³⁰.
-    fn too_large(&mut self, top: &Arc<File>, nodes: &[NodeDocument]) -> Option<(String, String)> {
+    /// `limit` nodes, and its group reference; `None` when it fits. Counted from each
+    /// group's size once (memoised), so a group doubling at each of 30 levels costs 30
+    /// steps, not 2³⁰.
+    fn too_large(
+        &mut self,
+        top: &Arc<File>,
+        nodes: &[NodeDocument],
+        limit: usize,
+    ) -> Option<(String, String)> {
         let mut sizes = HashMap::new();
         let mut total = nodes.len();
         for n in nodes {
@@ -234,9 +272,9 @@ impl Expander<'_> {
             let Ok(def) = self.resolve(top, reference) else {
                 continue;
             };
-            let size = self.inlined_size(&def, &mut sizes, &mut Vec::new());
+            let size = self.inlined_size(&def, &mut sizes, &mut Vec::new(), limit);
             total = total.saturating_add(size);
-            if total > MAX_EXPANDED_NODES {
+            if total > limit {
                 return Some((n.id.clone(), reference.to_owned()));
             }
         }
@@ -244,7 +282,7 @@ impl Expander<'_> {
     }
 
     /// The nodes one instance of `def` adds once inlined: its inputs' and outputs'
-    /// reroutes, its body, its instances' (saturating, stopped past the limit). A group
+    /// reroutes, its body, its instances' (saturating, stopped past `limit`). A group
     /// that reaches itself or nests past [`MAX_DEPTH`] counts no further (the expansion
     /// reports it); one that does not resolve counts nothing.
     fn inlined_size(
@@ -252,6 +290,7 @@ impl Expander<'_> {
         def: &Arc<Def>,
         sizes: &mut HashMap<String, usize>,
         visiting: &mut Vec<String>,
+        limit: usize,
     ) -> usize {
         if let Some(&s) = sizes.get(&def.key) {
             return s;
@@ -268,11 +307,11 @@ impl Expander<'_> {
             .filter_map(|n| n.group.clone())
             .collect();
         for reference in references {
-            if size > MAX_EXPANDED_NODES {
+            if size > limit {
                 break;
             }
             if let Ok(inner) = self.resolve(&def.file, &reference) {
-                size = size.saturating_add(self.inlined_size(&inner, sizes, visiting));
+                size = size.saturating_add(self.inlined_size(&inner, sizes, visiting, limit));
             }
         }
         visiting.pop();
@@ -374,7 +413,7 @@ impl Expander<'_> {
                         let Some(text) = link(json) else { continue };
                         match self.rewrite(scope, &locals, text) {
                             Ok(t) => *json = serde_json::json!({ "link": t }),
-                            Err(e) => self.errors.push(link_error(&copy.id, input, text, e)),
+                            Err(e) => self.errors.push(link_error(&copy.id, input, e)),
                         }
                     }
                     if !scope.file.folder.is_empty() {
@@ -405,12 +444,12 @@ impl Expander<'_> {
                         color_space: None,
                         position: None,
                     }),
-                    Err(message) => self.errors.push(GraphError::InGroup {
+                    Err(fault) => self.errors.push(GraphError::InGroup {
                         node: scope.prefix.trim_end_matches('/').to_owned(),
                         group: def.label.clone(),
                         error: Box::new(GraphError::BadOutput {
                             name: o.name.clone(),
-                            message,
+                            message: fault.message(&o.from),
                         }),
                     }),
                 }
@@ -503,7 +542,7 @@ impl Expander<'_> {
                 Some(text) => match self.rewrite(scope, locals, text) {
                     Ok(t) => serde_json::json!({ "link": t }),
                     Err(e) => {
-                        self.errors.push(link_error(&path, input, text, e));
+                        self.errors.push(link_error(&path, input, e));
                         continue;
                     }
                 },
@@ -764,7 +803,7 @@ impl Expander<'_> {
         scope: &Scope,
         locals: &HashMap<String, Local>,
         text: &str,
-    ) -> Result<String, String> {
+    ) -> Result<String, LinkFault> {
         let Some((id, out)) = text.split_once('.') else {
             // Malformed: reported by the validation, under the node's flat id.
             return Ok(text.to_owned());
@@ -772,23 +811,23 @@ impl Expander<'_> {
         let p = &scope.prefix;
         if id == INPUT_ID {
             let Some(def) = scope.def.as_ref().filter(|d| d.name.is_some()) else {
-                return Err(format!(
+                return Err(LinkFault::Message(format!(
                     "'{text}' reads a group's input, and this is not inside a group{}",
                     if scope.def.is_some() {
                         " (a whole file used as a group takes its inputs through its parameters)"
                     } else {
                         ""
                     }
-                ));
+                )));
             };
             if !def.inputs.iter().any(|(n, _)| n == out) {
                 let hint = nearest(out, def.inputs.iter().map(|(n, _)| n.as_str()))
                     .map(|s| format!(" (did you mean '{s}'?)"))
                     .unwrap_or_default();
-                return Err(format!(
+                return Err(LinkFault::Message(format!(
                     "link to '{text}': group {} has no input '{out}'{hint}",
                     def.label.trim_start_matches('#')
-                ));
+                )));
             }
             return Ok(format!("{p}@in:{out}.output"));
         }
@@ -800,13 +839,49 @@ impl Expander<'_> {
                     let hint = nearest(out, def.outputs.iter().map(String::as_str))
                         .map(|s| format!(" (did you mean '{s}'?)"))
                         .unwrap_or_default();
-                    Err(format!(
+                    Err(LinkFault::Message(format!(
                         "link to '{text}': group node '{id}' has no output '{out}'{hint}"
-                    ))
+                    )))
                 }
             }
             Some(Local::Parameter) if out == "value" => Ok(format!("{p}{id}.output")),
+            // Inside a group body an id that is not one of its nodes is reported here, once
+            // per place written (the error stops further copies of the body), with a
+            // suggestion among the body's own ids; the builder would find it again in every
+            // copy and search the whole inlined graph for each.
+            None if scope.def.is_some() => Err(LinkFault::Missing {
+                target: id.to_owned(),
+                suggestion: nearest(id, locals.keys().map(String::as_str)).map(str::to_owned),
+            }),
             _ => Ok(format!("{p}{id}.{out}")),
+        }
+    }
+}
+
+/// Why a link in a scope cannot be rewritten into the flat namespace.
+enum LinkFault {
+    /// A link inside a group body to an id the body does not have.
+    Missing {
+        /// The id linked to, as written.
+        target: String,
+        /// The nearest id of the same body.
+        suggestion: Option<String>,
+    },
+    /// Any other fault, as a message.
+    Message(String),
+}
+
+impl LinkFault {
+    /// The fault as a message (where it is reported inside another error).
+    fn message(self, text: &str) -> String {
+        match self {
+            LinkFault::Message(m) => m,
+            LinkFault::Missing { target, suggestion } => format!(
+                "link to '{text}': there is no node '{target}' here{}",
+                suggestion
+                    .map(|s| format!(" (did you mean '{s}'?)"))
+                    .unwrap_or_default()
+            ),
         }
     }
 }
@@ -818,11 +893,19 @@ fn link(json: &serde_json::Value) -> Option<&str> {
 }
 
 /// A link that cannot be rewritten, on `input` of flat node `node`.
-fn link_error(node: &str, input: &str, _text: &str, message: String) -> GraphError {
-    GraphError::GroupLink {
-        node: node.to_owned(),
-        input: input.to_owned(),
-        message,
+fn link_error(node: &str, input: &str, fault: LinkFault) -> GraphError {
+    match fault {
+        LinkFault::Missing { target, suggestion } => GraphError::MissingNode {
+            node: node.to_owned(),
+            input: input.to_owned(),
+            target,
+            suggestion,
+        },
+        LinkFault::Message(message) => GraphError::GroupLink {
+            node: node.to_owned(),
+            input: input.to_owned(),
+            message,
+        },
     }
 }
 

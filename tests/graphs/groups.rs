@@ -1261,8 +1261,8 @@ fn doubling_groups(levels: usize) -> serde_json::Value {
 /// reported the id again, 8,192 errors built, relocated and dropped in seconds).
 #[test]
 fn a_repeated_id_in_a_multiplied_body_is_reported_once() {
-    let mut doc = doubling_groups(14);
-    let body = &mut doc["groups"]["g13"]["nodes"];
+    let mut doc = doubling_groups(12);
+    let body = &mut doc["groups"]["g11"]["nodes"];
     let again = body[0].clone();
     body.as_array_mut().unwrap().push(again);
     let errors = Graph::from_json(&doc.to_string(), Registry::builtin())
@@ -1303,11 +1303,15 @@ fn groups_that_multiply_past_the_node_cap_are_refused_before_they_are_copied() {
         .collect();
     assert_eq!(too_large.len(), 1, "{errors:#?}");
     let message = too_large[0].to_string();
-    assert!(
-        message.starts_with(
-            "node 'i': group g0 makes the graph larger than 524288 nodes once inlined"
-        ),
-        "{message}"
+    // Written: the top's node, 29 groups of 1 input, 2 instances, 1 output, and the last
+    // group's 1 input, 1 node, 1 output: 1 + 29·4 + 3 = 120, which may make at most
+    // max(16 384, 32·120) nodes.
+    assert_eq!(
+        message,
+        "node 'i': group g0 makes the graph larger than 16384 nodes once inlined, from 120 \
+         written (each instance copies its group's nodes, so groups using groups multiply; a \
+         graph may have 16384 nodes, or 32 times the nodes written, whichever is more, and \
+         never more than 524288)"
     );
     assert_eq!(matgraph::group::MAX_EXPANDED_NODES, 524_288);
     // Below the cap the same shape loads and evaluates: 2^9 negations of 0.5.
@@ -1315,32 +1319,125 @@ fn groups_that_multiply_past_the_node_cap_are_refused_before_they_are_copied() {
         .expect("512 copies fit");
     let (values, _) = eval_first(&graph);
     assert!(values.iter().all(|&v| v == 0.5), "{values:?}");
-    // Counted before copying: 17 levels, 2^16 copies of the body with their reroutes, fit
-    // (458 749 nodes, not built here); 18 levels, 2^17 copies (917 501), are refused at once.
-    let start = std::time::Instant::now();
-    let errors = Graph::from_json(&doubling_groups(18).to_string(), Registry::builtin())
-        .expect_err("2^17 bodies and their reroutes pass the cap");
-    assert!(start.elapsed().as_secs_f64() < 0.5, "{:?}", start.elapsed());
+    // Counted before copying, every node written counting (instance nodes too): L levels
+    // count 1 + (7·2^(L−1) − 4) (the last group 3 with its reroutes, each one above 4 +
+    // twice the next). 12 levels count 14 333 (under the 16 384 threshold) and load (10 238
+    // nodes built: 2 048 bodies of 3, 2 047 instances' 2 reroutes); 13 levels count 28 669
+    // from 52 written (more than 32 times) and are refused at once, as are 18 (917 501,
+    // past the absolute cap too).
+    let graph = Graph::from_json(&doubling_groups(12).to_string(), Registry::builtin())
+        .expect("14 333 nodes fit");
+    assert_eq!(graph.nodes().len(), 2048 * 3 + 2047 * 2);
+    for levels in [13, 18] {
+        let start = std::time::Instant::now();
+        let errors = Graph::from_json(&doubling_groups(levels).to_string(), Registry::builtin())
+            .expect_err("past 32 times the nodes written");
+        assert!(start.elapsed().as_secs_f64() < 0.5, "{:?}", start.elapsed());
+        let written = 1 + 4 * (levels - 1) + 3;
+        assert!(
+            errors.iter().any(|e| {
+                let mut e = e;
+                while let GraphError::InGroup { error, .. } = e {
+                    e = error;
+                }
+                matches!(e, GraphError::GroupTooLarge { max: 16_384, written: w, .. } if *w == written)
+            }),
+            "{errors:#?}"
+        );
+    }
+}
+
+/// The expansion limit is `max(16 384, 32 · written)`, at most 524 288: a multiplying
+/// group is refused, a large written graph is not.
+#[test]
+fn the_expansion_limit_follows_the_nodes_written() {
+    use matgraph::group::expansion_limit;
+    assert_eq!(expansion_limit(0), 16_384);
+    assert_eq!(expansion_limit(512), 16_384);
+    assert_eq!(expansion_limit(513), 16_416);
+    assert_eq!(expansion_limit(10_000), 320_000);
+    assert_eq!(expansion_limit(16_384), 524_288);
+    assert_eq!(expansion_limit(usize::MAX), 524_288);
+    // A group of 40 nodes used 600 times: 600 + 40 + 2 written (instances, body, the
+    // interface's input and output), 600 + 600·42 = 25 800 counted: refused (more than
+    // 32·642 = 20 544 and past 16 384); used 300 times (300 + 12 600) it loads, each
+    // instance its 40 nodes and 2 reroutes.
+    let body: Vec<serde_json::Value> = (0..40)
+        .map(|k| {
+            let from = if k == 0 {
+                "@in.x".to_owned()
+            } else {
+                format!("n{}.result", k - 1)
+            };
+            json!({ "id": format!("n{k}"), "type": "negate", "inputs": { "x": { "link": from } } })
+        })
+        .collect();
+    let doc = |count: usize| {
+        let nodes: Vec<serde_json::Value> = (0..count)
+            .map(|k| json!({ "id": format!("i{k}"), "type": "group", "group": "p", "inputs": { "x": k as f64 } }))
+            .collect();
+        json!({ "version": 2, "name": "many",
+            "groups": { "p": { "inputs": [ { "name": "x", "type": "float" } ], "nodes": body.clone(),
+                "outputs": [ { "name": "y", "from": "n39.result" } ] } },
+            "nodes": nodes, "outputs": [ { "name": "o", "from": "i0.y" } ] })
+    };
+    let errors = Graph::from_json(&doc(600).to_string(), Registry::builtin()).unwrap_err();
     assert!(
-        errors.iter().any(|e| {
-            let mut e = e;
-            while let GraphError::InGroup { error, .. } = e {
-                e = error;
+        matches!(
+            &errors[0],
+            GraphError::GroupTooLarge {
+                max: 20_544,
+                written: 642,
+                ..
             }
-            matches!(e, GraphError::GroupTooLarge { max: 524_288, .. })
-        }),
+        ),
         "{errors:#?}"
+    );
+    let graph = Graph::from_json(&doc(300).to_string(), Registry::builtin()).unwrap();
+    assert_eq!(graph.nodes().len(), 300 * 42);
+}
+
+/// A link to a node a group body does not have is one error where it is written, with a
+/// suggestion among the body's own ids, however many copies the graph makes of the body
+/// (issue 37's 13 s fuzz case: 2^13 copies each reported it, each searching every id of
+/// the inlined graph for a suggestion).
+#[test]
+fn a_missing_node_in_a_multiplied_body_is_reported_once() {
+    let mut doc = doubling_groups(12);
+    doc["groups"]["g11"]["nodes"][0]["inputs"]["x"] = json!({ "link": "nn.result" });
+    let errors = Graph::from_json(&doc.to_string(), Registry::builtin()).unwrap_err();
+    let shown: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(shown.len(), 1, "{shown:#?}");
+    assert!(
+        shown[0].starts_with("node 'i' (group g0) → node 'a' (group g1) → "),
+        "{}",
+        shown[0]
+    );
+    assert!(
+        shown[0].ends_with("→ node 'n': input 'x': link to missing node 'nn' (did you mean 'n'?)"),
+        "{}",
+        shown[0]
+    );
+    // In a group's output: one error on the output, inside the group.
+    let mut doc = doubling_groups(12);
+    doc["groups"]["g11"]["outputs"][0]["from"] = json!("m.result");
+    let errors = Graph::from_json(&doc.to_string(), Registry::builtin()).unwrap_err();
+    let shown: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
+    assert_eq!(shown.len(), 1, "{shown:#?}");
+    assert!(
+        shown[0].ends_with("link to 'm.result': there is no node 'm' here (did you mean 'n'?)"),
+        "{}",
+        shown[0]
     );
 }
 
 #[test]
 fn a_reference_that_does_not_resolve_is_one_error_not_one_per_copy() {
-    // g16 is copied 2^16 times; its two instances name g17, which is gone. Reported once
-    // per place written (2 errors), not once per copy (131 072 errors after copying
-    // 400 000 nodes, seconds of work): after the first error, further copies of a body are
-    // skipped.
-    let mut doc = doubling_groups(18);
-    doc["groups"].as_object_mut().unwrap().remove("g17");
+    // g10 is copied 2^10 times; its two instances name g11, which is gone. Reported once
+    // per place written (2 errors), not once per copy (2 048 errors after copying every
+    // body): after the first error, further copies of a body are skipped.
+    let mut doc = doubling_groups(12);
+    doc["groups"].as_object_mut().unwrap().remove("g11");
     let start = std::time::Instant::now();
     let errors =
         Graph::from_json(&doc.to_string(), Registry::builtin()).expect_err("g17 is missing");
@@ -1352,9 +1449,9 @@ fn a_reference_that_does_not_resolve_is_one_error_not_one_per_copy() {
             inner = error;
         }
         assert!(
-            matches!(inner, GraphError::BadGroup { group, .. } if group == "g17"),
+            matches!(inner, GraphError::BadGroup { group, .. } if group == "g11"),
             "{inner:?}"
         );
-        assert!(e.to_string().contains("no group 'g17' in this file"), "{e}");
+        assert!(e.to_string().contains("no group 'g11' in this file"), "{e}");
     }
 }
