@@ -251,6 +251,7 @@ async function main() {
     json(new URL('view.json', dir)),
     bytes(new URL('mesh.bin', dir)),
   ]);
+  const sceneDepth = new Float32Array(await bytes(new URL(scene.depth, dir)));
   const manifest = contract.textures.some((t) => t.source === 'scene') ? await json(new URL('manifest.json', dir)) : null;
   const adapter = await navigator.gpu.requestAdapter();
   if (!adapter) throw new Error('no WebGPU adapter');
@@ -339,6 +340,31 @@ async function main() {
   const [w, h] = [scene.width, scene.height];
   const target = device.createTexture({ size: [w, h], format: 'rgba16float', usage: GPUTextureUsage.RENDER_ATTACHMENT | GPUTextureUsage.COPY_SRC });
   const depth = device.createTexture({ size: [w, h], format: 'depth32float', usage: GPUTextureUsage.RENDER_ATTACHMENT });
+
+  // The rest of the scene's depth (view.json's `depth`), loaded into the depth buffer first
+  // by a full-screen triangle writing frag_depth: what stands in front of the material
+  // hides it, as in the render (the page does not draw the rest of the scene's colour).
+  const depthTexels = device.createTexture({ size: [w, h], format: 'r32float', usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
+  device.queue.writeTexture({ texture: depthTexels }, sceneDepth, { bytesPerRow: w * 4 }, [w, h]);
+  const depthModule = device.createShaderModule({ code: `
+    @group(0) @binding(0) var depth_texels: texture_2d<f32>;
+    @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+      return vec4<f32>(f32(i & 1u) * 4.0 - 1.0, f32(i >> 1u) * 4.0 - 1.0, 0.0, 1.0);
+    }
+    @fragment fn fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
+      return textureLoad(depth_texels, vec2<i32>(p.xy), 0).r;
+    }` });
+  const depthPipeline = device.createRenderPipeline({
+    layout: 'auto',
+    vertex: { module: depthModule, entryPoint: 'vs' },
+    fragment: { module: depthModule, entryPoint: 'fs', targets: [] },
+    primitive: { topology: 'triangle-list' },
+    depthStencil: { format: 'depth32float', depthWriteEnabled: true, depthCompare: 'always' },
+  });
+  const depthBindGroup = device.createBindGroup({
+    layout: depthPipeline.getBindGroupLayout(0),
+    entries: [{ binding: 0, resource: depthTexels.createView() }],
+  });
   const rowBytes = Math.ceil((w * 8) / 256) * 256;
   const readback = device.createBuffer({ size: rowBytes * h, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
   const encoder = device.createCommandEncoder();
@@ -351,15 +377,23 @@ async function main() {
     pass.drawIndexed(m.indices);
     pass.end();
   };
+  const scenePass = encoder.beginRenderPass({
+    colorAttachments: [],
+    depthStencilAttachment: { view: depth.createView(), depthClearValue: 1, depthLoadOp: 'clear', depthStoreOp: 'store' },
+  });
+  scenePass.setPipeline(depthPipeline);
+  scenePass.setBindGroup(0, depthBindGroup);
+  scenePass.draw(3);
+  scenePass.end();
   if (prepass) {
     draw(encoder.beginRenderPass({
       colorAttachments: [],
-      depthStencilAttachment: { view: depth.createView(), depthClearValue: 1, depthLoadOp: 'clear', depthStoreOp: 'store' },
+      depthStencilAttachment: { view: depth.createView(), depthLoadOp: 'load', depthStoreOp: 'store' },
     }), prepass);
   }
   draw(encoder.beginRenderPass({
     colorAttachments: [{ view: target.createView(), clearValue: { r: 0, g: 0, b: 0, a: 0 }, loadOp: 'clear', storeOp: 'store' }],
-    depthStencilAttachment: { view: depth.createView(), depthClearValue: 1, depthLoadOp: prepass ? 'load' : 'clear', depthStoreOp: 'store' },
+    depthStencilAttachment: { view: depth.createView(), depthLoadOp: 'load', depthStoreOp: 'store' },
   }), color);
   encoder.copyTextureToBuffer({ texture: target }, { buffer: readback, bytesPerRow: rowBytes }, [w, h]);
   device.queue.submit([encoder.finish()]);

@@ -21,9 +21,12 @@ pub struct Args {
     #[arg(long)]
     pub allow_outside_paths: bool,
     /// Also write the scene's view at this image size, WxH: `view.json` (camera as a
-    /// WebGPU view_proj, lights as MgLight records, time) and `mesh.bin` (the material mesh
-    /// in the contract's vertex layout, then u32 indices), to draw what `matgraph render`
-    /// shows (docs/integration.md, "A scene's view").
+    /// WebGPU view_proj, lights as MgLight records, time), `mesh.bin` (the material mesh
+    /// in the contract's vertex layout, then u32 indices), `depth.r32f` (the rest of the
+    /// scene's depth, to load into the depth buffer first) and the screen-space scene
+    /// textures of that frame (scene:background, scene:refraction, scene:reflection, in the
+    /// manifest), to draw what `matgraph render` shows (docs/integration.md, "A scene's
+    /// view").
     #[arg(long, value_name = "WxH", value_parser = super::render::parse_size)]
     pub view: Option<(u32, u32)>,
 }
@@ -72,8 +75,9 @@ fn source_scene(args: &Args) -> Result<(Scene, Option<Arc<matgraph::texture::Tex
 /// Bakes and writes the textures and the manifest.
 pub fn run(args: &Args) -> CliResult {
     let (scene, image) = source_scene(args)?;
-    let baked = matgraph::render::bake::bake_environment(&scene, image, &args.source)
-        .map_err(|e| format!("bake-env {}: {e}", matgraph::visible::visible(&args.source)))?;
+    let baked =
+        matgraph::render::bake::bake_environment_and_view(&scene, image, &args.source, args.view)
+            .map_err(|e| format!("bake-env {}: {e}", matgraph::visible::visible(&args.source)))?;
     super::out_dir::make_out_dir("--out", &args.out)?;
     let files = baked.files();
     let mut bytes = 0u64;
@@ -84,11 +88,12 @@ pub fn run(args: &Args) -> CliResult {
         bytes += data.len() as u64;
     }
     if let Some((w, h)) = args.view {
-        use matgraph::render::view::{MESH_FILE, SceneView, mesh_bytes};
+        use matgraph::render::view::{DEPTH_FILE, MESH_FILE, SceneView, depth_bytes, mesh_bytes};
         let view = SceneView::of(&scene, w, h);
         for (name, data) in [
             ("view.json", view.to_json().into_bytes()),
             (MESH_FILE, mesh_bytes(&scene)),
+            (DEPTH_FILE, depth_bytes(&scene, w, h)),
         ] {
             let path = args.out.join(name);
             matgraph::io::write_atomic(&path, &data)

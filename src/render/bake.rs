@@ -3,9 +3,14 @@
 //! scene's environment exactly as a render binds them, for apps that bind the contract
 //! themselves (`matgraph bake-env`, docs/integration.md "Scene textures"): the texels of every
 //! level as little-endian RGBA f32, and a manifest that says what each file holds and how the
-//! WGSL reads it. No I/O here: the caller writes [`BakedEnvironment::files`].
+//! WGSL reads it. With a view ([`bake_environment_and_view`]) also the screen-space passes
+//! (`scene:background`, `scene:refraction`, `scene:reflection`) of the scene's camera at
+//! that frame size. No I/O here: the caller writes [`BakedEnvironment::files`].
 
-use super::{ENVIRONMENT_TEXTURES, RenderError, environment_lookup, environment_map};
+use super::{
+    ENVIRONMENT_TEXTURES, RenderError, SCREEN_TEXTURES, environment_lookup, environment_map,
+    scene_texture_size, screen_texture,
+};
 use crate::scene::Scene;
 use crate::scene::ibl::{GGX_LEVELS, LUT_SIZE, SH_TEXELS};
 use crate::texture::{Texture, TextureSet};
@@ -30,7 +35,8 @@ pub struct EnvironmentManifest {
     pub texels: String,
     /// The equirectangular mapping of `scene:environment` and `scene:environment_ggx`.
     pub equirect: String,
-    /// One entry per scene texture, in [`ENVIRONMENT_TEXTURES`] order.
+    /// One entry per scene texture: the four made from the environment, then, baked with a
+    /// view, the three screen-space passes.
     pub textures: Vec<BakedTexture>,
 }
 
@@ -129,7 +135,39 @@ fn description(short: &str) -> (String, String) {
                 "texel k at uv = ((k + ½)/{SH_TEXELS}, ½), clamp-to-edge, nearest, lod 0"
             ),
         ),
-        _ => unreachable!("ENVIRONMENT_TEXTURES names its four textures"),
+        "background" | "refraction" | "reflection" => {
+            let what = match short {
+                "background" => {
+                    "the frame without the material surface: the rest of the scene (room, \
+                     floor, seabed, sky, environment) as the camera sees it"
+                }
+                "refraction" => {
+                    "the seabed and what lies under the water with the water removed, as the \
+                     camera sees it (through the flat water by Snell's law, 1.00/1.33, when the \
+                     scene's water asks; docs/rendering.md); without water the background"
+                }
+                _ => {
+                    "the scene above the water mirrored about the water plane, so that the \
+                     water pixel reads its reflection at its own screen uv (a planar \
+                     reflection); without water the background"
+                }
+            };
+            (
+                format!(
+                    "{what}: radiance (linear RGB, alpha 1), one sample through each pixel's \
+                     centre of the frame the view gives (the camera of view.json, at \
+                     matgraph::render::scene_texture_size of the view: the view's size, or \
+                     scaled so the longer side is {}), rows from the top; levels: the box mips \
+                     of scene:environment",
+                    super::SCENE_TEXTURE_MAX
+                ),
+                "uv = screen_uv (the fragment's clip.xy / viewport: (0, 0) top left), \
+                 possibly offset by the graph (distortion); wrap, filter and lod as the \
+                 graph's node says (the contract's sampler)"
+                    .to_owned(),
+            )
+        }
+        _ => unreachable!("description of a texture the manifest does not list"),
     };
     (holds, lookup)
 }
@@ -150,13 +188,39 @@ pub fn bake_environment(
     image: Option<Arc<Texture>>,
     source: &str,
 ) -> Result<BakedEnvironment, RenderError> {
+    bake_environment_and_view(scene, image, source, None)
+}
+
+/// [`bake_environment`], and with `view` = `(width, height)` the screen-space passes
+/// ([`SCREEN_TEXTURES`]) a `width × height` render of a graph in `scene` binds: the
+/// scene's camera, at [`scene_texture_size`] of the frame.
+pub fn bake_environment_and_view(
+    scene: &Scene,
+    image: Option<Arc<Texture>>,
+    source: &str,
+    view: Option<(u32, u32)>,
+) -> Result<BakedEnvironment, RenderError> {
     let lookup = image.map(environment_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
     let map = environment_map(scene, lookup)?;
     let mut textures = TextureSet::new();
     super::insert_environment_textures(&mut textures, &ENVIRONMENT_TEXTURES, map)?;
-    let entries = ENVIRONMENT_TEXTURES
+    let mut names: Vec<&str> = ENVIRONMENT_TEXTURES.to_vec();
+    if let Some((width, height)) = view {
+        let (w, h) = scene_texture_size(width, height);
+        let passes = scene.scene_textures_with(w, h, lookup);
+        for (short, image) in SCREEN_TEXTURES.into_iter().zip([
+            &passes.background,
+            &passes.refraction,
+            &passes.reflection,
+        ]) {
+            let name = format!("{}{short}", crate::document::TextureSource::SCENE);
+            textures.insert(name, screen_texture(image)?)?;
+        }
+        names.extend(SCREEN_TEXTURES);
+    }
+    let entries = names
         .iter()
         .map(|short| {
             let name = format!("{}{short}", crate::document::TextureSource::SCENE);

@@ -505,7 +505,7 @@ fn textures(
     let make = || {
         let maps = scene.scene_textures_with(size.0, size.1, environment);
         let mut made = TextureSet::new();
-        for name in ["background", "refraction", "reflection"] {
+        for name in SCREEN_TEXTURES {
             if !wanted.contains(&name) {
                 continue;
             }
@@ -514,13 +514,8 @@ fn textures(
                 "refraction" => &maps.refraction,
                 _ => &maps.reflection,
             };
-            let image = Image::new(
-                img.width,
-                img.height,
-                img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
-            )?;
             let key = format!("{}{name}", crate::document::TextureSource::SCENE);
-            made.insert(key, Texture::new(image, true)?)?;
+            made.insert(key, screen_texture(img)?)?;
         }
         Ok::<_, crate::texture::TextureError>(Arc::new(made))
     };
@@ -538,6 +533,22 @@ fn textures(
     };
     set.extend_shared(&*made?)?;
     Ok(set)
+}
+
+/// The screen-space scene textures, by their names without `scene:`, in the order they
+/// are made and baked.
+pub const SCREEN_TEXTURES: [&str; 3] = ["background", "refraction", "reflection"];
+
+/// A screen-space scene pass as the texture a render binds: alpha 1, box mips.
+pub(super) fn screen_texture(
+    img: &crate::scene::SceneImage,
+) -> Result<Texture, crate::texture::TextureError> {
+    let image = Image::new(
+        img.width,
+        img.height,
+        img.data.iter().map(|c| [c[0], c[1], c[2], 1.0]).collect(),
+    )?;
+    Texture::new(image, true)
 }
 
 /// Texels of the largest scene passes the CPU path keeps between frames (512²).

@@ -16,6 +16,9 @@ pub const VIEW_FAR: f32 = 1000.0;
 /// The file name of the mesh beside `view.json`.
 pub const MESH_FILE: &str = "mesh.bin";
 
+/// The file name of the scene's depth beside `view.json` ([`depth_bytes`]).
+pub const DEPTH_FILE: &str = "depth.r32f";
+
 /// One light as the lights buffer's record (`MgLight`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ViewLight {
@@ -70,6 +73,12 @@ pub struct SceneView {
     pub time: f32,
     /// The material mesh (undisplaced: the render module's `mg_vertex` displaces).
     pub mesh: ViewMesh,
+    /// The file of the rest of the scene's depth ([`depth_bytes`]): `width · height`
+    /// little-endian f32, rows from the top, each the depth (as `view_proj` gives it, 0 at
+    /// `near` to 1 at `far`) of the nearest surface other than the material at the pixel's
+    /// centre, 1 where there is none. Load it into the depth buffer before drawing the
+    /// material: what is in front of the material hides it.
+    pub depth: String,
 }
 
 impl SceneView {
@@ -119,6 +128,7 @@ impl SceneView {
             camera_position: o.to_array(),
             lights,
             time: scene.time,
+            depth: DEPTH_FILE.into(),
             mesh: ViewMesh {
                 file: MESH_FILE.into(),
                 vertices: mesh.positions.len() as u32,
@@ -135,6 +145,27 @@ impl SceneView {
         s.push('\n');
         s
     }
+}
+
+/// The bytes of [`DEPTH_FILE`] for `scene` at `width × height`: per pixel, rows from the
+/// top, the depth `far/(far − near) · (1 − near/w)` of the nearest surface of the scene
+/// without the material ([`Scene::background_inv_depth`]), `w` its view depth; 1 where
+/// there is none. Little-endian f32.
+pub fn depth_bytes(scene: &Scene, width: u32, height: u32) -> Vec<u8> {
+    let n = scene.camera.frame(width, height).near;
+    let a = VIEW_FAR / (VIEW_FAR - n);
+    scene
+        .background_inv_depth(width, height)
+        .into_iter()
+        .flat_map(|inv_w| {
+            let depth = if inv_w > 0.0 {
+                (a * (1.0 - n * inv_w)).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            depth.to_le_bytes()
+        })
+        .collect()
 }
 
 /// The bytes of [`MESH_FILE`] for `scene`: its material mesh's vertices (32 bytes each,

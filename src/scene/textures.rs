@@ -38,6 +38,29 @@ pub struct SceneTextures {
 }
 
 impl Scene {
+    /// The inverse view depth (`1/w`, w the distance along the camera's forward axis) of
+    /// the nearest surface of the scene without the material, at each pixel centre of a
+    /// `width × height` frame, rows from the top; 0 where nothing is hit. What hides the
+    /// material: the renderer draws it against these surfaces, and an app draws them into
+    /// its depth buffer first.
+    pub fn background_inv_depth(&self, width: u32, height: u32) -> Vec<f32> {
+        let geometry = self.geometry();
+        let cam = self.camera.frame(width, height);
+        let items: Vec<DrawItem> = geometry
+            .objects
+            .iter()
+            .map(|o| DrawItem {
+                mesh: &o.mesh,
+                mirror_y: false,
+                clip: None,
+            })
+            .collect();
+        rasterize(&items, &cam, &sample_offsets(1))
+            .iter()
+            .map(|f| f.inv_w)
+            .collect()
+    }
+
     /// The scene textures at `width × height`, with the default sky standing in for an
     /// image environment (see [`Scene::scene_textures_with`]).
     pub fn scene_textures(&self, width: u32, height: u32) -> SceneTextures {

@@ -160,3 +160,98 @@ fn a_source_that_is_nothing_known_is_refused_by_name() {
     );
     assert!(!tmp.path().join("x").exists(), "nothing written");
 }
+
+/// `--view`: the screen-space passes join the manifest at the frame's size, and the rest of
+/// the scene's depth unprojects, through view.json's own `view_proj`, onto the ball scene's
+/// floor (y = 0) or back wall (z = −4 m) or is 1 where neither is hit: closed forms of the
+/// backdrop's two planes, in f64. The ball itself, the material, is not in it.
+#[test]
+fn a_view_bakes_the_screen_space_passes_and_the_scene_depth() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("v");
+    let out = Command::new(env!("CARGO_BIN_EXE_matgraph"))
+        .args(["bake-env", "ball", "--view", "64x48", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("matgraph runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let m = manifest(&dir);
+    assert_eq!(m["textures"].as_array().unwrap().len(), 7);
+    for name in ["scene:background", "scene:refraction", "scene:reflection"] {
+        let t = entry(&m, name);
+        assert_eq!(
+            (t["width"].as_u64(), t["height"].as_u64()),
+            (Some(64), Some(48))
+        );
+        // 64 × 48 → 32 × 24 → … → 1 × 1: 7 levels.
+        assert_eq!(t["mip_levels"], 7, "{name}");
+        let file = t["levels"][0]["file"].as_str().unwrap();
+        assert_eq!(texels(&dir, file).len(), 64 * 48, "{name}");
+    }
+    // The ball scene has no water: refraction and reflection are the background.
+    let background = texels(&dir, "background_0.rgba32f");
+    assert_eq!(texels(&dir, "refraction_0.rgba32f"), background);
+    assert_eq!(texels(&dir, "reflection_0.rgba32f"), background);
+    assert!(
+        background
+            .iter()
+            .all(|t| t[3] == 1.0 && t[..3].iter().all(|c| c.is_finite()))
+    );
+
+    let view: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("view.json")).unwrap()).unwrap();
+    assert_eq!(view["depth"], "depth.r32f");
+    let bytes = std::fs::read(dir.join("depth.r32f")).unwrap();
+    assert_eq!(bytes.len(), 64 * 48 * 4);
+    let depth: Vec<f64> = bytes
+        .chunks_exact(4)
+        .map(|b| f64::from(f32::from_le_bytes(b.try_into().unwrap())))
+        .collect();
+    let cols: Vec<f64> = view["view_proj"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let inverse = glam::DMat4::from_cols_slice(&cols).inverse();
+    let (mut floor, mut wall, mut none) = (0, 0, 0);
+    for y in 0..48 {
+        for x in 0..64 {
+            let z = depth[y * 64 + x];
+            assert!((0.0..=1.0).contains(&z), "({x}, {y}): {z}");
+            if z == 1.0 {
+                none += 1;
+                continue;
+            }
+            // The pixel centre in WebGPU's clip space (y up), at the stored depth.
+            let ndc = glam::DVec4::new(
+                (x as f64 + 0.5) / 32.0 - 1.0,
+                1.0 - (y as f64 + 0.5) / 24.0,
+                z,
+                1.0,
+            );
+            let p = inverse * ndc;
+            let p = p.truncate() / p.w;
+            // f32 depth near 1 holds the distance to about 2⁻²⁴·far/(1 − z)² relative.
+            let tol = 2e-3 * p.length().max(1.0);
+            if p.y.abs() <= tol && p.z >= -4.0 - tol {
+                floor += 1;
+            } else if (p.z + 4.0).abs() <= tol && p.y >= -tol {
+                wall += 1;
+            } else {
+                panic!("({x}, {y}) at depth {z} unprojects to {p:?}: neither floor nor wall");
+            }
+        }
+    }
+    assert!(
+        floor > 200 && wall > 200,
+        "floor {floor}, wall {wall}, none {none}"
+    );
+    // The ball stands at the centre: every pixel above landed on a backdrop plane, so
+    // the material is not in the depth; the centre pixel sees the backdrop behind it.
+    assert!(depth[24 * 64 + 32] < 1.0);
+}
