@@ -240,6 +240,147 @@ function buffer(device, data, usage) {
   return b;
 }
 
+// --- Group 0 ---------------------------------------------------------------------------
+
+/** Group 0 of a module from its contract's bindings: the layout and the bind group, with
+ * the given buffers by binding name, one sampler per sampler binding and the textures. */
+async function groupZero(device, contract, manifest, buffers) {
+  const stages = (b) => b.visibility.reduce((s, v) => s | { vertex: GPUShaderStage.VERTEX, fragment: GPUShaderStage.FRAGMENT, compute: GPUShaderStage.COMPUTE }[v], 0);
+  const layoutEntry = (b) => {
+    const e = { binding: b.binding, visibility: stages(b) };
+    if (b.kind === 'uniform-buffer') e.buffer = { type: 'uniform', minBindingSize: b.min_binding_size ?? 0 };
+    else if (b.kind === 'read-only-storage-buffer') e.buffer = { type: 'read-only-storage' };
+    else if (b.kind === 'storage-buffer') e.buffer = { type: 'storage' };
+    else if (b.kind === 'filtering-sampler') e.sampler = { type: 'filtering' };
+    else if (b.kind === 'texture-2d-float') e.texture = { sampleType: 'float', viewDimension: '2d' };
+    else throw new Error(`binding ${b.binding}: unknown kind ${b.kind}`);
+    return e;
+  };
+  const layout = device.createBindGroupLayout({ entries: contract.bindings.map(layoutEntry) });
+  const textures = new Map();
+  for (const t of contract.textures) {
+    if (t.binding === undefined) continue;
+    textures.set(t.binding, t.source === 'scene' ? await sceneTexture(device, t, manifest) : await fileTexture(device, t));
+  }
+  const resource = (b) => {
+    if (buffers[b.name]) return { buffer: buffers[b.name] };
+    if (b.kind === 'filtering-sampler') {
+      return device.createSampler({
+        addressModeU: b.address_mode, addressModeV: b.address_mode, addressModeW: b.address_mode,
+        magFilter: b.filter, minFilter: b.filter, mipmapFilter: b.filter,
+      });
+    }
+    if (b.kind === 'texture-2d-float') return textures.get(b.binding).createView();
+    throw new Error(`binding ${b.binding} (${b.name}): not in the ${contract.module ?? 'render'} contract`);
+  };
+  const group = device.createBindGroup({
+    layout,
+    entries: contract.bindings.map((b) => ({ binding: b.binding, resource: resource(b) })),
+  });
+  return { layout, group };
+}
+
+// --- Displacement on the GPU --------------------------------------------------------------
+
+/**
+ * The vertex records of `mesh` displaced in a compute pass and their normals rebuilt from
+ * the displaced mesh, for a render module written with `--displaced-vertices`
+ * (docs/integration.md, "Options for renderers"): the library module (NAME.lib.wgsl, its
+ * contract NAME.lib.contract.json) gives each vertex's offset `mg_material(g).displacement`
+ * with `normal`, `uv` (and `position`) set and every other geometry member at its default;
+ * the normals are the area-weighted face normals summed over the vertices that share an
+ * undisplaced position, as the renderer's.
+ */
+async function displaceOnGpu(device, mesh, m, scene, manifest) {
+  const [lib, libContract] = await Promise.all([
+    text(new URL(`${graph}.lib.wgsl`, dir)),
+    json(new URL(`${graph}.lib.contract.json`, dir)),
+  ]);
+  const count = m.vertices;
+  const params = buffer(device, parameterBlock(libContract, scene.time, query.getAll('set')), GPUBufferUsage.UNIFORM);
+  const zero = await groupZero(device, libContract, manifest, { mg_params: params });
+  const literal = (g) => `${g.wgsl_type}(${[g.default].flat().join(', ')})`;
+  const member = (g) => ({ position: 'p', normal: 'n', uv: 'uv' })[g.name] ?? literal(g);
+  const displacement = libContract.outputs.find((o) => o.name === 'displacement');
+  if (!displacement) throw new Error(`${graph}: the library module has no displacement output`);
+  const code = `${lib}
+@group(1) @binding(0) var<storage, read> mg_mesh_in: array<f32>;
+@group(1) @binding(1) var<storage, read_write> mg_moved: array<f32>;
+@compute @workgroup_size(64)
+fn mg_displace(@builtin(global_invocation_id) id: vec3<u32>) {
+  let i = id.x;
+  if (i >= arrayLength(&mg_moved) / 4u) { return; }
+  let r = 8u * i;
+  let p = vec3<f32>(mg_mesh_in[r], mg_mesh_in[r + 1u], mg_mesh_in[r + 2u]);
+  let n0 = vec3<f32>(mg_mesh_in[r + 3u], mg_mesh_in[r + 4u], mg_mesh_in[r + 5u]);
+  let n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(n0), dot(n0, n0) > 0.0);
+  let uv = vec2<f32>(mg_mesh_in[r + 6u], mg_mesh_in[r + 7u]);
+  let q = p + ${libContract.function}(MgGeometry(${libContract.geometry.map(member).join(', ')})).${displacement.member};
+  mg_moved[4u * i] = q.x;
+  mg_moved[4u * i + 1u] = q.y;
+  mg_moved[4u * i + 2u] = q.z;
+}`;
+  const module = device.createShaderModule({ code });
+  const messages = (await module.getCompilationInfo()).messages.filter((x) => x.type === 'error');
+  if (messages.length) throw new Error(`displacement WGSL: ${messages.map((x) => `${x.lineNum}:${x.linePos} ${x.message}`).join('; ')}`);
+  const ioLayout = device.createBindGroupLayout({
+    entries: [
+      { binding: 0, visibility: GPUShaderStage.COMPUTE, buffer: { type: 'read-only-storage' } },
+      { binding: 1, visibility: GPUShaderStage.COMPUTE, buffer: { type: 'storage' } },
+    ],
+  });
+  const pipeline = device.createComputePipeline({
+    layout: device.createPipelineLayout({ bindGroupLayouts: [zero.layout, ioLayout] }),
+    compute: { module, entryPoint: 'mg_displace' },
+  });
+  const input = buffer(device, new Uint8Array(mesh, 0, 32 * count), GPUBufferUsage.STORAGE);
+  const moved = device.createBuffer({ size: 16 * count, usage: GPUBufferUsage.STORAGE | GPUBufferUsage.COPY_SRC });
+  const readback = device.createBuffer({ size: 16 * count, usage: GPUBufferUsage.COPY_DST | GPUBufferUsage.MAP_READ });
+  const io = device.createBindGroup({ layout: ioLayout, entries: [{ binding: 0, resource: { buffer: input } }, { binding: 1, resource: { buffer: moved } }] });
+  const encoder = device.createCommandEncoder();
+  const pass = encoder.beginComputePass();
+  pass.setPipeline(pipeline);
+  pass.setBindGroup(0, zero.group);
+  pass.setBindGroup(1, io);
+  pass.dispatchWorkgroups(Math.ceil(count / 64));
+  pass.end();
+  encoder.copyBufferToBuffer(moved, 0, readback, 0, 16 * count);
+  device.queue.submit([encoder.finish()]);
+  await readback.mapAsync(GPUMapMode.READ);
+  const q = new Float32Array(readback.getMappedRange().slice(0));
+  readback.unmap();
+
+  // Weld groups: each vertex's smallest index at bitwise the same undisplaced position
+  // (-0 read as 0), then area-weighted face normals summed per group.
+  const records = new Float32Array(mesh, 0, 8 * count);
+  const bits = new Uint32Array(mesh, 0, 8 * count);
+  const first = new Map();
+  const group = new Uint32Array(count);
+  for (let i = 0; i < count; i++) {
+    const key = [0, 1, 2].map((c) => (records[8 * i + c] === 0 ? 0 : bits[8 * i + c])).join(',');
+    if (!first.has(key)) first.set(key, i);
+    group[i] = first.get(key);
+  }
+  const sums = new Float64Array(3 * count);
+  const indices = new Uint32Array(mesh, m.index_offset, m.indices);
+  for (let t = 0; t < indices.length; t += 3) {
+    const [a, b, c] = [indices[t], indices[t + 1], indices[t + 2]];
+    const e1 = [0, 1, 2].map((k) => q[4 * b + k] - q[4 * a + k]);
+    const e2 = [0, 1, 2].map((k) => q[4 * c + k] - q[4 * a + k]);
+    const face = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+    for (const v of [a, b, c]) for (let k = 0; k < 3; k++) sums[3 * group[v] + k] += face[k];
+  }
+  const out = new Float32Array(8 * count);
+  for (let i = 0; i < count; i++) {
+    const g = group[i];
+    const s = [sums[3 * g], sums[3 * g + 1], sums[3 * g + 2]];
+    const len = Math.hypot(...s);
+    const normal = len > 0 && Number.isFinite(len) ? s.map((x) => x / len) : [0, 1, 2].map((k) => records[8 * i + 3 + k]);
+    out.set([q[4 * i], q[4 * i + 1], q[4 * i + 2], ...normal, records[8 * i + 6], records[8 * i + 7]], 8 * i);
+  }
+  return new Uint8Array(out.buffer);
+}
+
 // --- Drawing -------------------------------------------------------------------------
 
 async function main() {
@@ -263,51 +404,19 @@ async function main() {
   const messages = (await module.getCompilationInfo()).messages.filter((m) => m.type === 'error');
   if (messages.length) throw new Error(`WGSL: ${messages.map((m) => `${m.lineNum}:${m.linePos} ${m.message}`).join('; ')}`);
 
-  // Group 0, from the contract's bindings.
-  const stages = (b) => b.visibility.reduce((s, v) => s | { vertex: GPUShaderStage.VERTEX, fragment: GPUShaderStage.FRAGMENT, compute: GPUShaderStage.COMPUTE }[v], 0);
-  const layoutEntry = (b) => {
-    const e = { binding: b.binding, visibility: stages(b) };
-    if (b.kind === 'uniform-buffer') e.buffer = { type: 'uniform', minBindingSize: b.min_binding_size ?? 0 };
-    else if (b.kind === 'read-only-storage-buffer') e.buffer = { type: 'read-only-storage' };
-    else if (b.kind === 'storage-buffer') e.buffer = { type: 'storage' };
-    else if (b.kind === 'filtering-sampler') e.sampler = { type: 'filtering' };
-    else if (b.kind === 'texture-2d-float') e.texture = { sampleType: 'float', viewDimension: '2d' };
-    else throw new Error(`binding ${b.binding}: unknown kind ${b.kind}`);
-    return e;
-  };
-  const bindGroupLayout = device.createBindGroupLayout({ entries: contract.bindings.map(layoutEntry) });
-
   const params = buffer(device, parameterBlock(contract, scene.time, query.getAll('set')), GPUBufferUsage.UNIFORM);
   const frame = buffer(device, frameBlock(contract, scene), GPUBufferUsage.UNIFORM);
   const lights = buffer(device, lightsBlock(contract, scene), GPUBufferUsage.STORAGE);
-  const textures = new Map();
-  for (const t of contract.textures) {
-    if (t.binding === undefined) continue;
-    textures.set(t.binding, t.source === 'scene' ? await sceneTexture(device, t, manifest) : await fileTexture(device, t));
-  }
-  const resource = (b) => {
-    switch (b.name) {
-      case 'mg_params': return { buffer: params };
-      case 'mg_frame': return { buffer: frame };
-      case 'mg_lights': return { buffer: lights };
-    }
-    if (b.kind === 'filtering-sampler') {
-      return device.createSampler({
-        addressModeU: b.address_mode, addressModeV: b.address_mode, addressModeW: b.address_mode,
-        magFilter: b.filter, minFilter: b.filter, mipmapFilter: b.filter,
-      });
-    }
-    if (b.kind === 'texture-2d-float') return textures.get(b.binding).createView();
-    throw new Error(`binding ${b.binding} (${b.name}): not in the render contract`);
-  };
-  const bindGroup = device.createBindGroup({
-    layout: bindGroupLayout,
-    entries: contract.bindings.map((b) => ({ binding: b.binding, resource: resource(b) })),
-  });
+  const { layout: bindGroupLayout, group: bindGroup } = await groupZero(device, contract, manifest, { mg_params: params, mg_frame: frame, mg_lights: lights });
 
   // The mesh: vertices, indices and tangents as `view.json` places them in mesh.bin.
   const m = scene.mesh;
-  const vertices = buffer(device, new Uint8Array(mesh, 0, m.index_offset), GPUBufferUsage.VERTEX);
+  // With `displace=compute`, NAME.wgsl is the `--displaced-vertices` module and the
+  // vertices are displaced here first.
+  const records = query.get('displace') === 'compute'
+    ? await displaceOnGpu(device, mesh, m, scene, manifest)
+    : new Uint8Array(mesh, 0, m.index_offset);
+  const vertices = buffer(device, records, GPUBufferUsage.VERTEX);
   const indices = buffer(device, new Uint8Array(mesh, m.index_offset, 4 * m.indices), GPUBufferUsage.INDEX);
   const tangents = buffer(device, new Uint8Array(mesh, m.tangent_offset, 16 * m.vertices), GPUBufferUsage.VERTEX);
   const vertexLayout = (v) => ({

@@ -743,11 +743,16 @@ fn texture_entries(infos: &[super::TextureInfo]) -> Vec<Texture> {
         .collect()
 }
 
-/// The stages a module's bindings are visible to: `compute` for the compute entry, else
-/// `vertex` and `fragment` (a library module's app picks its own).
+/// The stages a module's bindings are visible to: `compute` for the compute entry;
+/// `vertex`, `fragment` and `compute` for the library module, whose function reads every
+/// texture at an explicit level and so may be called from any stage (a renderer displaces
+/// with it in a compute pass); `vertex` and `fragment` for the render module.
 fn stages(module: &ShaderModule) -> Vec<String> {
     match module.entry {
         crate::wgsl::Entry::Compute => vec!["compute".into()],
+        crate::wgsl::Entry::Library(_) => {
+            vec!["vertex".into(), "fragment".into(), "compute".into()]
+        }
         _ => vec!["vertex".into(), "fragment".into()],
     }
 }

@@ -157,8 +157,8 @@ fn description(short: &str) -> (String, String) {
                     "{what}: radiance (linear RGB, alpha 1), one sample through each pixel's \
                      centre of the frame the view gives (the camera of view.json, at \
                      matgraph::render::scene_texture_size of the view: the view's size, or \
-                     scaled so the longer side is {}), rows from the top; levels: the box mips \
-                     of scene:environment",
+                     scaled so the longer side is {}), rows from the top; levels: box mips by \
+                     the same filter as scene:environment's, from level 0 down to 1 × 1",
                     super::SCENE_TEXTURE_MAX
                 ),
                 "uv = screen_uv (the fragment's clip.xy / viewport: (0, 0) top left), \

@@ -90,11 +90,27 @@ fn library_and_compute_contracts_match_the_modules_of_every_bundled_graph() {
             if entry != Entry::Compute {
                 assert_eq!(c.function, "mg_material");
                 assert!(c.geometry.iter().all(|g| g.offset.is_none()));
+                // Visible to every stage, because nothing in it needs a fragment's quad:
+                // no derivative and no texture sample at an implicit level (naga's IR).
                 assert!(
                     c.bindings
                         .iter()
-                        .all(|b| b.visibility == ["vertex", "fragment"])
+                        .all(|b| b.visibility == ["vertex", "fragment", "compute"]),
+                    "{at}"
                 );
+                for (_, f) in m.module.functions.iter() {
+                    for (_, e) in f.expressions.iter() {
+                        let quad = match e {
+                            naga::Expression::Derivative { .. } => true,
+                            naga::Expression::ImageSample { level, .. } => matches!(
+                                level,
+                                naga::SampleLevel::Auto | naga::SampleLevel::Bias(_)
+                            ),
+                            _ => false,
+                        };
+                        assert!(!quad, "{at}: {:?} uses {e:?}", f.name);
+                    }
+                }
                 continue;
             }
             assert_eq!(c.function, "mg_compute");
