@@ -24,16 +24,10 @@ pub struct Args {
     /// Set an input, parameter or attribute: NODE.INPUT=VALUE, NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
-    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
-    #[arg(long = "variant", value_name = "NAME=CHOICE")]
-    pub variants: Vec<String>,
-    /// For each variant set, pick the cheapest choice whose node-space max abs error against
-    /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
-    pub max_error: Option<f64>,
-    /// Outputs to print (graph output names or NODE.OUTPUT); default: the graph's outputs.
-    #[arg(long = "output", value_name = "NODE.OUTPUT")]
-    pub outputs: Vec<String>,
+    #[command(flatten)]
+    pub variant: super::shared::VariantFlags,
+    #[command(flatten)]
+    pub output: super::shared::OutputFlags,
     /// Print one JSON object: output name → number, array or bool; NaN, +∞ and −∞ are
     /// written as the strings "NaN", "inf" and "-inf" (JSON has no such numbers).
     #[arg(long)]
@@ -101,7 +95,7 @@ pub fn run(args: &Args) -> CliResult {
         args.file.as_deref(),
         args.node.as_deref(),
         &args.sets,
-        &args.outputs,
+        &args.output.outputs,
         args.json,
     );
     let mut rest = overrides::Remaining::default();
@@ -135,6 +129,7 @@ pub fn run(args: &Args) -> CliResult {
         let given = overrides::parse_all(sets).map_err(at)?;
         rest = overrides::apply_to_document(&mut doc, &given).map_err(at)?;
         let selection = args
+            .variant
             .variants
             .iter()
             .map(|s| super::split_variant(s))
@@ -147,8 +142,13 @@ pub fn run(args: &Args) -> CliResult {
             matgraph::io::group_files(path, policy),
         )
         .map_err(wrap)?;
-        let graph =
-            super::report::apply_max_error(graph, path, &args.variants, args.max_error, policy)?;
+        let graph = super::report::apply_max_error(
+            graph,
+            path,
+            &args.variant.variants,
+            args.variant.max_error,
+            policy,
+        )?;
         (graph, path.to_owned())
     };
     let options = PlanOptions {

@@ -18,6 +18,7 @@ pub mod render;
 pub mod report;
 pub mod scene;
 pub mod schema;
+pub mod shared;
 pub mod wgsl;
 
 use matgraph::error::GraphErrors;

@@ -71,13 +71,8 @@ pub struct Args {
     /// Override a parameter: NAME=VALUE.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub sets: Vec<String>,
-    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
-    #[arg(long = "variant", value_name = "NAME=CHOICE")]
-    pub variants: Vec<String>,
-    /// For each variant set, pick the cheapest choice whose node-space max abs error against
-    /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
-    pub max_error: Option<f64>,
+    #[command(flatten)]
+    pub variant: super::shared::VariantFlags,
     /// Render N frames at --time + k/FPS: numbered stills NAME_0000.png … and NAME.png as
     /// an animated PNG (APNG) of all of them.
     #[arg(
@@ -315,13 +310,13 @@ pub fn run(args: &Args) -> CliResult {
     for (file, target) in args.files.iter().zip(&targets) {
         progress.set_message(file.display().to_string());
         let result = (|| -> Result<(String, sheet::Rgb8Image), String> {
-            let graph = load_graph_with(file, &args.variants)?;
+            let graph = load_graph_with(file, &args.variant.variants)?;
             files.graph_inputs(&graph, file)?;
             let graph = super::report::apply_max_error(
                 graph,
                 file,
-                &args.variants,
-                args.max_error,
+                &args.variant.variants,
+                args.variant.max_error,
                 policy,
             )?;
             // One budget per graph: its output images, then what it loads, then the frame

@@ -26,16 +26,10 @@ pub struct Args {
     /// Fold parameters into constants instead of a uniform buffer.
     #[arg(long)]
     pub bake: bool,
-    /// Pick a variant's choice: NAME=CHOICE (repeatable; others take their defaults).
-    #[arg(long = "variant", value_name = "NAME=CHOICE")]
-    pub variants: Vec<String>,
-    /// For each variant set, pick the cheapest choice whose node-space max abs error against
-    /// the set's default is within E (measured on the spot; said on stderr).
-    #[arg(long, value_name = "E", value_parser = super::flags::max_error)]
-    pub max_error: Option<f64>,
-    /// Outputs to compile (graph output names or NODE.OUTPUT); default: the graph's outputs.
-    #[arg(long = "output", value_name = "NODE.OUTPUT")]
-    pub outputs: Vec<String>,
+    #[command(flatten)]
+    pub variant: super::shared::VariantFlags,
+    #[command(flatten)]
+    pub output: super::shared::OutputFlags,
     /// Output file; standard output when absent (SPIR-V is binary).
     #[arg(short = 'o', long = "out")]
     pub out: Option<PathBuf>,
@@ -172,7 +166,7 @@ pub fn run(args: &Args) -> CliResult {
         )));
     }
     let bytes = if let Entry::Render(_) = entry {
-        if args.bake || !args.outputs.is_empty() {
+        if args.bake || !args.output.outputs.is_empty() {
             return Err(at(
                 &"--entry render takes the outputs by role (color, emission, alpha, displacement) with parameters as uniforms: drop --bake and --output",
             ));
@@ -185,12 +179,12 @@ pub fn run(args: &Args) -> CliResult {
             clamp: clamp_option(args.no_clamp),
             ..MaterialOptions::default()
         };
-        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::load_graph_with(file, &args.variant.variants)?;
         let graph = super::report::apply_max_error(
             graph,
             file,
-            &args.variants,
-            args.max_error,
+            &args.variant.variants,
+            args.variant.max_error,
             super::path_policy(false),
         )?;
         files.graph_inputs(&graph, file)?;
@@ -223,19 +217,19 @@ pub fn run(args: &Args) -> CliResult {
                 &"--contract describes a module an app binds: use it with --entry render, library or compute (the fragment entry is the editor's preview)",
             ));
         }
-        let graph = super::load_graph_with(file, &args.variants)?;
+        let graph = super::load_graph_with(file, &args.variant.variants)?;
         let graph = super::report::apply_max_error(
             graph,
             file,
-            &args.variants,
-            args.max_error,
+            &args.variant.variants,
+            args.variant.max_error,
             super::path_policy(false),
         )?;
         files.graph_inputs(&graph, file)?;
         let graph = specialised(graph, file, args.specialise.as_deref())?;
         let options = WgslOptions {
             plan: PlanOptions {
-                outputs: args.outputs.clone(),
+                outputs: args.output.outputs.clone(),
                 bake_parameters: args.bake,
             },
             entry,

@@ -8,8 +8,8 @@
 //! that frame size. No I/O here: the caller writes [`BakedEnvironment::files`].
 
 use super::{
-    ENVIRONMENT_TEXTURES, RenderError, SCREEN_TEXTURES, environment_lookup, environment_map,
-    scene_texture_size, screen_texture,
+    ENVIRONMENT_TEXTURES, RenderError, SCREEN_TEXTURES, environment_map, scene_texture_size,
+    screen_texture,
 };
 use crate::scene::Scene;
 use crate::scene::ibl::{GGX_LEVELS, LUT_SIZE, SH_TEXELS};
@@ -200,7 +200,7 @@ pub fn bake_environment_and_view(
     source: &str,
     view: Option<(u32, u32)>,
 ) -> Result<BakedEnvironment, RenderError> {
-    let lookup = image.map(environment_lookup);
+    let lookup = image.map(crate::scene::image_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
     let map = environment_map(scene, lookup)?;

@@ -651,7 +651,7 @@ pub fn scene_texture_set_within(
 ) -> Result<TextureSet, RenderError> {
     scene.reserve_meshes(budget)?;
     // The image rides in the options too: the environment's memo is keyed by it.
-    let lookup = environment.clone().map(environment_lookup);
+    let lookup = environment.clone().map(crate::scene::image_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
     let options = RenderOptions {
@@ -661,20 +661,6 @@ pub fn scene_texture_set_within(
         ..RenderOptions::default()
     };
     textures(graph, scene, &options, lookup)
-}
-
-/// The lookup of an equirectangular environment image (bilinear, repeating).
-fn environment_lookup(tex: Arc<Texture>) -> impl Fn(Vec3) -> Vec3 + Send + Sync {
-    move |d: Vec3| {
-        let uv = crate::scene::equirect_uv(d);
-        tex.sample(
-            uv,
-            0.0,
-            crate::texture::Wrap::Repeat,
-            crate::texture::Filter::Bilinear,
-        )
-        .truncate()
-    }
 }
 
 /// The scene a graph names in its file, when it names one inline: a preset name
@@ -820,7 +806,7 @@ pub fn render_timed(
     // 2.–4. Band by band: G-buffer, material, composite and resolve.
     let band_rows = options.band_rows.unwrap_or(plan.band_rows).max(1);
     let start = Instant::now();
-    let lookup = options.environment.clone().map(environment_lookup);
+    let lookup = options.environment.clone().map(crate::scene::image_lookup);
     let lookup: Option<&crate::scene::EnvLookup> =
         lookup.as_ref().map(|f| f as &crate::scene::EnvLookup);
     let bound = Arc::new(textures(graph, scene, options, lookup)?);

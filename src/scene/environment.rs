@@ -23,6 +23,22 @@ use super::light::sun_direction;
 /// the image's own frame (map it to texture coordinates with [`equirect_uv`]).
 pub type EnvLookup = dyn Fn(Vec3) -> Vec3 + Sync;
 
+/// The lookup of an equirectangular environment image `tex`, as both renderers read it:
+/// [`equirect_uv`] of the direction, bilinear, repeating, level 0.
+pub fn image_lookup(
+    tex: std::sync::Arc<crate::texture::Texture>,
+) -> impl Fn(Vec3) -> Vec3 + Send + Sync {
+    move |d: Vec3| {
+        tex.sample(
+            equirect_uv(d),
+            0.0,
+            crate::texture::Wrap::Repeat,
+            crate::texture::Filter::Bilinear,
+        )
+        .truncate()
+    }
+}
+
 /// What surrounds the scene. In JSON: `{"sky": {...}}`, `{"image": {...}}`, or the name of a
 /// sky preset (`"sunrise"`, `"day"`, `"sunset"`, `"night"`, see [`Sky::preset`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -89,6 +89,7 @@ pub use bubble::{BubbleBackdrop, BubbleMaps, MAP_SIZE as BUBBLE_MAP_SIZE, bubble
 pub use camera::{Camera, CameraFrame, DEFAULT_NEAR};
 pub use environment::{
     AmbientCube, EnvLookup, Environment, ImageEnvironment, Sky, SunPosition, equirect_uv,
+    image_lookup,
 };
 pub use envmap::equirect_direction;
 pub use error::SceneError;
