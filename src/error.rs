@@ -408,7 +408,8 @@ fn cycle_text(nodes: &[String]) -> String {
     )
 }
 
-fn did_you_mean(s: &Option<String>) -> String {
+/// " (did you mean 'S'?)" for a suggestion `S`, else nothing.
+pub(crate) fn did_you_mean(s: &Option<String>) -> String {
     s.as_ref()
         .map(|s| format!(" (did you mean '{s}'?)"))
         .unwrap_or_default()

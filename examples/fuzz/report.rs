@@ -41,8 +41,6 @@ pub struct Report {
     pub families: BTreeMap<Family, u64>,
     /// The slowest case: seconds, case number, family.
     pub slowest: (f64, u64, Option<Family>),
-    /// Cases over [`SLOW_SECONDS`] of wall time in the run.
-    pub over_a_second: u64,
     /// Every case over [`SLOW_SECONDS`] in the run: case number, family, its wall time in
     /// the run and the fastest of [`REPLAYS`] runs alone afterwards (seconds).
     pub slow: Vec<(u64, Family, f64, f64)>,
@@ -83,7 +81,7 @@ impl Report {
         let alone = self.slow.iter().filter(|c| c.3 > SLOW_SECONDS).count();
         s += &format!(
             "cases over {SLOW_SECONDS} s: {} in the run; {alone} of them over {SLOW_SECONDS} s alone (fastest of {REPLAYS})\n",
-            self.over_a_second
+            self.slow.len()
         );
         for (case, family, wall, min) in &self.slow {
             s += &format!(
@@ -157,7 +155,7 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
     } = options.clone();
     let findings = Mutex::new(BTreeMap::new());
     let known = Mutex::new(BTreeMap::new());
-    let stats = Mutex::new((BTreeMap::<Family, u64>::new(), (0.0f64, 0u64, None), 0u64));
+    let stats = Mutex::new((BTreeMap::<Family, u64>::new(), SLOWEST_NONE));
     let done = AtomicU64::new(0);
     let slow_in_run = Mutex::new(Vec::<(u64, Family, f64)>::new());
     let start = Instant::now();
@@ -212,9 +210,6 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
             if secs > s.1.0 {
                 s.1 = (secs, case, Some(c.family));
             }
-            if secs > SLOW_SECONDS {
-                s.2 += 1;
-            }
         }
         if secs > SLOW_SECONDS {
             slow_in_run
@@ -235,10 +230,8 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
         if progress > 0 && n.is_multiple_of(progress) {
             let e = start.elapsed().as_secs_f64();
             let f = findings.lock().map(|m| m.len()).unwrap_or(0);
-            let (slow, over) = stats
-                .lock()
-                .map(|s| (s.1, s.2))
-                .unwrap_or((SLOWEST_NONE, 0));
+            let slow = stats.lock().map(|s| s.1).unwrap_or(SLOWEST_NONE);
+            let over = slow_in_run.lock().map(|v| v.len()).unwrap_or(0);
             eprintln!(
                 "{n} cases, {e:.0} s, {:.0} cases/s, {f} distinct findings, slowest {:.3} s (case {}), {over} over {SLOW_SECONDS} s",
                 n as f64 / e,
@@ -281,7 +274,7 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
         slow.push((case, family, wall, alone));
     }
     std::panic::set_hook(previous);
-    let (families, slowest, over_a_second) = stats.into_inner().unwrap_or_else(|e| e.into_inner());
+    let (families, slowest) = stats.into_inner().unwrap_or_else(|e| e.into_inner());
     Report {
         seed,
         cases: families.values().sum(),
@@ -290,7 +283,6 @@ pub fn run(corpus: &Corpus, seed: u64, options: &RunOptions) -> Report {
         known: known.into_inner().unwrap_or_else(|e| e.into_inner()),
         families,
         slowest,
-        over_a_second,
         slow,
     }
 }

@@ -240,7 +240,15 @@ function buffer(device, data, usage) {
   return b;
 }
 
-// --- Group 0 ---------------------------------------------------------------------------
+// --- Shader modules and group 0 ------------------------------------------------------
+
+/** A shader module of `code`, or an error naming `what` with each compiler error's place. */
+async function shaderModule(device, code, what) {
+  const module = device.createShaderModule({ code });
+  const messages = (await module.getCompilationInfo()).messages.filter((m) => m.type === 'error');
+  if (messages.length) throw new Error(`${what}: ${messages.map((m) => `${m.lineNum}:${m.linePos} ${m.message}`).join('; ')}`);
+  return module;
+}
 
 /** Group 0 of a module from its contract's bindings: the layout and the bind group, with
  * the given buffers by binding name, one sampler per sampler binding and the textures. */
@@ -320,9 +328,7 @@ fn mg_displace(@builtin(global_invocation_id) id: vec3<u32>) {
   mg_moved[4u * i + 1u] = q.y;
   mg_moved[4u * i + 2u] = q.z;
 }`;
-  const module = device.createShaderModule({ code });
-  const messages = (await module.getCompilationInfo()).messages.filter((x) => x.type === 'error');
-  if (messages.length) throw new Error(`displacement WGSL: ${messages.map((x) => `${x.lineNum}:${x.linePos} ${x.message}`).join('; ')}`);
+  const module = await shaderModule(device, code, 'displacement WGSL');
   const ioLayout = device.createBindGroupLayout({
     entries: [
       { binding: 0, visibility: GPUShaderStage.COMPUTE, buffer: { type: 'read-only-storage' } },
@@ -400,9 +406,7 @@ async function main() {
   const errors = [];
   device.addEventListener('uncapturederror', (e) => errors.push(e.error.message));
 
-  const module = device.createShaderModule({ code: source });
-  const messages = (await module.getCompilationInfo()).messages.filter((m) => m.type === 'error');
-  if (messages.length) throw new Error(`WGSL: ${messages.map((m) => `${m.lineNum}:${m.linePos} ${m.message}`).join('; ')}`);
+  const module = await shaderModule(device, source, 'WGSL');
 
   const params = buffer(device, parameterBlock(contract, scene.time, query.getAll('set')), GPUBufferUsage.UNIFORM);
   const frame = buffer(device, frameBlock(contract, scene), GPUBufferUsage.UNIFORM);
@@ -455,14 +459,14 @@ async function main() {
   // hides it, as in the render (the page does not draw the rest of the scene's colour).
   const depthTexels = device.createTexture({ size: [w, h], format: 'r32float', usage: GPUTextureUsage.TEXTURE_BINDING | GPUTextureUsage.COPY_DST });
   device.queue.writeTexture({ texture: depthTexels }, sceneDepth, { bytesPerRow: w * 4 }, [w, h]);
-  const depthModule = device.createShaderModule({ code: `
+  const depthModule = await shaderModule(device, `
     @group(0) @binding(0) var depth_texels: texture_2d<f32>;
     @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
       return vec4<f32>(f32(i & 1u) * 4.0 - 1.0, f32(i >> 1u) * 4.0 - 1.0, 0.0, 1.0);
     }
     @fragment fn fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
       return textureLoad(depth_texels, vec2<i32>(p.xy), 0).r;
-    }` });
+    }`, 'depth WGSL');
   const depthPipeline = device.createRenderPipeline({
     layout: 'auto',
     vertex: { module: depthModule, entryPoint: 'vs' },

@@ -75,9 +75,8 @@ fn source_scene(args: &Args) -> Result<(Scene, Option<Arc<matgraph::texture::Tex
 /// Bakes and writes the textures and the manifest.
 pub fn run(args: &Args) -> CliResult {
     let (scene, image) = source_scene(args)?;
-    let baked =
-        matgraph::render::bake::bake_environment_and_view(&scene, image, &args.source, args.view)
-            .map_err(|e| format!("bake-env {}: {e}", matgraph::visible::visible(&args.source)))?;
+    let baked = matgraph::render::bake::bake_environment(&scene, image, &args.source, args.view)
+        .map_err(|e| format!("bake-env {}: {e}", matgraph::visible::visible(&args.source)))?;
     super::out_dir::make_out_dir("--out", &args.out)?;
     let files = baked.files();
     let mut bytes = 0u64;
@@ -93,7 +92,7 @@ pub fn run(args: &Args) -> CliResult {
         for (name, data) in [
             ("view.json", view.to_json().into_bytes()),
             (MESH_FILE, mesh_bytes(&scene)),
-            (DEPTH_FILE, depth_bytes(&scene, w, h)),
+            (DEPTH_FILE, depth_bytes(&scene, &view)),
         ] {
             let path = args.out.join(name);
             matgraph::io::write_atomic(&path, &data)

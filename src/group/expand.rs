@@ -66,6 +66,19 @@ impl Def {
             None => &self.file.doc.outputs,
         }
     }
+    /// The nodes one copy adds besides its instances' bodies: its inputs' and outputs'
+    /// reroutes and its own nodes, as written.
+    fn written_len(&self) -> usize {
+        self.inputs.len() + self.nodes().len() + self.output_docs().len()
+    }
+}
+
+/// The group references of the instance nodes among `nodes`, as written.
+fn references(nodes: &[NodeDocument]) -> impl Iterator<Item = &str> {
+    nodes
+        .iter()
+        .filter(|n| n.node_type == GROUP)
+        .filter_map(|n| n.group.as_deref())
 }
 
 /// One body to copy: the top graph, or an instance's group.
@@ -229,10 +242,8 @@ impl Expander<'_> {
     fn written(&mut self, top: &Arc<File>, nodes: &[NodeDocument]) -> usize {
         let mut count = nodes.len();
         let mut seen: HashSet<String> = HashSet::new();
-        let mut work: Vec<(Arc<File>, String)> = nodes
-            .iter()
-            .filter(|n| n.node_type == GROUP)
-            .filter_map(|n| Some((top.clone(), n.group.clone()?)))
+        let mut work: Vec<(Arc<File>, String)> = references(nodes)
+            .map(|r| (top.clone(), r.to_owned()))
             .collect();
         while let Some((file, reference)) = work.pop() {
             let Ok(def) = self.resolve(&file, &reference) else {
@@ -241,14 +252,8 @@ impl Expander<'_> {
             if !seen.insert(def.key.clone()) {
                 continue;
             }
-            count = count.saturating_add(def.inputs.len() + def.nodes().len());
-            count = count.saturating_add(def.output_docs().len());
-            work.extend(
-                def.nodes()
-                    .iter()
-                    .filter(|n| n.node_type == GROUP)
-                    .filter_map(|n| Some((def.file.clone(), n.group.clone()?))),
-            );
+            count = count.saturating_add(def.written_len());
+            work.extend(references(def.nodes()).map(|r| (def.file.clone(), r.to_owned())));
         }
         count
     }
@@ -299,14 +304,9 @@ impl Expander<'_> {
             return 0;
         }
         visiting.push(def.key.clone());
-        let mut size = def.inputs.len() + def.nodes().len() + def.output_docs().len();
-        let references: Vec<String> = def
-            .nodes()
-            .iter()
-            .filter(|n| n.node_type == GROUP)
-            .filter_map(|n| n.group.clone())
-            .collect();
-        for reference in references {
+        let mut size = def.written_len();
+        let written: Vec<String> = references(def.nodes()).map(str::to_owned).collect();
+        for reference in written {
             if size > limit {
                 break;
             }
@@ -878,9 +878,7 @@ impl LinkFault {
             LinkFault::Message(m) => m,
             LinkFault::Missing { target, suggestion } => format!(
                 "link to '{text}': there is no node '{target}' here{}",
-                suggestion
-                    .map(|s| format!(" (did you mean '{s}'?)"))
-                    .unwrap_or_default()
+                crate::error::did_you_mean(&suggestion)
             ),
         }
     }

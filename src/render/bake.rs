@@ -3,7 +3,7 @@
 //! scene's environment exactly as a render binds them, for apps that bind the contract
 //! themselves (`matgraph bake-env`, docs/integration.md "Scene textures"): the texels of every
 //! level as little-endian RGBA f32, and a manifest that says what each file holds and how the
-//! WGSL reads it. With a view ([`bake_environment_and_view`]) also the screen-space passes
+//! WGSL reads it. With a view ([`bake_environment`]'s `view`) also the screen-space passes
 //! (`scene:background`, `scene:refraction`, `scene:reflection`) of the scene's camera at
 //! that frame size. No I/O here: the caller writes [`BakedEnvironment::files`].
 
@@ -181,20 +181,11 @@ fn named<'a>(set: &'a TextureSet, name: &str) -> &'a Texture {
 }
 
 /// Bakes every environment texture of `scene` (with `image` the loaded image of an image
-/// environment), the same texels a CPU or GPU render of a graph in `scene` binds;
-/// `source` names what was baked in the manifest.
+/// environment), the same texels a CPU or GPU render of a graph in `scene` binds, and with
+/// `view` = `(width, height)` the screen-space passes ([`SCREEN_TEXTURES`]) a
+/// `width × height` render binds (the scene's camera, at [`scene_texture_size`] of the
+/// frame); `source` names what was baked in the manifest.
 pub fn bake_environment(
-    scene: &Scene,
-    image: Option<Arc<Texture>>,
-    source: &str,
-) -> Result<BakedEnvironment, RenderError> {
-    bake_environment_and_view(scene, image, source, None)
-}
-
-/// [`bake_environment`], and with `view` = `(width, height)` the screen-space passes
-/// ([`SCREEN_TEXTURES`]) a `width × height` render of a graph in `scene` binds: the
-/// scene's camera, at [`scene_texture_size`] of the frame.
-pub fn bake_environment_and_view(
     scene: &Scene,
     image: Option<Arc<Texture>>,
     source: &str,

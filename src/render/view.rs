@@ -147,15 +147,15 @@ impl SceneView {
     }
 }
 
-/// The bytes of [`DEPTH_FILE`] for `scene` at `width × height`: per pixel, rows from the
-/// top, the depth `far/(far − near) · (1 − near/w)` of the nearest surface of the scene
-/// without the material ([`Scene::background_inv_depth`]), `w` its view depth; 1 where
-/// there is none. Little-endian f32.
-pub fn depth_bytes(scene: &Scene, width: u32, height: u32) -> Vec<u8> {
-    let n = scene.camera.frame(width, height).near;
-    let a = VIEW_FAR / (VIEW_FAR - n);
+/// The bytes of [`DEPTH_FILE`] for `scene` seen as `view` ([`SceneView::of`] the same
+/// scene): per pixel, rows from the top, the depth `far/(far − near) · (1 − near/w)` that
+/// `view_proj` gives the nearest surface of the scene without the material
+/// ([`Scene::background_inv_depth`]), `w` its view depth; 1 where there is none.
+/// Little-endian f32.
+pub fn depth_bytes(scene: &Scene, view: &SceneView) -> Vec<u8> {
+    let (n, a) = (view.near, view.far / (view.far - view.near));
     scene
-        .background_inv_depth(width, height)
+        .background_inv_depth(view.width, view.height)
         .into_iter()
         .flat_map(|inv_w| {
             let depth = if inv_w > 0.0 {

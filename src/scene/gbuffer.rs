@@ -304,17 +304,9 @@ impl<'a> GBufferFrame<'a> {
             let items: Vec<DrawItem> = geometry
                 .objects
                 .iter()
-                .map(|o| DrawItem {
-                    mesh: &o.mesh,
-                    mirror_y: false,
-                    clip: None,
-                })
+                .map(|o| DrawItem::plain(&o.mesh))
                 .collect();
-            let item = DrawItem {
-                mesh,
-                mirror_y: false,
-                clip: None,
-            };
+            let item = DrawItem::plain(mesh);
             rayon::join(|| setup_all(&items, &cam), || setup_all(&[item], &cam))
         };
         let shading = Shading::new(scene, &geometry, image);

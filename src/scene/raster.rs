@@ -136,6 +136,17 @@ pub(crate) struct DrawItem<'a> {
     pub clip: Option<Vec4>,
 }
 
+impl<'a> DrawItem<'a> {
+    /// `mesh` drawn as it is: not mirrored, not clipped.
+    pub(crate) fn plain(mesh: &'a Mesh) -> DrawItem<'a> {
+        DrawItem {
+            mesh,
+            mirror_y: false,
+            clip: None,
+        }
+    }
+}
+
 /// What a sample sees: the nearest triangle and where on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Fragment {
@@ -559,11 +570,7 @@ mod tests {
         }
         .frame(23, 19);
         let sphere = Mesh::uv_sphere(Vec3::ZERO, 1.0, 24, 12);
-        let item = DrawItem {
-            mesh: &sphere,
-            mirror_y: false,
-            clip: None,
-        };
+        let item = DrawItem::plain(&sphere);
         let offsets = sample_offsets(3);
         let whole = rasterize(&[item], &cam, &offsets);
         assert!(whole.iter().any(Fragment::is_hit) && !whole.iter().all(Fragment::is_hit));
@@ -591,11 +598,7 @@ mod tests {
             Vec3::new(0.0, 10.0, 0.0),
             [1, 1],
         );
-        let item = DrawItem {
-            mesh: &quad,
-            mirror_y: false,
-            clip: None,
-        };
+        let item = DrawItem::plain(&quad);
         let frags = rasterize(&[item, item], &cam, &sample_offsets(1));
         assert!(frags.iter().all(|f| f.is_hit() && f.item == 0));
         // Nearer 1/w: the second, closer copy wins.

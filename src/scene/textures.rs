@@ -49,11 +49,7 @@ impl Scene {
         let items: Vec<DrawItem> = geometry
             .objects
             .iter()
-            .map(|o| DrawItem {
-                mesh: &o.mesh,
-                mirror_y: false,
-                clip: None,
-            })
+            .map(|o| DrawItem::plain(&o.mesh))
             .collect();
         rasterize(&items, &cam, &sample_offsets(1))
             .iter()

@@ -358,15 +358,7 @@ fn the_web_page_draws_eight_graphs_as_matgraph_render_does() {
         let shown: Vec<u8> = drawn
             .chunks_exact(4)
             .flat_map(|p| {
-                let enc = |l: f32| {
-                    let l = l.clamp(0.0, 1.0);
-                    let s = if l <= 0.003_130_8 {
-                        12.92 * l
-                    } else {
-                        1.055 * l.powf(1.0 / 2.4) - 0.055
-                    };
-                    (s * 255.0).round() as u8
-                };
+                let enc = |l: f32| srgb255(l).round() as u8;
                 [
                     enc(p[0]),
                     enc(p[1]),

@@ -201,6 +201,23 @@ pub(crate) fn render_frame(
                         &lights_buf,
                         &textures,
                     );
+                    // The material mesh drawn with `pipeline` (depth only, or the surface).
+                    let draw_mesh = |rp: &mut wgpu::RenderPass, pipeline| {
+                        rp.set_pipeline(pipeline);
+                        rp.set_bind_group(0, &mat_group, &[]);
+                        rp.set_bind_group(1, &frame, &[]);
+                        if rebuilt {
+                            rp.set_bind_group(2, &mesh_group, &[]);
+                        }
+                        rp.set_vertex_buffer(0, vertices.slice(..));
+                        if let Some(t) = tangents {
+                            rp.set_vertex_buffer(1, t.slice(..));
+                        }
+                        rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
+                        if tri_count > 0 {
+                            rp.draw_indexed(0..tri_count, 0, 0..1);
+                        }
+                    };
                     // The material's depth, over the scene's (`clear`: none yet).
                     let material_depth = |enc: &mut wgpu::CommandEncoder, clear: bool| {
                         let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -223,18 +240,7 @@ pub(crate) fn render_frame(
                             occlusion_query_set: None,
                             multiview_mask: None,
                         });
-                        rp.set_pipeline(depth_only);
-                        rp.set_bind_group(0, &mat_group, &[]);
-                        rp.set_bind_group(1, &frame, &[]);
-                        if rebuilt {
-                            rp.set_bind_group(2, &mesh_group, &[]);
-                        }
-                        rp.set_vertex_buffer(0, vertices.slice(..));
-                        if let Some(t) = tangents {
-                            rp.set_vertex_buffer(1, t.slice(..));
-                        }
-                        rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
-                        rp.draw_indexed(0..tri_count, 0, 0..1);
+                        draw_mesh(&mut rp, depth_only);
                     };
                     // The scene's colour: drawn here, or kept from an earlier frame.
                     let kept_scene: Arc<DrawnScene>;
@@ -292,20 +298,7 @@ pub(crate) fn render_frame(
                             occlusion_query_set: None,
                             multiview_mask: None,
                         });
-                        rp.set_pipeline(surface);
-                        rp.set_bind_group(0, &mat_group, &[]);
-                        rp.set_bind_group(1, &frame, &[]);
-                        if rebuilt {
-                            rp.set_bind_group(2, &mesh_group, &[]);
-                        }
-                        rp.set_vertex_buffer(0, vertices.slice(..));
-                        if let Some(t) = tangents {
-                            rp.set_vertex_buffer(1, t.slice(..));
-                        }
-                        rp.set_index_buffer(index.slice(..), wgpu::IndexFormat::Uint32);
-                        if tri_count > 0 {
-                            rp.draw_indexed(0..tri_count, 0, 0..1);
-                        }
+                        draw_mesh(&mut rp, surface);
                     }
                     let samples = match msaa {
                         true => Samples::Whole,
